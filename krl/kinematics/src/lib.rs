@@ -1,0 +1,17 @@
+//! KUKA robot models and kinematics in KUKA conventions.
+//!
+//! Positions are KUKA FRAMEs (mm, degrees; A, B, C rotate about Z, Y, X:
+//! R = Rz(A)·Ry(B)·Rx(C)), axis angles are pendant angles in degrees.
+//! Inverse kinematics come from rs-opw-kinematics; this crate adds KUKA's
+//! flange/tool/base frames, Status/Turn, software limit switches and the
+//! motion planner shared by the simulated controller and the service's
+//! safety checks.
+#![deny(missing_docs)]
+
+pub mod model;
+pub mod plan;
+pub mod pose;
+
+pub use model::{Axes, IkError, RobotModel};
+pub use plan::{Execution, Motion, MotionError, MotionKind, PlanSettings, Sample};
+pub use pose::Pose;
