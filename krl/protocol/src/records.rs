@@ -1,0 +1,753 @@
+//! The records of the three channel files and their encode/decode.
+
+use crate::codec::{DecodeError, EncodeError, Field, Reader, real, write_line};
+use crate::{MAX_BATCH, PROTOCOL_VERSION, RESULT_HISTORY};
+
+/// A KUKA FRAME on the wire: mm and degrees (A, B, C about Z, Y, X).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Frame {
+    /// X in mm.
+    pub x: f64,
+    /// Y in mm.
+    pub y: f64,
+    /// Z in mm.
+    pub z: f64,
+    /// A in degrees.
+    pub a: f64,
+    /// B in degrees.
+    pub b: f64,
+    /// C in degrees.
+    pub c: f64,
+}
+
+impl Frame {
+    /// Builds a frame from `[x, y, z, a, b, c]`.
+    pub fn from_array(v: [f64; 6]) -> Self {
+        Frame { x: v[0], y: v[1], z: v[2], a: v[3], b: v[4], c: v[5] }
+    }
+
+    /// `[x, y, z, a, b, c]`.
+    pub fn to_array(&self) -> [f64; 6] {
+        [self.x, self.y, self.z, self.a, self.b, self.c]
+    }
+
+    fn fields(&self, out: &mut Vec<Field>) -> Result<(), EncodeError> {
+        for (name, v) in ["x", "y", "z", "a", "b", "c"].into_iter().zip(self.to_array()) {
+            out.push(real(name, v)?);
+        }
+        Ok(())
+    }
+
+    fn read(line: &mut crate::codec::Line) -> Self {
+        Frame { x: line.real(), y: line.real(), z: line.real(), a: line.real(), b: line.real(), c: line.real() }
+    }
+}
+
+/// Command id: a positive 31-bit integer, strictly increasing.
+pub type Cid = i32;
+
+/// One motion of a batch. Speeds: PTP in % of the maximum axis speed,
+/// LIN/CIRC in m/s ($VEL.CP); acceleration in %; approximation in mm (C_DIS,
+/// 0 = exact stop).
+#[derive(Debug, Clone, PartialEq)]
+pub enum MotionRecord {
+    /// `PTP i x y z a b c s t vel acc apo K` — Cartesian PTP; `s`/`t` = -1 when not set.
+    Ptp {
+        /// Target TCP pose in the base frame.
+        target: Frame,
+        /// Status, if set.
+        s: Option<u8>,
+        /// Turn, if set.
+        t: Option<u8>,
+        /// Motion parameters.
+        params: MotionParams,
+    },
+    /// `PTA i a1 a2 a3 a4 a5 a6 vel acc apo K` — axis-specific PTP (degrees).
+    PtpAxes {
+        /// Target axis angles.
+        axes: [f64; 6],
+        /// Motion parameters.
+        params: MotionParams,
+    },
+    /// `LIN i x y z a b c vel acc apo K`.
+    Lin {
+        /// Target TCP pose in the base frame.
+        target: Frame,
+        /// Motion parameters.
+        params: MotionParams,
+    },
+    /// `CIR i ax ay az x y z a b c vel acc apo K` — through the auxiliary point's position.
+    Circ {
+        /// Auxiliary point position (x, y, z in mm).
+        aux: [f64; 3],
+        /// End point.
+        target: Frame,
+        /// Motion parameters.
+        params: MotionParams,
+    },
+}
+
+/// Speed, acceleration and approximation of one motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotionParams {
+    /// PTP: % of max axis speed; LIN/CIRC: m/s.
+    pub velocity: f64,
+    /// % of max acceleration.
+    pub acceleration_pct: f64,
+    /// Approximation distance in mm; 0 = exact stop.
+    pub approx_mm: f64,
+}
+
+impl MotionParams {
+    fn fields(&self, out: &mut Vec<Field>) -> Result<(), EncodeError> {
+        out.push(real("velocity", self.velocity)?);
+        out.push(real("acceleration", self.acceleration_pct)?);
+        out.push(real("approximation", self.approx_mm)?);
+        Ok(())
+    }
+
+    fn read(line: &mut crate::codec::Line) -> Self {
+        MotionParams { velocity: line.real(), acceleration_pct: line.real(), approx_mm: line.real() }
+    }
+}
+
+/// Default speeds the controller applies to HOME (and reports back).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpeedRecord {
+    /// Program override $OV_PRO in %.
+    pub override_pct: f64,
+    /// Default PTP velocity in %.
+    pub ptp_velocity_pct: f64,
+    /// Default PTP acceleration in %.
+    pub ptp_acceleration_pct: f64,
+    /// Default path velocity in m/s.
+    pub cp_velocity: f64,
+    /// Default path acceleration in %.
+    pub cp_acceleration_pct: f64,
+}
+
+/// What a command asks the controller to do.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    /// Op 1: execute motions as one continuous batch.
+    Move(Vec<MotionRecord>),
+    /// Op 3: report the current position (a round trip through the program).
+    GetPosition,
+    /// Op 6: PTP to the home position.
+    Home,
+    /// Op 8: set the tool frame ($TOOL).
+    SetTool(Frame),
+    /// Op 9: report the tool frame.
+    GetTool,
+    /// Op 11: set the base frame ($BASE).
+    SetBase(Frame),
+    /// Op 12: report the base frame.
+    GetBase,
+    /// Op 13: set override and default speeds.
+    SetSpeed(SpeedRecord),
+    /// Op 20: brake, flush the motion buffer, cancel the running command.
+    /// The only command accepted while another one is running.
+    Stop,
+    /// Op 21: acknowledge an error state.
+    Reset,
+}
+
+impl Command {
+    /// The op code on the wire.
+    pub fn op(&self) -> i32 {
+        match self {
+            Command::Move(_) => 1,
+            Command::GetPosition => 3,
+            Command::Home => 6,
+            Command::SetTool(_) => 8,
+            Command::GetTool => 9,
+            Command::SetBase(_) => 11,
+            Command::GetBase => 12,
+            Command::SetSpeed(_) => 13,
+            Command::Stop => 20,
+            Command::Reset => 21,
+        }
+    }
+
+    /// A short lowercase name for logs.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Command::Move(_) => "move",
+            Command::GetPosition => "get_position",
+            Command::Home => "home",
+            Command::SetTool(_) => "set_tool",
+            Command::GetTool => "get_tool",
+            Command::SetBase(_) => "set_base",
+            Command::GetBase => "get_base",
+            Command::SetSpeed(_) => "set_speed",
+            Command::Stop => "stop",
+            Command::Reset => "reset",
+        }
+    }
+}
+
+/// The command file: `CMD 1 cid op n K`, `n` body lines, `END cid n K`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CommandFile {
+    /// Command id.
+    pub cid: Cid,
+    /// The command.
+    pub command: Command,
+}
+
+impl CommandFile {
+    /// Encodes the file text.
+    pub fn encode(&self) -> Result<String, EncodeError> {
+        if self.cid <= 0 {
+            return Err(EncodeError::Shape(format!("CID {} is not positive", self.cid)));
+        }
+        let mut body = String::new();
+        let mut n = 0i32;
+        let mut f = Vec::with_capacity(16);
+        match &self.command {
+            Command::Move(motions) => {
+                if motions.is_empty() || motions.len() > MAX_BATCH {
+                    return Err(EncodeError::Shape(format!(
+                        "a batch holds 1 to {MAX_BATCH} motions, not {}",
+                        motions.len()
+                    )));
+                }
+                for (i, m) in motions.iter().enumerate() {
+                    f.clear();
+                    f.push(Field::Int(i as i32));
+                    let tag = match m {
+                        MotionRecord::Ptp { target, s, t, params } => {
+                            target.fields(&mut f)?;
+                            f.push(Field::Int(s.map_or(-1, i32::from)));
+                            f.push(Field::Int(t.map_or(-1, i32::from)));
+                            params.fields(&mut f)?;
+                            "PTP"
+                        }
+                        MotionRecord::PtpAxes { axes, params } => {
+                            for (name, v) in ["a1", "a2", "a3", "a4", "a5", "a6"].into_iter().zip(axes) {
+                                f.push(real(name, *v)?);
+                            }
+                            params.fields(&mut f)?;
+                            "PTA"
+                        }
+                        MotionRecord::Lin { target, params } => {
+                            target.fields(&mut f)?;
+                            params.fields(&mut f)?;
+                            "LIN"
+                        }
+                        MotionRecord::Circ { aux, target, params } => {
+                            for (name, v) in ["aux_x", "aux_y", "aux_z"].into_iter().zip(aux) {
+                                f.push(real(name, *v)?);
+                            }
+                            target.fields(&mut f)?;
+                            params.fields(&mut f)?;
+                            "CIR"
+                        }
+                    };
+                    write_line(&mut body, tag, &f);
+                    n += 1;
+                }
+            }
+            Command::SetTool(frame) | Command::SetBase(frame) => {
+                frame.fields(&mut f)?;
+                write_line(&mut body, "FRM", &f);
+                n = 1;
+            }
+            Command::SetSpeed(s) => {
+                f.push(real("override", s.override_pct)?);
+                f.push(real("ptp_velocity", s.ptp_velocity_pct)?);
+                f.push(real("ptp_acceleration", s.ptp_acceleration_pct)?);
+                f.push(real("cp_velocity", s.cp_velocity)?);
+                f.push(real("cp_acceleration", s.cp_acceleration_pct)?);
+                write_line(&mut body, "SPD", &f);
+                n = 1;
+            }
+            _ => {}
+        }
+        let mut out = String::with_capacity(body.len() + 64);
+        write_line(
+            &mut out,
+            "CMD",
+            &[Field::Int(PROTOCOL_VERSION), Field::Int(self.cid), Field::Int(self.command.op()), Field::Int(n)],
+        );
+        out.push_str(&body);
+        write_line(&mut out, "END", &[Field::Int(self.cid), Field::Int(n)]);
+        Ok(out)
+    }
+
+    /// Decodes a complete command file.
+    pub fn decode(text: &str) -> Result<Self, DecodeError> {
+        let mut r = Reader::new(text)?;
+        let mut h = r.line("CMD", "iiii")?;
+        let version = h.int();
+        if version != PROTOCOL_VERSION {
+            return Err(DecodeError::Version(i64::from(version)));
+        }
+        let cid = h.int();
+        let op = h.int();
+        let n = h.int();
+        if cid <= 0 {
+            return Err(h.invalid(format!("CID {cid} is not positive")));
+        }
+        let expect_n = |want: i32| if n == want { Ok(()) } else { Err(h.invalid(format!("op {op} takes {want} body lines, not {n}"))) };
+        let command = match op {
+            1 => {
+                if n < 1 || n as usize > MAX_BATCH {
+                    return Err(h.invalid(format!("a batch holds 1 to {MAX_BATCH} motions, not {n}")));
+                }
+                let mut motions = Vec::with_capacity(n as usize);
+                for i in 0..n {
+                    let tag = r.peek_tag().ok_or(DecodeError::Truncated)?;
+                    let (l, m) = match tag {
+                        "PTP" => {
+                            let mut l = r.line("PTP", "irrrrrriirrr")?;
+                            let idx = l.int();
+                            let target = Frame::read(&mut l);
+                            let s = l.int();
+                            let t = l.int();
+                            let params = MotionParams::read(&mut l);
+                            let st = |v: i32, max: i32| if v == -1 { Ok(None) } else if (0..=max).contains(&v) { Ok(Some(v as u8)) } else { Err(v) };
+                            let s = st(s, 7).map_err(|v| l.invalid(format!("Status {v} is not in 0..=7 or -1")))?;
+                            let t = st(t, 63).map_err(|v| l.invalid(format!("Turn {v} is not in 0..=63 or -1")))?;
+                            (l, (idx, MotionRecord::Ptp { target, s, t, params }))
+                        }
+                        "PTA" => {
+                            let mut l = r.line("PTA", "irrrrrrrrr")?;
+                            let idx = l.int();
+                            let axes = [l.real(), l.real(), l.real(), l.real(), l.real(), l.real()];
+                            let params = MotionParams::read(&mut l);
+                            (l, (idx, MotionRecord::PtpAxes { axes, params }))
+                        }
+                        "LIN" => {
+                            let mut l = r.line("LIN", "irrrrrrrrr")?;
+                            let idx = l.int();
+                            let target = Frame::read(&mut l);
+                            let params = MotionParams::read(&mut l);
+                            (l, (idx, MotionRecord::Lin { target, params }))
+                        }
+                        "CIR" => {
+                            let mut l = r.line("CIR", "irrrrrrrrrrrr")?;
+                            let idx = l.int();
+                            let aux = [l.real(), l.real(), l.real()];
+                            let target = Frame::read(&mut l);
+                            let params = MotionParams::read(&mut l);
+                            (l, (idx, MotionRecord::Circ { aux, target, params }))
+                        }
+                        "END" => return Err(DecodeError::Truncated),
+                        other => {
+                            return Err(DecodeError::Tag {
+                                line: r.next_line_number(),
+                                expected: "PTP, PTA, LIN or CIR",
+                                found: other.to_string(),
+                            });
+                        }
+                    };
+                    if m.0 != i {
+                        return Err(l.invalid(format!("motion index {} where {i} was expected", m.0)));
+                    }
+                    motions.push(m.1);
+                }
+                Command::Move(motions)
+            }
+            3 | 6 | 9 | 12 | 20 | 21 => {
+                expect_n(0)?;
+                match op {
+                    3 => Command::GetPosition,
+                    6 => Command::Home,
+                    9 => Command::GetTool,
+                    12 => Command::GetBase,
+                    20 => Command::Stop,
+                    _ => Command::Reset,
+                }
+            }
+            8 | 11 => {
+                expect_n(1)?;
+                let mut l = r.line("FRM", "rrrrrr")?;
+                let frame = Frame::read(&mut l);
+                if op == 8 { Command::SetTool(frame) } else { Command::SetBase(frame) }
+            }
+            13 => {
+                expect_n(1)?;
+                let mut l = r.line("SPD", "rrrrr")?;
+                Command::SetSpeed(SpeedRecord {
+                    override_pct: l.real(),
+                    ptp_velocity_pct: l.real(),
+                    ptp_acceleration_pct: l.real(),
+                    cp_velocity: l.real(),
+                    cp_acceleration_pct: l.real(),
+                })
+            }
+            other => return Err(h.invalid(format!("unknown op {other}"))),
+        };
+        let mut e = r.line("END", "ii")?;
+        if e.int() != cid || e.int() != n {
+            return Err(e.invalid("END record does not match the header"));
+        }
+        r.finish()?;
+        Ok(CommandFile { cid, command })
+    }
+}
+
+/// Result codes (thesis-compatible: 1 is success).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ResultCode {
+    /// 1: done.
+    Ok,
+    /// 2: cancelled by STOP (motions completed before it are reported).
+    Cancelled,
+    /// 3: rejected because another command was running.
+    Busy,
+    /// 10: the command file decoded but is not valid.
+    BadCommand,
+    /// 11: op not supported by this controller program.
+    Unsupported,
+    /// 20: target or path point out of reach.
+    Unreachable,
+    /// 21: a software limit switch would be passed (`axis` names it).
+    SoftwareLimit,
+    /// 22: the path passes a singularity.
+    Singularity,
+    /// 23: no solution with the requested Status/Turn.
+    NoConfiguration,
+    /// 24: degenerate geometry (e.g. CIRC points collinear).
+    Geometry,
+    /// 30: the controller is in an error state; RESET first.
+    ControllerError,
+    /// 31: drives off, wrong mode or program not ready.
+    NotReady,
+    /// 40: a KRL runtime error was caught ($ERR).
+    RuntimeError,
+    /// Any other code.
+    Other(i32),
+}
+
+impl ResultCode {
+    /// The number on the wire.
+    pub fn code(self) -> i32 {
+        match self {
+            ResultCode::Ok => 1,
+            ResultCode::Cancelled => 2,
+            ResultCode::Busy => 3,
+            ResultCode::BadCommand => 10,
+            ResultCode::Unsupported => 11,
+            ResultCode::Unreachable => 20,
+            ResultCode::SoftwareLimit => 21,
+            ResultCode::Singularity => 22,
+            ResultCode::NoConfiguration => 23,
+            ResultCode::Geometry => 24,
+            ResultCode::ControllerError => 30,
+            ResultCode::NotReady => 31,
+            ResultCode::RuntimeError => 40,
+            ResultCode::Other(c) => c,
+        }
+    }
+
+    /// Maps a wire number to a code (0 in state records means "no error").
+    pub fn from_code(code: i32) -> Self {
+        match code {
+            1 => ResultCode::Ok,
+            2 => ResultCode::Cancelled,
+            3 => ResultCode::Busy,
+            10 => ResultCode::BadCommand,
+            11 => ResultCode::Unsupported,
+            20 => ResultCode::Unreachable,
+            21 => ResultCode::SoftwareLimit,
+            22 => ResultCode::Singularity,
+            23 => ResultCode::NoConfiguration,
+            24 => ResultCode::Geometry,
+            30 => ResultCode::ControllerError,
+            31 => ResultCode::NotReady,
+            40 => ResultCode::RuntimeError,
+            c => ResultCode::Other(c),
+        }
+    }
+}
+
+/// One result: `RSL cid code done axis x y z a b c s t K`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ResultRecord {
+    /// The command it answers.
+    pub cid: Cid,
+    /// Outcome.
+    pub code: ResultCode,
+    /// Motions of the batch completed (for MOVE; 0 otherwise).
+    pub completed: u32,
+    /// 1-based axis for SOFTWARE_LIMIT, else 0.
+    pub axis: u8,
+    /// TCP pose at the end (tool frame for GETTOOL, base frame for GETBASE).
+    pub position: Frame,
+    /// Status of `position`.
+    pub s: u8,
+    /// Turn of `position`.
+    pub t: u8,
+}
+
+/// The result file: `RES 1 n K`, `n` (≤ 8) RSL lines oldest first, `END n K`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ResultFile {
+    /// The most recent results, oldest first.
+    pub results: Vec<ResultRecord>,
+}
+
+impl ResultFile {
+    /// Encodes the file text (keeps only the newest [`RESULT_HISTORY`]).
+    pub fn encode(&self) -> Result<String, EncodeError> {
+        let skip = self.results.len().saturating_sub(RESULT_HISTORY);
+        let results = &self.results[skip..];
+        let n = results.len() as i32;
+        let mut out = String::with_capacity(96 * (results.len() + 2));
+        write_line(&mut out, "RES", &[Field::Int(PROTOCOL_VERSION), Field::Int(n)]);
+        let mut f = Vec::with_capacity(13);
+        for r in results {
+            f.clear();
+            f.extend([
+                Field::Int(r.cid),
+                Field::Int(r.code.code()),
+                Field::Int(r.completed as i32),
+                Field::Int(i32::from(r.axis)),
+            ]);
+            r.position.fields(&mut f)?;
+            f.extend([Field::Int(i32::from(r.s)), Field::Int(i32::from(r.t))]);
+            write_line(&mut out, "RSL", &f);
+        }
+        write_line(&mut out, "END", &[Field::Int(n)]);
+        Ok(out)
+    }
+
+    /// Decodes a complete result file.
+    pub fn decode(text: &str) -> Result<Self, DecodeError> {
+        let mut r = Reader::new(text)?;
+        let mut h = r.line("RES", "ii")?;
+        let version = h.int();
+        if version != PROTOCOL_VERSION {
+            return Err(DecodeError::Version(i64::from(version)));
+        }
+        let n = h.int();
+        if !(0..=RESULT_HISTORY as i32).contains(&n) {
+            return Err(h.invalid(format!("{n} results (at most {RESULT_HISTORY})")));
+        }
+        let mut results = Vec::with_capacity(n as usize);
+        for _ in 0..n {
+            let mut l = r.line("RSL", "iiiirrrrrrii")?;
+            let cid = l.int();
+            let code = ResultCode::from_code(l.int());
+            let completed = l.int();
+            let axis = l.int();
+            let position = Frame::read(&mut l);
+            let s = l.int();
+            let t = l.int();
+            if completed < 0 || !(0..=6).contains(&axis) || !(0..=7).contains(&s) || !(0..=63).contains(&t) {
+                return Err(l.invalid("count, axis, Status or Turn out of range"));
+            }
+            results.push(ResultRecord {
+                cid,
+                code,
+                completed: completed as u32,
+                axis: axis as u8,
+                position,
+                s: s as u8,
+                t: t as u8,
+            });
+        }
+        let mut e = r.line("END", "i")?;
+        if e.int() != n {
+            return Err(e.invalid("END record does not match the header"));
+        }
+        r.finish()?;
+        Ok(ResultFile { results })
+    }
+}
+
+/// What the controller side is doing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ControllerStatus {
+    /// 0: waiting for a command.
+    Idle,
+    /// 1: executing `busy_cid`.
+    Busy,
+    /// 2: in an error state (see `error`); only STOP and RESET are accepted.
+    Error,
+}
+
+/// Operating mode of the controller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OperatingMode {
+    /// 1: manual reduced velocity.
+    T1,
+    /// 2: manual high velocity.
+    T2,
+    /// 3: automatic.
+    Aut,
+    /// 4: automatic external.
+    Ext,
+    /// 0 or anything else: unknown.
+    Unknown,
+}
+
+impl OperatingMode {
+    fn code(self) -> i32 {
+        match self {
+            OperatingMode::T1 => 1,
+            OperatingMode::T2 => 2,
+            OperatingMode::Aut => 3,
+            OperatingMode::Ext => 4,
+            OperatingMode::Unknown => 0,
+        }
+    }
+
+    fn from_code(c: i32) -> Self {
+        match c {
+            1 => OperatingMode::T1,
+            2 => OperatingMode::T2,
+            3 => OperatingMode::Aut,
+            4 => OperatingMode::Ext,
+            _ => OperatingMode::Unknown,
+        }
+    }
+}
+
+/// The state (heartbeat) file, rewritten by the controller at a fixed rate:
+/// `STA 1 seq status mode busy_cid busy_idx last_cid err err_axis ovr sim K`,
+/// `POS x y z a b c s t K`, `AXS a1..a6 K`, `TOL x..c K`, `BAS x..c K`, `END seq K`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StateFile {
+    /// Heartbeat counter: increases with every write.
+    pub seq: i32,
+    /// What the controller is doing.
+    pub status: ControllerStatus,
+    /// Operating mode.
+    pub mode: OperatingMode,
+    /// Command being executed (0 when idle).
+    pub busy_cid: Cid,
+    /// Motion of the batch being executed.
+    pub busy_index: u32,
+    /// Highest CID the controller has accepted (executed or rejected).
+    pub last_cid: Cid,
+    /// Current error (only in `Error` status).
+    pub error: Option<ResultCode>,
+    /// Axis of a software-limit error, 0 otherwise.
+    pub error_axis: u8,
+    /// Program override in %.
+    pub override_pct: f64,
+    /// True when the controller is the simulator.
+    pub simulated: bool,
+    /// TCP pose in the base frame.
+    pub position: Frame,
+    /// Status bits.
+    pub s: u8,
+    /// Turn bits.
+    pub t: u8,
+    /// Axis angles A1..A6.
+    pub axes: [f64; 6],
+    /// Tool frame.
+    pub tool: Frame,
+    /// Base frame.
+    pub base: Frame,
+}
+
+impl StateFile {
+    /// Encodes the file text.
+    pub fn encode(&self) -> Result<String, EncodeError> {
+        let mut out = String::with_capacity(400);
+        let status = match self.status {
+            ControllerStatus::Idle => 0,
+            ControllerStatus::Busy => 1,
+            ControllerStatus::Error => 2,
+        };
+        write_line(
+            &mut out,
+            "STA",
+            &[
+                Field::Int(PROTOCOL_VERSION),
+                Field::Int(self.seq),
+                Field::Int(status),
+                Field::Int(self.mode.code()),
+                Field::Int(self.busy_cid),
+                Field::Int(self.busy_index as i32),
+                Field::Int(self.last_cid),
+                Field::Int(self.error.map_or(0, ResultCode::code)),
+                Field::Int(i32::from(self.error_axis)),
+                real("override", self.override_pct)?,
+                Field::Int(i32::from(self.simulated)),
+            ],
+        );
+        let mut f = Vec::with_capacity(8);
+        self.position.fields(&mut f)?;
+        f.extend([Field::Int(i32::from(self.s)), Field::Int(i32::from(self.t))]);
+        write_line(&mut out, "POS", &f);
+        f.clear();
+        for (name, v) in ["a1", "a2", "a3", "a4", "a5", "a6"].into_iter().zip(self.axes) {
+            f.push(real(name, v)?);
+        }
+        write_line(&mut out, "AXS", &f);
+        f.clear();
+        self.tool.fields(&mut f)?;
+        write_line(&mut out, "TOL", &f);
+        f.clear();
+        self.base.fields(&mut f)?;
+        write_line(&mut out, "BAS", &f);
+        write_line(&mut out, "END", &[Field::Int(self.seq)]);
+        Ok(out)
+    }
+
+    /// Decodes a complete state file.
+    pub fn decode(text: &str) -> Result<Self, DecodeError> {
+        let mut r = Reader::new(text)?;
+        let mut h = r.line("STA", "iiiiiiiiiri")?;
+        let version = h.int();
+        if version != PROTOCOL_VERSION {
+            return Err(DecodeError::Version(i64::from(version)));
+        }
+        let seq = h.int();
+        let status = match h.int() {
+            0 => ControllerStatus::Idle,
+            1 => ControllerStatus::Busy,
+            2 => ControllerStatus::Error,
+            other => return Err(h.invalid(format!("unknown status {other}"))),
+        };
+        let mode = OperatingMode::from_code(h.int());
+        let busy_cid = h.int();
+        let busy_index = h.int();
+        let last_cid = h.int();
+        let err = h.int();
+        let error_axis = h.int();
+        let override_pct = h.real();
+        let simulated = h.int() != 0;
+        if busy_index < 0 || !(0..=6).contains(&error_axis) {
+            return Err(h.invalid("busy index or error axis out of range"));
+        }
+        let mut p = r.line("POS", "rrrrrrii")?;
+        let position = Frame::read(&mut p);
+        let (s, t) = (p.int(), p.int());
+        if !(0..=7).contains(&s) || !(0..=63).contains(&t) {
+            return Err(p.invalid("Status or Turn out of range"));
+        }
+        let mut a = r.line("AXS", "rrrrrr")?;
+        let axes = [a.real(), a.real(), a.real(), a.real(), a.real(), a.real()];
+        let tool = Frame::read(&mut r.line("TOL", "rrrrrr")?);
+        let base = Frame::read(&mut r.line("BAS", "rrrrrr")?);
+        let mut e = r.line("END", "i")?;
+        if e.int() != seq {
+            return Err(e.invalid("END record does not match the header"));
+        }
+        r.finish()?;
+        Ok(StateFile {
+            seq,
+            status,
+            mode,
+            busy_cid,
+            busy_index: busy_index as u32,
+            last_cid,
+            error: (err != 0).then(|| ResultCode::from_code(err)),
+            error_axis: error_axis as u8,
+            override_pct,
+            simulated,
+            position,
+            s: s as u8,
+            t: t as u8,
+            axes,
+            tool,
+            base,
+        })
+    }
+}

@@ -1,0 +1,184 @@
+//! Encode/decode round trips and the guarantee that a half-written or
+//! corrupted file never decodes to something else.
+
+use kuka_protocol::*;
+
+fn params(v: f64) -> MotionParams {
+    MotionParams { velocity: v, acceleration_pct: 100.0, approx_mm: 2.5 }
+}
+
+fn sample_commands() -> Vec<CommandFile> {
+    let f = Frame { x: 200.0, y: -12.345, z: 70.0, a: 0.0, b: 180.0, c: -179.999 };
+    vec![
+        CommandFile {
+            cid: 2_147_483_647,
+            command: Command::Move(vec![
+                MotionRecord::Ptp { target: f, s: Some(2), t: None, params: params(50.0) },
+                MotionRecord::PtpAxes { axes: [0.0, -90.0, 90.0, 0.0, 0.0, 0.0], params: params(100.0) },
+                MotionRecord::Lin { target: f, params: params(0.25) },
+                MotionRecord::Circ { aux: [1.0, 2.0, 3.0], target: f, params: params(0.1) },
+            ]),
+        },
+        CommandFile { cid: 1, command: Command::GetPosition },
+        CommandFile { cid: 7, command: Command::Home },
+        CommandFile { cid: 8, command: Command::SetTool(f) },
+        CommandFile { cid: 9, command: Command::GetTool },
+        CommandFile { cid: 10, command: Command::SetBase(f) },
+        CommandFile { cid: 11, command: Command::GetBase },
+        CommandFile {
+            cid: 12,
+            command: Command::SetSpeed(SpeedRecord {
+                override_pct: 50.0,
+                ptp_velocity_pct: 30.0,
+                ptp_acceleration_pct: 100.0,
+                cp_velocity: 0.25,
+                cp_acceleration_pct: 100.0,
+            }),
+        },
+        CommandFile { cid: 13, command: Command::Stop },
+        CommandFile { cid: 14, command: Command::Reset },
+    ]
+}
+
+fn sample_state() -> StateFile {
+    StateFile {
+        seq: 42,
+        status: ControllerStatus::Error,
+        mode: OperatingMode::Ext,
+        busy_cid: 0,
+        busy_index: 3,
+        last_cid: 1001,
+        error: Some(ResultCode::SoftwareLimit),
+        error_axis: 5,
+        override_pct: 100.0,
+        simulated: true,
+        position: Frame { x: 470.0, y: 0.0, z: 750.0, a: 0.0, b: 90.0, c: 0.0 },
+        s: 2,
+        t: 35,
+        axes: [0.0, -90.0, 90.0, 0.0, -0.001, 0.0],
+        tool: Frame::default(),
+        base: Frame { x: 1.0, ..Frame::default() },
+    }
+}
+
+fn sample_results() -> ResultFile {
+    ResultFile {
+        results: (1..=3)
+            .map(|i| ResultRecord {
+                cid: 100 + i,
+                code: if i == 2 { ResultCode::SoftwareLimit } else { ResultCode::Ok },
+                completed: i as u32,
+                axis: if i == 2 { 5 } else { 0 },
+                position: Frame { x: f64::from(i), y: 0.5, z: -0.25, a: 0.0, b: 90.0, c: 0.0 },
+                s: 2,
+                t: 0,
+            })
+            .collect(),
+    }
+}
+
+fn assert_krl_readable(text: &str) {
+    assert!(text.ends_with('\n'));
+    for line in text.lines() {
+        assert!(line.is_ascii() && line.len() <= MAX_LINE_LEN, "{line}");
+        assert_eq!(line.split(' ').next().map(str::len), Some(3), "tag of {line}");
+    }
+}
+
+#[test]
+fn commands_round_trip() {
+    for cmd in sample_commands() {
+        let text = cmd.encode().expect("encodes");
+        assert_krl_readable(&text);
+        assert_eq!(CommandFile::decode(&text), Ok(cmd.clone()));
+        // CRLF line ends (a file edited on Windows) decode the same.
+        assert_eq!(CommandFile::decode(&text.replace('\n', "\r\n")), Ok(cmd));
+    }
+}
+
+#[test]
+fn state_and_results_round_trip() {
+    let s = sample_state();
+    let text = s.encode().expect("encodes");
+    assert_krl_readable(&text);
+    assert_eq!(StateFile::decode(&text), Ok(s));
+    let r = sample_results();
+    let text = r.encode().expect("encodes");
+    assert_krl_readable(&text);
+    assert_eq!(ResultFile::decode(&text), Ok(r));
+}
+
+#[test]
+fn result_file_keeps_the_newest_eight() {
+    let mut r = sample_results();
+    let one = r.results[0];
+    r.results = (1..=20).map(|cid| ResultRecord { cid, ..one }).collect();
+    let decoded = ResultFile::decode(&r.encode().expect("encodes")).expect("decodes");
+    let cids: Vec<_> = decoded.results.iter().map(|r| r.cid).collect();
+    assert_eq!(cids, (13..=20).collect::<Vec<_>>());
+}
+
+/// Every prefix of a file (a writer cut off at any byte) fails to decode,
+/// except the complete file (with or without its final newline).
+#[test]
+fn half_written_files_never_decode() {
+    let mut texts: Vec<String> = sample_commands().iter().map(|c| c.encode().expect("encodes")).collect();
+    texts.push(sample_state().encode().expect("encodes"));
+    texts.push(sample_results().encode().expect("encodes"));
+    for text in texts {
+        for cut in 0..text.len() - 1 {
+            let part = &text[..cut];
+            assert!(CommandFile::decode(part).is_err(), "prefix {cut} decoded: {part:?}");
+            assert!(StateFile::decode(part).is_err(), "prefix {cut} decoded: {part:?}");
+            assert!(ResultFile::decode(part).is_err(), "prefix {cut} decoded: {part:?}");
+        }
+    }
+}
+
+/// Changing any single digit of a file is caught by the checksum.
+#[test]
+fn corrupted_digits_are_detected() {
+    let text = sample_state().encode().expect("encodes");
+    let bytes = text.as_bytes();
+    for i in 0..bytes.len() {
+        if !bytes[i].is_ascii_digit() {
+            continue;
+        }
+        for d in b'0'..=b'9' {
+            if d == bytes[i] {
+                continue;
+            }
+            let mut changed = bytes.to_vec();
+            changed[i] = d;
+            let changed = String::from_utf8(changed).expect("ascii");
+            assert!(StateFile::decode(&changed).is_err(), "digit {i} -> {} decoded", d as char);
+        }
+    }
+}
+
+#[test]
+fn invalid_values_are_refused() {
+    let bad = CommandFile {
+        cid: 5,
+        command: Command::Move(vec![MotionRecord::Lin {
+            target: Frame { x: f64::NAN, ..Frame::default() },
+            params: params(0.1),
+        }]),
+    };
+    assert!(bad.encode().is_err());
+    assert!(CommandFile { cid: 0, command: Command::Home }.encode().is_err());
+    assert!(CommandFile { cid: 3, command: Command::Move(vec![]) }.encode().is_err());
+    let wrong_version = "CMD 2 5 3 0 K\n";
+    assert!(CommandFile::decode(wrong_version).is_err());
+    let trailing = format!("{}junk 1\n", CommandFile { cid: 3, command: Command::Home }.encode().expect("ok"));
+    assert_eq!(CommandFile::decode(&trailing), Err(DecodeError::TrailingData));
+}
+
+#[test]
+fn checksum_matches_the_documented_example() {
+    // The worked example in krl/PROTOCOL.md.
+    let text = CommandFile { cid: 17, command: Command::GetPosition }.encode().expect("ok");
+    let first = text.lines().next().expect("line");
+    assert_eq!(first, format!("CMD 1 17 3 0 {}", checksum([1, 17, 3, 0])));
+    assert_eq!(checksum([1, 17, 3, 0]), ((31 + 17) * 31 + 3) * 31 % 65521);
+}
