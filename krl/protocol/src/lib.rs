@@ -13,6 +13,7 @@
 #![deny(missing_docs)]
 
 mod codec;
+pub mod files;
 mod records;
 
 pub use codec::{DecodeError, EncodeError, MAX_LINE_LEN, MAX_REAL, checksum};

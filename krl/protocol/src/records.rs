@@ -275,6 +275,17 @@ impl CommandFile {
         Ok(out)
     }
 
+    /// The CID of a file whose header line is intact, even if the rest is
+    /// not: lets the controller answer a malformed command instead of
+    /// ignoring it.
+    pub fn peek_cid(text: &str) -> Option<Cid> {
+        let mut r = Reader::new(text).ok()?;
+        let mut h = r.line("CMD", "iiii").ok()?;
+        let _version = h.int();
+        let cid = h.int();
+        (cid > 0).then_some(cid)
+    }
+
     /// Decodes a complete command file.
     pub fn decode(text: &str) -> Result<Self, DecodeError> {
         let mut r = Reader::new(text)?;

@@ -1,0 +1,338 @@
+//! The controller's state machine: what a command does to the simulated
+//! robot, independent of files and threads.
+
+use std::collections::VecDeque;
+use std::time::Instant;
+
+use kuka_kinematics::{Axes, Execution, IkError, Motion, MotionError, MotionKind, PlanSettings, Pose, RobotModel};
+use kuka_protocol::{
+    Cid, Command, ControllerStatus, Frame, MotionRecord, OperatingMode, RESULT_HISTORY, ResultCode, ResultRecord,
+    SpeedRecord, StateFile,
+};
+use serde::Serialize;
+
+/// One executed point of the TCP trace.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct TraceSample {
+    /// Simulated time in seconds since the controller started.
+    pub t: f64,
+    /// Command that moved the robot here.
+    pub cid: Cid,
+    /// Motion index within that command's batch.
+    pub motion: usize,
+    /// TCP pose in the base frame `[x, y, z, a, b, c]`.
+    pub pose: [f64; 6],
+    /// Axis angles A1..A6.
+    pub axes: Axes,
+}
+
+/// Converts a protocol frame to a kinematics pose.
+pub fn frame_to_pose(f: &Frame) -> Pose {
+    Pose::new(f.x, f.y, f.z, f.a, f.b, f.c)
+}
+
+/// Converts a kinematics pose to a protocol frame.
+pub fn pose_to_frame(p: &Pose) -> Frame {
+    Frame { x: p.x, y: p.y, z: p.z, a: p.a, b: p.b, c: p.c }
+}
+
+/// A batch being played back.
+struct Active {
+    cid: Cid,
+    execution: Execution,
+    motions: usize,
+    started_wall: Instant,
+    next_sample: usize,
+    current_motion: usize,
+}
+
+/// The simulated controller's memory.
+pub(crate) struct Controller {
+    pub(crate) model: RobotModel,
+    pub(crate) plan: PlanSettings,
+    pub(crate) mode: OperatingMode,
+    pub(crate) axes: Axes,
+    pub(crate) tool: Pose,
+    pub(crate) base: Pose,
+    pub(crate) speed: SpeedRecord,
+    pub(crate) last_cid: Cid,
+    pub(crate) results: VecDeque<ResultRecord>,
+    pub(crate) error: Option<(ResultCode, u8)>,
+    pub(crate) seq: i32,
+    pub(crate) sim_time: f64,
+    pub(crate) trace: VecDeque<TraceSample>,
+    pub(crate) trace_capacity: usize,
+    active: Option<Active>,
+}
+
+/// What handling a command changed, so the runner knows which files to write.
+#[derive(Debug, Default, PartialEq, Eq)]
+pub(crate) struct Changes {
+    pub(crate) results: bool,
+    pub(crate) state: bool,
+}
+
+impl Changes {
+    fn both() -> Self {
+        Changes { results: true, state: true }
+    }
+}
+
+fn motion_error_code(e: &MotionError) -> (ResultCode, u8) {
+    match e {
+        MotionError::Ik(IkError::Unreachable) => (ResultCode::Unreachable, 0),
+        MotionError::Ik(IkError::SoftwareLimit { axis, .. }) => (ResultCode::SoftwareLimit, *axis),
+        MotionError::Ik(IkError::NoMatchingConfiguration { .. }) => (ResultCode::NoConfiguration, 0),
+        MotionError::Singularity(_) => (ResultCode::Singularity, 0),
+        MotionError::Geometry(_) => (ResultCode::Geometry, 0),
+        MotionError::Parameter(_) => (ResultCode::BadCommand, 0),
+    }
+}
+
+fn to_motion(r: &MotionRecord) -> Motion {
+    let (kind, p) = match r {
+        MotionRecord::Ptp { target, s, t, params } => {
+            (MotionKind::Ptp { target: frame_to_pose(target), s: *s, t: *t }, params)
+        }
+        MotionRecord::PtpAxes { axes, params } => (MotionKind::PtpAxes { axes: *axes }, params),
+        MotionRecord::Lin { target, params } => (MotionKind::Lin { target: frame_to_pose(target) }, params),
+        MotionRecord::Circ { aux, target, params } => (
+            MotionKind::Circ { aux: Pose::new(aux[0], aux[1], aux[2], 0.0, 0.0, 0.0), target: frame_to_pose(target) },
+            params,
+        ),
+    };
+    Motion { kind, velocity: p.velocity, acceleration_pct: p.acceleration_pct, approx_mm: p.approx_mm }
+}
+
+impl Controller {
+    pub(crate) fn new(model: RobotModel, plan: PlanSettings, mode: OperatingMode, start: Axes, trace_capacity: usize) -> Self {
+        Controller {
+            model,
+            speed: SpeedRecord {
+                override_pct: plan.override_pct,
+                ptp_velocity_pct: 20.0,
+                ptp_acceleration_pct: 100.0,
+                cp_velocity: 0.25,
+                cp_acceleration_pct: 100.0,
+            },
+            plan,
+            mode,
+            axes: start,
+            tool: Pose::IDENTITY,
+            base: Pose::IDENTITY,
+            last_cid: 0,
+            results: VecDeque::with_capacity(RESULT_HISTORY + 1),
+            error: None,
+            seq: 0,
+            sim_time: 0.0,
+            trace: VecDeque::new(),
+            trace_capacity,
+            active: None,
+        }
+    }
+
+    /// TCP pose with Status and Turn.
+    pub(crate) fn position(&self) -> (Pose, u8, u8) {
+        let pose = self.model.forward(&self.axes, &self.tool, &self.base);
+        (pose, self.model.status(&self.axes), RobotModel::turn(&self.axes))
+    }
+
+    pub(crate) fn is_busy(&self) -> bool {
+        self.active.is_some()
+    }
+
+    /// Wall-clock instant when the next sample of the active batch is due.
+    pub(crate) fn next_sample_due(&self, time_scale: f64) -> Option<Instant> {
+        let a = self.active.as_ref()?;
+        let s = a.execution.samples.get(a.next_sample)?;
+        if time_scale <= 0.0 {
+            return Some(a.started_wall);
+        }
+        Some(a.started_wall + std::time::Duration::from_secs_f64((s.t / time_scale).max(0.0)))
+    }
+
+    fn push_result(&mut self, cid: Cid, code: ResultCode, completed: u32, axis: u8, position: Option<Frame>) {
+        let (pose, s, t) = self.position();
+        let position = position.unwrap_or_else(|| pose_to_frame(&pose));
+        self.results.push_back(ResultRecord { cid, code, completed, axis, position, s, t });
+        while self.results.len() > RESULT_HISTORY {
+            self.results.pop_front();
+        }
+    }
+
+    /// Executes a newly read command (the caller guarantees `cid > last_cid`).
+    pub(crate) fn accept(&mut self, cid: Cid, command: Command, now: Instant) -> Changes {
+        self.last_cid = cid;
+        tracing::debug!(cid, op = command.name(), "command accepted");
+        if self.error.is_some() && !matches!(command, Command::Stop | Command::Reset) {
+            self.push_result(cid, ResultCode::ControllerError, 0, 0, None);
+            return Changes::both();
+        }
+        if self.active.is_some() && !matches!(command, Command::Stop) {
+            self.push_result(cid, ResultCode::Busy, 0, 0, None);
+            return Changes::both();
+        }
+        match command {
+            Command::Stop => {
+                if let Some(active) = self.active.take() {
+                    // Brake where the robot is now (the sample reached last).
+                    let elapsed = active.execution.samples.get(active.next_sample.saturating_sub(1)).map_or(0.0, |s| s.t);
+                    self.sim_time += elapsed;
+                    self.push_result(active.cid, ResultCode::Cancelled, active.current_motion as u32, 0, None);
+                }
+                self.push_result(cid, ResultCode::Ok, 0, 0, None);
+            }
+            Command::Reset => {
+                self.error = None;
+                self.push_result(cid, ResultCode::Ok, 0, 0, None);
+            }
+            Command::GetPosition => self.push_result(cid, ResultCode::Ok, 0, 0, None),
+            Command::SetTool(f) => {
+                self.tool = frame_to_pose(&f);
+                self.push_result(cid, ResultCode::Ok, 0, 0, Some(f));
+            }
+            Command::GetTool => {
+                let f = pose_to_frame(&self.tool);
+                self.push_result(cid, ResultCode::Ok, 0, 0, Some(f));
+            }
+            Command::SetBase(f) => {
+                self.base = frame_to_pose(&f);
+                self.push_result(cid, ResultCode::Ok, 0, 0, Some(f));
+            }
+            Command::GetBase => {
+                let f = pose_to_frame(&self.base);
+                self.push_result(cid, ResultCode::Ok, 0, 0, Some(f));
+            }
+            Command::SetSpeed(s) => {
+                let valid = [s.override_pct, s.ptp_velocity_pct, s.ptp_acceleration_pct, s.cp_acceleration_pct]
+                    .iter()
+                    .all(|v| (0.0..=100.0).contains(v) && *v > 0.0)
+                    && s.cp_velocity > 0.0;
+                if valid {
+                    self.speed = s;
+                    self.plan.override_pct = s.override_pct;
+                    self.push_result(cid, ResultCode::Ok, 0, 0, None);
+                } else {
+                    self.push_result(cid, ResultCode::BadCommand, 0, 0, None);
+                }
+            }
+            Command::Home => {
+                let home = Motion {
+                    kind: MotionKind::PtpAxes { axes: self.model.home },
+                    velocity: self.speed.ptp_velocity_pct,
+                    acceleration_pct: self.speed.ptp_acceleration_pct,
+                    approx_mm: 0.0,
+                };
+                self.start(cid, vec![home], now);
+            }
+            Command::Move(records) => {
+                let motions: Vec<Motion> = records.iter().map(to_motion).collect();
+                self.start(cid, motions, now);
+            }
+        }
+        Changes::both()
+    }
+
+    fn start(&mut self, cid: Cid, motions: Vec<Motion>, now: Instant) {
+        let execution = kuka_kinematics::plan::plan(&self.model, &self.axes, &self.tool, &self.base, &motions, &self.plan);
+        if let Some((index, err)) = &execution.error
+            && execution.samples.len() <= 1
+            && *index == 0
+        {
+            // Rejected before moving (the KRL program's INVERSE pre-check).
+            let (code, axis) = motion_error_code(err);
+            tracing::info!(cid, %err, "motion rejected");
+            self.push_result(cid, code, 0, axis, None);
+            return;
+        }
+        self.active = Some(Active {
+            cid,
+            execution,
+            motions: motions.len(),
+            started_wall: now,
+            next_sample: 0,
+            current_motion: 0,
+        });
+    }
+
+    /// Plays the active batch up to `now`; returns what changed.
+    pub(crate) fn advance(&mut self, now: Instant, time_scale: f64) -> Changes {
+        let Some(active) = self.active.as_mut() else {
+            return Changes::default();
+        };
+        let elapsed = if time_scale <= 0.0 {
+            f64::INFINITY
+        } else {
+            now.saturating_duration_since(active.started_wall).as_secs_f64() * time_scale
+        };
+        let mut moved = false;
+        while let Some(s) = active.execution.samples.get(active.next_sample) {
+            if s.t > elapsed {
+                break;
+            }
+            self.axes = s.axes;
+            active.current_motion = s.motion;
+            active.next_sample += 1;
+            moved = true;
+            if self.trace_capacity > 0 {
+                if self.trace.len() >= self.trace_capacity {
+                    self.trace.pop_front();
+                }
+                self.trace.push_back(TraceSample {
+                    t: self.sim_time + s.t,
+                    cid: active.cid,
+                    motion: s.motion,
+                    pose: s.pose.to_array(),
+                    axes: s.axes,
+                });
+            }
+        }
+        if active.next_sample < active.execution.samples.len() {
+            return Changes { results: false, state: moved };
+        }
+        // Batch finished (or stopped at an error point).
+        let Some(active) = self.active.take() else {
+            return Changes::default();
+        };
+        self.axes = active.execution.end_axes;
+        self.sim_time += active.execution.duration_s;
+        match &active.execution.error {
+            None => self.push_result(active.cid, ResultCode::Ok, active.motions as u32, 0, None),
+            Some((index, err)) => {
+                let (code, axis) = motion_error_code(err);
+                tracing::info!(cid = active.cid, motion = index, %err, "motion stopped");
+                self.push_result(active.cid, code, *index as u32, axis, None);
+            }
+        }
+        Changes::both()
+    }
+
+    /// The heartbeat record (increments the sequence number).
+    pub(crate) fn state_record(&mut self) -> StateFile {
+        self.seq = if self.seq >= i32::MAX { 1 } else { self.seq + 1 };
+        let (pose, s, t) = self.position();
+        let (status, busy_cid, busy_index) = match (&self.active, &self.error) {
+            (_, Some(_)) => (ControllerStatus::Error, 0, 0),
+            (Some(a), None) => (ControllerStatus::Busy, a.cid, a.current_motion as u32),
+            (None, None) => (ControllerStatus::Idle, 0, 0),
+        };
+        StateFile {
+            seq: self.seq,
+            status,
+            mode: self.mode,
+            busy_cid,
+            busy_index,
+            last_cid: self.last_cid,
+            error: self.error.map(|e| e.0),
+            error_axis: self.error.map_or(0, |e| e.1),
+            override_pct: self.plan.override_pct,
+            simulated: true,
+            position: pose_to_frame(&pose),
+            s,
+            t,
+            axes: self.axes,
+            tool: pose_to_frame(&self.tool),
+            base: pose_to_frame(&self.base),
+        }
+    }
+}

@@ -1,0 +1,413 @@
+//! The simulated controller's thread: watches the command file, feeds the
+//! state machine, writes the result and state files, and offers handles for
+//! tests (pause = hang, injected error state, trace).
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use kuka_kinematics::{Axes, PlanSettings, RobotModel};
+use kuka_protocol::files::{self, WriteError};
+use kuka_protocol::{COMMAND_FILE, CommandFile, DecodeError, OperatingMode, RESULT_FILE, ResultCode, ResultFile, STATE_FILE};
+use notify::{RecursiveMode, Watcher};
+
+use crate::controller::{Changes, Controller, TraceSample};
+
+/// Errors starting the simulator.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// The channel directory cannot be created or watched.
+    #[error("channel directory {path}: {source}")]
+    Channel {
+        /// The directory.
+        path: String,
+        /// Cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The thread could not be spawned.
+    #[error("cannot start the simulator thread: {0}")]
+    Thread(#[source] std::io::Error),
+}
+
+/// How to run the simulated controller.
+#[derive(Debug, Clone)]
+pub struct SimConfig {
+    /// Directory holding the channel files.
+    pub channel_dir: PathBuf,
+    /// Robot model.
+    pub model: RobotModel,
+    /// Simulated seconds per wall-clock second: 1.0 = real time, 10.0 = ten
+    /// times faster, 0 = instant (motions complete at once; simulated time
+    /// still counts their duration).
+    pub time_scale: f64,
+    /// Heartbeat period of the state file.
+    pub heartbeat: Duration,
+    /// Fallback poll period for the command file (notify events are a hint).
+    pub poll: Duration,
+    /// Axis angles at start (default: the model's home).
+    pub start_axes: Option<Axes>,
+    /// Planner settings.
+    pub plan: PlanSettings,
+    /// Operating mode reported.
+    pub mode: OperatingMode,
+    /// Maximum number of trace samples kept (oldest dropped).
+    pub trace_capacity: usize,
+}
+
+impl SimConfig {
+    /// Defaults for a channel directory: KR 3 R540, real time, 50 ms heartbeat.
+    pub fn new(channel_dir: impl Into<PathBuf>) -> Self {
+        SimConfig {
+            channel_dir: channel_dir.into(),
+            model: RobotModel::kr3_r540(),
+            time_scale: 1.0,
+            heartbeat: Duration::from_millis(50),
+            poll: Duration::from_millis(20),
+            start_axes: None,
+            plan: PlanSettings::default(),
+            mode: OperatingMode::Ext,
+            trace_capacity: 200_000,
+        }
+    }
+}
+
+/// A snapshot of the simulated controller for tests and the API.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SimSnapshot {
+    /// Robot model id.
+    pub model: String,
+    /// Simulated seconds spent moving since start.
+    pub sim_time_s: f64,
+    /// Current axis angles.
+    pub axes: Axes,
+    /// Current TCP `[x, y, z, a, b, c]`.
+    pub pose: [f64; 6],
+    /// Highest accepted CID.
+    pub last_cid: i32,
+    /// Executing a batch.
+    pub busy: bool,
+    /// Heartbeats written.
+    pub heartbeats: i32,
+}
+
+struct Shared {
+    controller: Mutex<Controller>,
+    shutdown: AtomicBool,
+    paused: AtomicBool,
+    wake: mpsc::Sender<()>,
+}
+
+/// A running simulated controller. Dropping it stops the thread.
+pub struct SimController {
+    shared: Arc<Shared>,
+    thread: Option<JoinHandle<()>>,
+    channel_dir: PathBuf,
+}
+
+impl SimController {
+    /// Starts the controller thread on `config.channel_dir` (created if missing).
+    pub fn start(config: SimConfig) -> Result<Self, SimError> {
+        let dir = config.channel_dir.clone();
+        std::fs::create_dir_all(&dir).map_err(|source| SimError::Channel { path: dir.display().to_string(), source })?;
+        let start = config.start_axes.unwrap_or(config.model.home);
+        let controller = Controller::new(config.model.clone(), config.plan.clone(), config.mode, start, config.trace_capacity);
+        let (tx, rx) = mpsc::channel();
+        let shared = Arc::new(Shared {
+            controller: Mutex::new(controller),
+            shutdown: AtomicBool::new(false),
+            paused: AtomicBool::new(false),
+            wake: tx.clone(),
+        });
+        // notify is a hint only: a failing watcher leaves the poll in charge.
+        let watcher = notify::recommended_watcher(move |ev: notify::Result<notify::Event>| {
+            if let Ok(ev) = ev
+                && ev.paths.iter().any(|p| p.file_name().is_some_and(|n| n == COMMAND_FILE))
+            {
+                let _ = tx.send(());
+            }
+        })
+        .and_then(|mut w| w.watch(&dir, RecursiveMode::NonRecursive).map(|()| w));
+        let watcher = match watcher {
+            Ok(w) => Some(w),
+            Err(e) => {
+                tracing::warn!(error = %e, "file watcher unavailable; polling only");
+                None
+            }
+        };
+        let thread_shared = shared.clone();
+        let thread = std::thread::Builder::new()
+            .name("kuka-sim".into())
+            .spawn(move || {
+                let _watcher = watcher;
+                Runner::new(config, thread_shared, rx).run();
+            })
+            .map_err(SimError::Thread)?;
+        Ok(SimController { shared, thread: Some(thread), channel_dir: dir })
+    }
+
+    fn lock(&self) -> MutexGuard<'_, Controller> {
+        self.shared.controller.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// The channel directory.
+    pub fn channel_dir(&self) -> &std::path::Path {
+        &self.channel_dir
+    }
+
+    /// The executed TCP trace (oldest first).
+    pub fn trace(&self) -> Vec<TraceSample> {
+        self.lock().trace.iter().copied().collect()
+    }
+
+    /// Clears the trace.
+    pub fn clear_trace(&self) {
+        self.lock().trace.clear();
+    }
+
+    /// Current state.
+    pub fn snapshot(&self) -> SimSnapshot {
+        let c = self.lock();
+        let (pose, _, _) = c.position();
+        SimSnapshot {
+            model: c.model.name.clone(),
+            sim_time_s: c.sim_time,
+            axes: c.axes,
+            pose: pose.to_array(),
+            last_cid: c.last_cid,
+            busy: c.is_busy(),
+            heartbeats: c.seq,
+        }
+    }
+
+    /// Hangs the controller: no commands are read and no heartbeat is
+    /// written until [`resume`](Self::resume) — like a stuck KRL program.
+    pub fn pause(&self) {
+        self.shared.paused.store(true, Ordering::SeqCst);
+    }
+
+    /// Ends a [`pause`](Self::pause).
+    pub fn resume(&self) {
+        self.shared.paused.store(false, Ordering::SeqCst);
+        let _ = self.shared.wake.send(());
+    }
+
+    /// Puts the controller into an error state (as an acknowledgeable KRC
+    /// message would) until a RESET command.
+    pub fn inject_error(&self, code: ResultCode, axis: u8) {
+        self.lock().error = Some((code, axis));
+        let _ = self.shared.wake.send(());
+    }
+
+    /// Stops the thread and waits for it.
+    pub fn shutdown(mut self) {
+        self.stop_thread();
+    }
+
+    fn stop_thread(&mut self) {
+        self.shared.shutdown.store(true, Ordering::SeqCst);
+        let _ = self.shared.wake.send(());
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for SimController {
+    fn drop(&mut self) {
+        self.stop_thread();
+    }
+}
+
+struct Runner {
+    config: SimConfig,
+    shared: Arc<Shared>,
+    rx: mpsc::Receiver<()>,
+    tag: String,
+    last_text: String,
+    pending_results: bool,
+    pending_state: bool,
+    next_heartbeat: Instant,
+}
+
+impl Runner {
+    fn new(config: SimConfig, shared: Arc<Shared>, rx: mpsc::Receiver<()>) -> Self {
+        Runner {
+            config,
+            shared,
+            rx,
+            tag: format!("sim{}", std::process::id()),
+            last_text: String::new(),
+            pending_results: false,
+            pending_state: true,
+            next_heartbeat: Instant::now(),
+        }
+    }
+
+    fn run(mut self) {
+        tracing::info!(dir = %self.config.channel_dir.display(), model = %self.config.model.name, "simulated controller running");
+        self.recover_last_cid();
+        while !self.shared.shutdown.load(Ordering::SeqCst) {
+            if self.shared.paused.load(Ordering::SeqCst) {
+                let _ = self.rx.recv_timeout(self.config.poll);
+                continue;
+            }
+            let now = Instant::now();
+            self.step(now);
+            let due = {
+                let c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
+                c.next_sample_due(self.config.time_scale)
+            };
+            let mut wait_until = self.next_heartbeat.min(now + self.config.poll);
+            if let Some(d) = due {
+                wait_until = wait_until.min(d);
+            }
+            let wait = wait_until.saturating_duration_since(Instant::now());
+            match self.rx.recv_timeout(wait) {
+                Ok(()) => while self.rx.try_recv().is_ok() {},
+                Err(RecvTimeoutError::Timeout) => {}
+                Err(RecvTimeoutError::Disconnected) => break,
+            }
+        }
+        tracing::info!("simulated controller stopped");
+    }
+
+    /// A restarted simulator must not execute an old command again: it
+    /// remembers the highest CID from its own result and state files.
+    fn recover_last_cid(&mut self) {
+        let dir = &self.config.channel_dir;
+        let mut last = 0;
+        if let Ok(Some(text)) = files::read(dir, RESULT_FILE)
+            && let Ok(r) = ResultFile::decode(&text)
+        {
+            last = r.results.iter().map(|r| r.cid).max().unwrap_or(0);
+        }
+        if let Ok(Some(text)) = files::read(dir, STATE_FILE)
+            && let Ok(s) = kuka_protocol::StateFile::decode(&text)
+        {
+            last = last.max(s.last_cid);
+        }
+        let mut c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
+        c.last_cid = last;
+        if let Ok(Some(text)) = files::read(dir, RESULT_FILE)
+            && let Ok(r) = ResultFile::decode(&text)
+        {
+            c.results = r.results.into_iter().collect();
+        }
+    }
+
+    fn step(&mut self, now: Instant) {
+        let mut changes = Changes::default();
+        self.read_command(now, &mut changes);
+        {
+            let mut c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
+            let ch = c.advance(now, self.config.time_scale);
+            changes.results |= ch.results;
+            changes.state |= ch.state;
+        }
+        self.pending_results |= changes.results;
+        self.pending_state |= changes.state;
+        if self.pending_results {
+            self.write_results();
+        }
+        if self.pending_state || now >= self.next_heartbeat {
+            self.write_state();
+        }
+    }
+
+    fn read_command(&mut self, now: Instant, changes: &mut Changes) {
+        let text = match files::read(&self.config.channel_dir, COMMAND_FILE) {
+            Ok(Some(t)) => t,
+            Ok(None) => return,
+            Err(e) => {
+                tracing::debug!(error = %e, "command file not readable now");
+                return;
+            }
+        };
+        if text == self.last_text {
+            return;
+        }
+        let mut c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
+        match CommandFile::decode(&text) {
+            Ok(cmd) => {
+                self.last_text = text;
+                if cmd.cid > c.last_cid {
+                    let ch = c.accept(cmd.cid, cmd.command, now);
+                    changes.results |= ch.results;
+                    changes.state |= ch.state;
+                } else {
+                    tracing::debug!(cid = cmd.cid, last = c.last_cid, "stale command ignored");
+                }
+            }
+            Err(DecodeError::Truncated | DecodeError::Empty) => {
+                // Half-written: read again at the next event or poll.
+            }
+            Err(e) => {
+                self.last_text = text.clone();
+                if let Some(cid) = CommandFile::peek_cid(&text)
+                    && cid > c.last_cid
+                {
+                    tracing::warn!(cid, error = %e, "malformed command");
+                    c.last_cid = cid;
+                    let (pose, s, t) = c.position();
+                    c.results.push_back(kuka_protocol::ResultRecord {
+                        cid,
+                        code: ResultCode::BadCommand,
+                        completed: 0,
+                        axis: 0,
+                        position: crate::pose_to_frame(&pose),
+                        s,
+                        t,
+                    });
+                    while c.results.len() > kuka_protocol::RESULT_HISTORY {
+                        c.results.pop_front();
+                    }
+                    changes.results = true;
+                    changes.state = true;
+                } else {
+                    tracing::warn!(error = %e, "unreadable command file ignored");
+                }
+            }
+        }
+    }
+
+    fn write_results(&mut self) {
+        let text = {
+            let c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
+            ResultFile { results: c.results.iter().copied().collect() }.encode()
+        };
+        match text {
+            Ok(text) => match files::atomic_write(&self.config.channel_dir, RESULT_FILE, &self.tag, &text) {
+                Ok(()) => self.pending_results = false,
+                Err(WriteError::Locked { .. }) => tracing::debug!("result file locked; retrying"),
+                Err(e) => tracing::warn!(error = %e, "cannot write result file"),
+            },
+            Err(e) => {
+                tracing::error!(error = %e, "cannot encode results");
+                self.pending_results = false;
+            }
+        }
+    }
+
+    fn write_state(&mut self) {
+        let text = {
+            let mut c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
+            c.state_record().encode()
+        };
+        self.next_heartbeat = Instant::now() + self.config.heartbeat;
+        match text {
+            Ok(text) => match files::atomic_write(&self.config.channel_dir, STATE_FILE, &self.tag, &text) {
+                Ok(()) => self.pending_state = false,
+                Err(WriteError::Locked { .. }) => tracing::debug!("state file locked; retrying"),
+                Err(e) => tracing::warn!(error = %e, "cannot write state file"),
+            },
+            Err(e) => {
+                tracing::error!(error = %e, "cannot encode state");
+                self.pending_state = false;
+            }
+        }
+    }
+}
