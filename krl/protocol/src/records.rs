@@ -474,7 +474,7 @@ impl ResultCode {
     }
 }
 
-/// One result: `RSL cid code done axis x y z a b c s t K`.
+/// One result: `RSL cid code done axis x y z a b c s t a1 a2 a3 a4 a5 a6 K`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ResultRecord {
     /// The command it answers.
@@ -491,6 +491,8 @@ pub struct ResultRecord {
     pub s: u8,
     /// Turn of `position`.
     pub t: u8,
+    /// Axis angles A1..A6 at the end.
+    pub axes: [f64; 6],
 }
 
 /// The result file: `RES 1 n K`, `n` (≤ 8) RSL lines oldest first, `END n K`.
@@ -519,6 +521,9 @@ impl ResultFile {
             ]);
             r.position.fields(&mut f)?;
             f.extend([Field::Int(i32::from(r.s)), Field::Int(i32::from(r.t))]);
+            for (name, v) in ["a1", "a2", "a3", "a4", "a5", "a6"].into_iter().zip(r.axes) {
+                f.push(real(name, v)?);
+            }
             write_line(&mut out, "RSL", &f);
         }
         write_line(&mut out, "END", &[Field::Int(n)]);
@@ -539,7 +544,7 @@ impl ResultFile {
         }
         let mut results = Vec::with_capacity(n as usize);
         for _ in 0..n {
-            let mut l = r.line("RSL", "iiiirrrrrrii")?;
+            let mut l = r.line("RSL", "iiiirrrrrriirrrrrr")?;
             let cid = l.int();
             let code = ResultCode::from_code(l.int());
             let completed = l.int();
@@ -547,6 +552,7 @@ impl ResultFile {
             let position = Frame::read(&mut l);
             let s = l.int();
             let t = l.int();
+            let axes = [l.real(), l.real(), l.real(), l.real(), l.real(), l.real()];
             if completed < 0 || !(0..=6).contains(&axis) || !(0..=7).contains(&s) || !(0..=63).contains(&t) {
                 return Err(l.invalid("count, axis, Status or Turn out of range"));
             }
@@ -558,6 +564,7 @@ impl ResultFile {
                 position,
                 s: s as u8,
                 t: t as u8,
+                axes,
             });
         }
         let mut e = r.line("END", "i")?;

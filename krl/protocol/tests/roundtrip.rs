@@ -72,6 +72,7 @@ fn sample_results() -> ResultFile {
                 position: Frame { x: f64::from(i), y: 0.5, z: -0.25, a: 0.0, b: 90.0, c: 0.0 },
                 s: 2,
                 t: 0,
+                axes: [0.0, -90.0, 90.0, 0.0, 45.5, -0.001],
             })
             .collect(),
     }

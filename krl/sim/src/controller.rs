@@ -154,10 +154,16 @@ impl Controller {
     fn push_result(&mut self, cid: Cid, code: ResultCode, completed: u32, axis: u8, position: Option<Frame>) {
         let (pose, s, t) = self.position();
         let position = position.unwrap_or_else(|| pose_to_frame(&pose));
-        self.results.push_back(ResultRecord { cid, code, completed, axis, position, s, t });
+        self.results.push_back(ResultRecord { cid, code, completed, axis, position, s, t, axes: self.axes });
         while self.results.len() > RESULT_HISTORY {
             self.results.pop_front();
         }
+    }
+
+    /// Answers a command whose header is intact but whose body is not.
+    pub(crate) fn reject_malformed(&mut self, cid: Cid) {
+        self.last_cid = cid;
+        self.push_result(cid, ResultCode::BadCommand, 0, 0, None);
     }
 
     /// Executes a newly read command (the caller guarantees `cid > last_cid`).

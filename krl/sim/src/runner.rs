@@ -351,20 +351,7 @@ impl Runner {
                     && cid > c.last_cid
                 {
                     tracing::warn!(cid, error = %e, "malformed command");
-                    c.last_cid = cid;
-                    let (pose, s, t) = c.position();
-                    c.results.push_back(kuka_protocol::ResultRecord {
-                        cid,
-                        code: ResultCode::BadCommand,
-                        completed: 0,
-                        axis: 0,
-                        position: crate::pose_to_frame(&pose),
-                        s,
-                        t,
-                    });
-                    while c.results.len() > kuka_protocol::RESULT_HISTORY {
-                        c.results.pop_front();
-                    }
+                    c.reject_malformed(cid);
                     changes.results = true;
                     changes.state = true;
                 } else {
