@@ -186,7 +186,12 @@ impl RobotModel {
     }
     /// Ids of all built-in models.
     pub fn builtin_names() -> &'static [&'static str] {
-        &["kr3_r540", "kr6_r700_sixx", "kr6_r900_sixx", "kr10_r1100_sixx"]
+        &[
+            "kr3_r540",
+            "kr6_r700_sixx",
+            "kr6_r900_sixx",
+            "kr10_r1100_sixx",
+        ]
     }
 
     /// The rs-opw-kinematics parameters of this model (meters, radians).
@@ -218,6 +223,7 @@ impl RobotModel {
     }
 
     /// Flange pose in the robot root frame ($ROBROOT) for these axes.
+    /// Non-finite (or absurdly large) angles give a pose of NaNs.
     pub fn flange(&self, axes: &Axes) -> Pose {
         match self.solver().try_forward(&to_rad(axes)) {
             Ok(p) => Pose::from_opw(&p),
@@ -428,8 +434,12 @@ impl RobotModel {
             list.min_by(|a, b| self.cost(current, a).total_cmp(&self.cost(current, b)))
                 .copied()
         };
-        if let Some(a) = best(&mut matching.iter().copied().filter(|a| self.check_limits(a).is_ok()))
-        {
+        if let Some(a) = best(
+            &mut matching
+                .iter()
+                .copied()
+                .filter(|a| self.check_limits(a).is_ok()),
+        ) {
             return Ok(snap_zero(a));
         }
         if let Some(a) = best(&mut matching.iter().copied()) {
@@ -443,6 +453,34 @@ impl RobotModel {
             s: want_s,
             t: t.unwrap_or_else(|| Self::turn(current)),
         })
+    }
+
+    /// Checks that a TCP target has at least one axis solution within the
+    /// software limits, in any configuration: [`IkError::Unreachable`] if
+    /// there is no solution at all, else the limit violation of the first
+    /// solution rs-opw returns. Cheaper than [`RobotModel::solutions`].
+    pub fn check_reachable(&self, target: &Pose, tool: &Pose, base: &Pose) -> Result<(), IkError> {
+        let flange = Self::flange_target(target, tool, base);
+        if !flange.is_finite() {
+            return Err(IkError::Unreachable);
+        }
+        let raw = self.solver().inverse(&flange.to_opw());
+        let mut first_err = None;
+        for sol in &raw {
+            let mut axes = to_deg(sol);
+            // Pick, per axis, the 360° variant closest to the limit centre.
+            for (v, &(min, max)) in axes.iter_mut().zip(self.limits_deg.iter()) {
+                let centre = 0.5 * (min + max);
+                *v = centre + wrap180(*v - centre);
+            }
+            match self.check_limits(&axes) {
+                Ok(()) => return Ok(()),
+                Err(e) => {
+                    first_err.get_or_insert(e);
+                }
+            }
+        }
+        Err(first_err.unwrap_or(IkError::Unreachable))
     }
 
     /// Solution closest to `previous` (continuous path following for

@@ -1,8 +1,59 @@
 //! Motion planning and timing for PTP, axis PTP, LIN and CIRC with
 //! approximation: the trajectory the simulated controller executes and the
 //! service's safety module dry-runs before sending anything.
+//!
+//! # Model (a simplified KRC)
+//!
+//! * **PTP / axis PTP**: synchronous axis motion. Every axis follows the same
+//!   normalised trapezoid; its speed and acceleration are the largest for
+//!   which no axis exceeds `velocity % × override % × max_speed_deg_s[i]` or
+//!   `acceleration_pct % × max_acc_axis_deg_s2[i]` (for a one-axis move this
+//!   is the textbook trapezoid `T = Δ/v + v/a`, or `2·√(Δ/a)` without
+//!   cruise). Cartesian PTP targets go through [`RobotModel::inverse`] (the
+//!   Status/Turn rules documented in [`crate::model`]). PTP motions always
+//!   stop exactly at their end, even with `approx_mm > 0` (no PTP blending).
+//! * **LIN / CIRC**: the TCP position follows the line or the arc (circle
+//!   through start, auxiliary and end point), the orientation is slerped from
+//!   start to target. Path speed is `velocity` m/s × override, acceleration
+//!   `max_acc_cp × acceleration_pct %`. The orientation speed is bounded by
+//!   [`ORI_SPEED_DEG_S`] ($VEL.ORI1): a segment's path parameter is its
+//!   "effective length" `max(length, angle × v / ORI_SPEED_DEG_S)`, so pure
+//!   re-orientations take time too.
+//! * **Approximation** (C_DIS): a LIN/CIRC with `approx_mm > 0` followed by
+//!   another LIN/CIRC does not stop at the corner. Like a CNC junction-speed
+//!   planner, each corner gets a speed limit `√(a · r)` with
+//!   `r = d / tan(θ/2)`, `θ` the deflection between the path tangents and
+//!   `d = min(approx_mm, half of either segment)` (KUKA also caps the
+//!   approximation at half a segment); `θ ≈ 0` gives no extra limit. A
+//!   backward and a forward pass then keep every segment within the
+//!   acceleration limit, so a fine polyline approximating a smooth curve runs
+//!   at constant speed apart from the first acceleration and the last
+//!   deceleration. **The samples stay on the programmed polyline**: the
+//!   rounded corner the real controller drives is not drawn (the deviation is
+//!   at most the approximation distance). The last motion of a batch always
+//!   stops exactly.
+//! * **Sampling**: every `sample_period_s` from `t = 0` (the start) plus the
+//!   exact end point. For LIN/CIRC every sample's axes come from
+//!   [`RobotModel::inverse_continuing`] from the previous sample. The
+//!   trajectory stops at the last good sample when a sample is unreachable
+//!   ([`IkError::Unreachable`]), violates a software limit
+//!   ([`IkError::SoftwareLimit`]), or when an axis would have to move more
+//!   than [`SINGULARITY_SPEED_FACTOR`] × its maximum speed between two
+//!   samples ([`MotionError::Singularity`]: `"wrist"` if A5 is near or crosses
+//!   0, `"overhead"` if the wrist point is near the A1 axis, `"elbow"` if A3
+//!   is near the stretched angle φ, else `"axis speed limit"`).
+//! * **Look-ahead checks**: before a LIN/CIRC block starts, every target is
+//!   checked for reachability within the limits and every CIRC for its
+//!   geometry; a failing motion ends the block before it (exact stop), like
+//!   the KRC's advance run.
+//! * **Errors**: parameters are validated for the whole batch first; the
+//!   motions before the first invalid one are still planned. On an error
+//!   `samples` ends where the robot stops, `end_axes` are the axes there,
+//!   and all earlier motions count as executed.
 
 use serde::{Deserialize, Serialize};
+
+use rs_opw_kinematics::glam::{DQuat, DVec3};
 
 use crate::model::{Axes, IkError, RobotModel};
 use crate::pose::Pose;
@@ -65,8 +116,17 @@ pub struct PlanSettings {
 }
 
 impl Default for PlanSettings {
+    /// Override 100 %, $ACC.CP 2.3 m/s², 300 deg/s² on every axis (an
+    /// assumption: KUKA does not publish axis accelerations; real small
+    /// robots accelerate faster, so simulated PTPs are on the slow side),
+    /// IPO cycle 12 ms.
     fn default() -> Self {
-        todo!("helper")
+        PlanSettings {
+            override_pct: 100.0,
+            max_acc_cp: 2.3,
+            max_acc_axis_deg_s2: [300.0; 6],
+            sample_period_s: 0.012,
+        }
     }
 }
 
@@ -123,5 +183,732 @@ pub fn plan(
     motions: &[Motion],
     settings: &PlanSettings,
 ) -> Execution {
-    todo!("helper")
+    Planner::new(model, start, tool, base, settings).run(motions)
+}
+
+/// Highest LIN/CIRC speed accepted (m/s).
+pub const MAX_CP_VELOCITY: f64 = 2.0;
+
+/// Orientation speed (deg/s, like $VEL.ORI1) at 100 % override that bounds
+/// re-orientation during LIN/CIRC.
+pub const ORI_SPEED_DEG_S: f64 = 200.0;
+
+/// An axis moving faster than this multiple of its maximum speed between two
+/// LIN/CIRC samples is reported as a singularity.
+pub const SINGULARITY_SPEED_FACTOR: f64 = 3.0;
+
+/// Shortest accepted sample period (s); bounds the number of samples.
+pub const MIN_SAMPLE_PERIOD_S: f64 = 0.001;
+
+/// Below this (mm, rad) a length or angle counts as zero.
+const EPS: f64 = 1e-9;
+
+fn validate_settings(s: &PlanSettings) -> Result<(), MotionError> {
+    if !(s.override_pct.is_finite() && s.override_pct > 0.0 && s.override_pct <= 100.0) {
+        return Err(MotionError::Parameter("override must be in (0, 100] %"));
+    }
+    if !(s.max_acc_cp.is_finite() && s.max_acc_cp > 0.0) {
+        return Err(MotionError::Parameter("max_acc_cp must be > 0"));
+    }
+    if !s
+        .max_acc_axis_deg_s2
+        .iter()
+        .all(|a| a.is_finite() && *a > 0.0)
+    {
+        return Err(MotionError::Parameter("axis accelerations must be > 0"));
+    }
+    if !(s.sample_period_s.is_finite() && s.sample_period_s >= MIN_SAMPLE_PERIOD_S) {
+        return Err(MotionError::Parameter("sample period must be >= 1 ms"));
+    }
+    Ok(())
+}
+
+fn validate_motion(m: &Motion) -> Result<(), MotionError> {
+    if !(m.velocity.is_finite() && m.velocity > 0.0) {
+        return Err(MotionError::Parameter("velocity must be > 0"));
+    }
+    if !(m.acceleration_pct.is_finite() && (1.0..=100.0).contains(&m.acceleration_pct)) {
+        return Err(MotionError::Parameter("acceleration must be 1..100 %"));
+    }
+    if !(m.approx_mm.is_finite() && m.approx_mm >= 0.0) {
+        return Err(MotionError::Parameter(
+            "approximation distance must be >= 0 mm",
+        ));
+    }
+    match &m.kind {
+        MotionKind::Ptp { target, s, t } => {
+            if m.velocity > 100.0 {
+                return Err(MotionError::Parameter("PTP velocity must be 1..100 %"));
+            }
+            if !target.is_finite() {
+                return Err(MotionError::Parameter("target must be finite"));
+            }
+            if s.is_some_and(|s| s > 7) || t.is_some_and(|t| t > 63) {
+                return Err(MotionError::Parameter("Status must be 0..7, Turn 0..63"));
+            }
+        }
+        MotionKind::PtpAxes { axes } => {
+            if m.velocity > 100.0 {
+                return Err(MotionError::Parameter("PTP velocity must be 1..100 %"));
+            }
+            if !axes.iter().all(|a| a.is_finite()) {
+                return Err(MotionError::Parameter("axis angles must be finite"));
+            }
+        }
+        MotionKind::Lin { target } => {
+            if m.velocity > MAX_CP_VELOCITY {
+                return Err(MotionError::Parameter("LIN velocity must be <= 2 m/s"));
+            }
+            if !target.is_finite() {
+                return Err(MotionError::Parameter("target must be finite"));
+            }
+        }
+        MotionKind::Circ { aux, target } => {
+            if m.velocity > MAX_CP_VELOCITY {
+                return Err(MotionError::Parameter("CIRC velocity must be <= 2 m/s"));
+            }
+            if !target.is_finite() || !aux.is_finite() {
+                return Err(MotionError::Parameter(
+                    "target and auxiliary point must be finite",
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn is_cartesian(m: &Motion) -> bool {
+    matches!(m.kind, MotionKind::Lin { .. } | MotionKind::Circ { .. })
+}
+
+/// A trapezoidal (or triangular) speed profile over a distance.
+#[derive(Debug, Clone, Copy, Default)]
+struct Trapezoid {
+    v0: f64,
+    vp: f64,
+    a: f64,
+    t_acc: f64,
+    t_cruise: f64,
+    t_dec: f64,
+    d_acc: f64,
+    d_cruise: f64,
+    len: f64,
+}
+
+impl Trapezoid {
+    /// From entry speed `v0` to exit speed `v1` over `len` with peak at most
+    /// `vmax` and acceleration `a`. The speeds must be reachable (the
+    /// planner's passes ensure that); small inconsistencies are absorbed.
+    fn new(len: f64, v0: f64, v1: f64, vmax: f64, a: f64) -> Self {
+        if len <= EPS || a <= 0.0 {
+            return Trapezoid::default();
+        }
+        let vp = vmax
+            .min((a * len + 0.5 * (v0 * v0 + v1 * v1)).sqrt())
+            .max(v0)
+            .max(v1);
+        if vp <= EPS {
+            return Trapezoid::default();
+        }
+        let d_acc = (vp * vp - v0 * v0) / (2.0 * a);
+        let d_dec = (vp * vp - v1 * v1) / (2.0 * a);
+        let d_cruise = (len - d_acc - d_dec).max(0.0);
+        Trapezoid {
+            v0,
+            vp,
+            a,
+            t_acc: (vp - v0) / a,
+            t_cruise: d_cruise / vp,
+            t_dec: (vp - v1) / a,
+            d_acc,
+            d_cruise,
+            len,
+        }
+    }
+
+    fn duration(&self) -> f64 {
+        self.t_acc + self.t_cruise + self.t_dec
+    }
+
+    /// Distance travelled after `t` seconds.
+    fn pos(&self, t: f64) -> f64 {
+        let d = if t <= 0.0 {
+            0.0
+        } else if t < self.t_acc {
+            self.v0 * t + 0.5 * self.a * t * t
+        } else if t < self.t_acc + self.t_cruise {
+            self.d_acc + self.vp * (t - self.t_acc)
+        } else if t < self.duration() {
+            let td = t - self.t_acc - self.t_cruise;
+            self.d_acc + self.d_cruise + self.vp * td - 0.5 * self.a * td * td
+        } else {
+            self.len
+        };
+        d.clamp(0.0, self.len)
+    }
+}
+
+/// Path geometry of one Cartesian segment (positions in mm).
+#[derive(Debug, Clone, Copy)]
+enum Geom {
+    Line {
+        p0: DVec3,
+        p1: DVec3,
+    },
+    Arc {
+        center: DVec3,
+        /// Start point relative to the centre.
+        r0: DVec3,
+        /// Unit normal (rotation axis, right-handed).
+        normal: DVec3,
+        /// Swept angle in radians (0, 2π).
+        angle: f64,
+    },
+}
+
+impl Geom {
+    fn at(&self, u: f64) -> DVec3 {
+        match *self {
+            Geom::Line { p0, p1 } => p0.lerp(p1, u),
+            Geom::Arc {
+                center,
+                r0,
+                normal,
+                angle,
+            } => center + DQuat::from_axis_angle(normal, angle * u) * r0,
+        }
+    }
+}
+
+/// One LIN/CIRC motion in a blended block.
+#[derive(Debug, Clone, Copy)]
+struct Segment {
+    motion: usize,
+    geom: Geom,
+    q0: DQuat,
+    q1: DQuat,
+    /// Geometric length (mm).
+    len: f64,
+    /// Effective length (mm): path parameter including re-orientation.
+    le: f64,
+    /// Unit tangents at start and end (zero if the position does not move).
+    dir_in: DVec3,
+    dir_out: DVec3,
+    vmax: f64,
+    acc: f64,
+    approx: f64,
+    profile: Trapezoid,
+    t_start: f64,
+}
+
+impl Segment {
+    fn build(
+        motion: usize,
+        m: &Motion,
+        start: &Pose,
+        settings: &PlanSettings,
+    ) -> Result<Segment, MotionError> {
+        let p0 = start.position();
+        let q0 = start.rotation();
+        let (geom, len, dir_in, dir_out, q1) = match &m.kind {
+            MotionKind::Lin { target } => {
+                let p1 = target.position();
+                let d = p1 - p0;
+                let len = d.length();
+                let dir = if len > EPS { d / len } else { DVec3::ZERO };
+                (Geom::Line { p0, p1 }, len, dir, dir, target.rotation())
+            }
+            MotionKind::Circ { aux, target } => {
+                let (geom, len, din, dout) = circle(p0, aux.position(), target.position())?;
+                (geom, len, din, dout, target.rotation())
+            }
+            MotionKind::Ptp { .. } | MotionKind::PtpAxes { .. } => {
+                return Err(MotionError::Geometry("not a Cartesian motion"));
+            }
+        };
+        let angle_deg = crate::pose::quat_angle(q0, q1).to_degrees();
+        let v_prog = m.velocity * 1000.0;
+        let le = len.max(angle_deg * v_prog / ORI_SPEED_DEG_S);
+        Ok(Segment {
+            motion,
+            geom,
+            q0,
+            q1,
+            len,
+            le,
+            dir_in,
+            dir_out,
+            vmax: v_prog * settings.override_pct / 100.0,
+            acc: settings.max_acc_cp * 1000.0 * m.acceleration_pct / 100.0,
+            approx: m.approx_mm,
+            profile: Trapezoid::default(),
+            t_start: 0.0,
+        })
+    }
+
+    fn pose_at(&self, t: f64) -> Pose {
+        let s = self.profile.pos(t - self.t_start);
+        let u = if self.le > EPS {
+            (s / self.le).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        Pose::from_parts(self.geom.at(u), self.q0.slerp(self.q1, u))
+    }
+
+    fn t_end(&self) -> f64 {
+        self.t_start + self.profile.duration()
+    }
+}
+
+/// The circle from `p0` through `p1` to `p2`: geometry, arc length and the
+/// unit tangents at start and end.
+fn circle(p0: DVec3, p1: DVec3, p2: DVec3) -> Result<(Geom, f64, DVec3, DVec3), MotionError> {
+    let a = p1 - p0;
+    let b = p2 - p0;
+    let scale = a.length().max(b.length()).max((p2 - p1).length());
+    if a.length() < 1e-6 || b.length() < 1e-6 || (p2 - p1).length() < 1e-6 {
+        return Err(MotionError::Geometry("CIRC points coincide"));
+    }
+    let n = a.cross(b);
+    // |a × b| = |a||b| sin(angle): reject nearly collinear points.
+    if n.length() < 1e-6 * scale * scale {
+        return Err(MotionError::Geometry("CIRC points are collinear"));
+    }
+    // Circumcentre of the triangle p0, p1, p2.
+    let center = p0
+        + (b.length_squared() * n.cross(a) + a.length_squared() * b.cross(n))
+            / (2.0 * n.length_squared());
+    let normal = n.normalize();
+    let r0 = p0 - center;
+    let r2 = p2 - center;
+    // Counter-clockwise angle about `normal` from r0 to r2; p1 lies on the
+    // way because p0, p1, p2 are counter-clockwise about `normal`.
+    let mut angle = normal.dot(r0.cross(r2)).atan2(r0.dot(r2));
+    if angle <= 0.0 {
+        angle += std::f64::consts::TAU;
+    }
+    let radius = r0.length();
+    let dir_in = normal.cross(r0).normalize_or_zero();
+    let dir_out = normal.cross(r2).normalize_or_zero();
+    Ok((
+        Geom::Arc {
+            center,
+            r0,
+            normal,
+            angle,
+        },
+        radius * angle,
+        dir_in,
+        dir_out,
+    ))
+}
+
+/// Speed limit (mm/s) at the corner between two blended segments.
+fn junction_speed(a: &Segment, b: &Segment) -> f64 {
+    let vmax = a.vmax.min(b.vmax);
+    if a.dir_out == DVec3::ZERO || b.dir_in == DVec3::ZERO {
+        return 0.0;
+    }
+    let theta = a.dir_out.dot(b.dir_in).clamp(-1.0, 1.0).acos();
+    if theta < 1e-6 {
+        return vmax;
+    }
+    let d = a.approx.min(0.5 * a.len).min(0.5 * b.len);
+    let r = d / (0.5 * theta).tan();
+    (a.acc.min(b.acc) * r).max(0.0).sqrt().min(vmax)
+}
+
+/// Sets entry/exit speeds, profiles and start times of a blended block.
+fn time_block(segs: &mut [Segment], t0: f64) {
+    let n = segs.len();
+    if n == 0 {
+        return;
+    }
+    // v[i] = speed at the start of segment i; v[n] = 0 at the end.
+    let mut v = vec![0.0; n + 1];
+    for i in 1..n {
+        v[i] = junction_speed(&segs[i - 1], &segs[i]);
+    }
+    // Backward pass: able to brake to the next limit.
+    for i in (0..n).rev() {
+        let s = &segs[i];
+        v[i] = v[i].min((v[i + 1] * v[i + 1] + 2.0 * s.acc * s.le).sqrt());
+    }
+    // Forward pass: able to accelerate from the previous speed.
+    for i in 0..n {
+        let s = &segs[i];
+        v[i + 1] = v[i + 1].min((v[i] * v[i] + 2.0 * s.acc * s.le).sqrt());
+    }
+    let mut t = t0;
+    for (i, s) in segs.iter_mut().enumerate() {
+        s.profile = Trapezoid::new(s.le, v[i], v[i + 1], s.vmax, s.acc);
+        s.t_start = t;
+        t += s.profile.duration();
+    }
+}
+
+/// Planner state while walking through a batch.
+struct Planner<'a> {
+    model: &'a RobotModel,
+    tool: &'a Pose,
+    base: &'a Pose,
+    settings: &'a PlanSettings,
+    /// Current axes (end of what has been planned so far).
+    axes: Axes,
+    /// Current time.
+    t: f64,
+    /// Motion the robot executes (or executed last).
+    motion: usize,
+    /// Next grid time to sample.
+    next_k: u64,
+    samples: Vec<Sample>,
+}
+
+/// Result of one block: `Err` stops the batch.
+type BlockResult = Result<(), (usize, MotionError)>;
+
+impl<'a> Planner<'a> {
+    fn new(
+        model: &'a RobotModel,
+        start: &Axes,
+        tool: &'a Pose,
+        base: &'a Pose,
+        settings: &'a PlanSettings,
+    ) -> Self {
+        Planner {
+            model,
+            tool,
+            base,
+            settings,
+            axes: *start,
+            t: 0.0,
+            motion: 0,
+            next_k: 1,
+            samples: Vec::new(),
+        }
+    }
+
+    fn pose(&self, axes: &Axes) -> Pose {
+        self.model.forward(axes, self.tool, self.base)
+    }
+
+    fn run(mut self, motions: &[Motion]) -> Execution {
+        let start_pose = self.pose(&self.axes);
+        self.samples.push(Sample {
+            t: 0.0,
+            motion: 0,
+            axes: self.axes,
+            pose: start_pose,
+        });
+        if let Err(e) = validate_settings(self.settings) {
+            return self.finish(Some((0, e)));
+        }
+        // Parameters first: the motions before the first bad one still run.
+        let (runnable, mut pending) = match motions
+            .iter()
+            .enumerate()
+            .find_map(|(i, m)| validate_motion(m).err().map(|e| (i, e)))
+        {
+            Some((i, e)) => (&motions[..i], Some((i, e))),
+            None => (motions, None),
+        };
+        let mut i = 0;
+        while i < runnable.len() {
+            let m = &runnable[i];
+            let result = if is_cartesian(m) {
+                let mut j = i + 1;
+                while j < runnable.len()
+                    && runnable[j - 1].approx_mm > 0.0
+                    && is_cartesian(&runnable[j])
+                {
+                    j += 1;
+                }
+                let r = self.cartesian_block(runnable, i, j);
+                i = j;
+                r
+            } else {
+                let r = self.ptp(i, m);
+                i += 1;
+                r
+            };
+            if let Err(e) = result {
+                pending = Some(e);
+                break;
+            }
+        }
+        self.finish(pending)
+    }
+
+    fn finish(mut self, error: Option<(usize, MotionError)>) -> Execution {
+        let needs_end = self.samples.last().is_none_or(|s| s.t < self.t - 1e-9);
+        if needs_end {
+            let pose = self.pose(&self.axes);
+            self.samples.push(Sample {
+                t: self.t,
+                motion: self.motion,
+                axes: self.axes,
+                pose,
+            });
+        }
+        Execution {
+            end_axes: self.axes,
+            duration_s: self.t,
+            samples: self.samples,
+            error,
+        }
+    }
+
+    /// Grid times within (self.t, t_end], advancing the grid counter.
+    fn grid_until(&mut self, t_end: f64) -> Vec<f64> {
+        let dt = self.settings.sample_period_s;
+        let mut out = Vec::new();
+        loop {
+            let t = self.next_k as f64 * dt;
+            if t > t_end + 1e-12 {
+                break;
+            }
+            if t > self.t {
+                out.push(t);
+            }
+            self.next_k += 1;
+        }
+        out
+    }
+
+    fn ptp(&mut self, index: usize, m: &Motion) -> BlockResult {
+        let target = match &m.kind {
+            MotionKind::Ptp { target, s, t } => self
+                .model
+                .inverse(target, self.tool, self.base, *s, *t, &self.axes)
+                .map_err(|e| (index, e.into()))?,
+            MotionKind::PtpAxes { axes } => {
+                self.model
+                    .check_limits(axes)
+                    .map_err(|e| (index, e.into()))?;
+                *axes
+            }
+            MotionKind::Lin { .. } | MotionKind::Circ { .. } => {
+                return Err((index, MotionError::Geometry("not a PTP motion")));
+            }
+        };
+        let start = self.axes;
+        let profile = ptp_profile(self.model, self.settings, m, &start, &target);
+        let t0 = self.t;
+        let t_end = t0 + profile.duration();
+        for t in self.grid_until(t_end) {
+            let sigma = profile.pos(t - t0);
+            let mut axes = start;
+            for (a, (s, e)) in axes.iter_mut().zip(start.iter().zip(target.iter())) {
+                *a = s + (e - s) * sigma;
+            }
+            let pose = self.pose(&axes);
+            self.samples.push(Sample {
+                t,
+                motion: index,
+                axes,
+                pose,
+            });
+        }
+        self.axes = target;
+        self.t = t_end;
+        self.motion = index;
+        Ok(())
+    }
+
+    /// Plans motions `from..to` (all LIN/CIRC, blended) as one block.
+    fn cartesian_block(&mut self, motions: &[Motion], from: usize, to: usize) -> BlockResult {
+        let mut segs: Vec<Segment> = Vec::with_capacity(to - from);
+        let mut pending = None;
+        let mut start = self.pose(&self.axes);
+        for (k, m) in motions.iter().enumerate().take(to).skip(from) {
+            let target = match &m.kind {
+                MotionKind::Lin { target } | MotionKind::Circ { target, .. } => *target,
+                MotionKind::Ptp { .. } | MotionKind::PtpAxes { .. } => break,
+            };
+            let seg = Segment::build(k, m, &start, self.settings).and_then(|seg| {
+                self.model
+                    .check_reachable(&target, self.tool, self.base)
+                    .map(|()| seg)
+                    .map_err(MotionError::from)
+            });
+            match seg {
+                Ok(seg) => {
+                    // A motion that does not move at all needs no samples.
+                    if seg.le > EPS {
+                        segs.push(seg);
+                    }
+                }
+                Err(e) => {
+                    pending = Some((k, e));
+                    break;
+                }
+            }
+            start = target;
+        }
+        time_block(&mut segs, self.t);
+        let Some(last) = segs.last() else {
+            return pending.map_or(Ok(()), Err);
+        };
+        let t_end = last.t_end();
+        let grid = self.grid_until(t_end);
+        let mut seg_i = 0;
+        let mut prev_t = self.t;
+        // The grid samples, then the exact block end (kept as a sample only
+        // at the batch end, where `finish` adds it).
+        let points = grid
+            .into_iter()
+            .map(|t| (t, true))
+            .chain(std::iter::once((t_end, false)));
+        for (t, on_grid) in points {
+            if t <= prev_t + 1e-12 {
+                continue;
+            }
+            while seg_i + 1 < segs.len() && t > segs[seg_i].t_end() {
+                seg_i += 1;
+            }
+            let seg = &segs[seg_i];
+            let pose = seg.pose_at(t);
+            let step = self.follow(&pose, t - prev_t);
+            match step {
+                Ok(axes) => {
+                    self.axes = axes;
+                    self.t = t;
+                    self.motion = seg.motion;
+                    prev_t = t;
+                    if on_grid {
+                        self.samples.push(Sample {
+                            t,
+                            motion: seg.motion,
+                            axes,
+                            pose,
+                        });
+                    }
+                }
+                Err(e) => return Err((seg.motion, e)),
+            }
+        }
+        pending.map_or(Ok(()), Err)
+    }
+
+    /// Axes for the next path pose, checked against limits and axis speeds.
+    fn follow(&self, pose: &Pose, dt: f64) -> Result<Axes, MotionError> {
+        let axes = self
+            .model
+            .inverse_continuing(pose, self.tool, self.base, &self.axes)
+            .ok_or(MotionError::Ik(IkError::Unreachable))?;
+        self.model.check_limits(&axes)?;
+        let prev = &self.axes;
+        let too_fast = (0..6).any(|i| {
+            (axes[i] - prev[i]).abs()
+                > SINGULARITY_SPEED_FACTOR * self.model.max_speed_deg_s[i] * dt + 1e-3
+        });
+        if too_fast {
+            return Err(MotionError::Singularity(classify_singularity(
+                self.model, prev, &axes,
+            )));
+        }
+        Ok(axes)
+    }
+}
+
+/// Best guess which singularity made the axes jump from `a` to `b`.
+fn classify_singularity(model: &RobotModel, a: &Axes, b: &Axes) -> &'static str {
+    const NEAR_DEG: f64 = 10.0;
+    const NEAR_MM: f64 = 50.0;
+    let crosses = |x: f64, y: f64, near: f64| x.abs() < near || y.abs() < near || x * y < 0.0;
+    if crosses(a[4], b[4], NEAR_DEG) {
+        return "wrist";
+    }
+    let (wa, _) = model.wrist_in_a1_frame(a);
+    let (wb, _) = model.wrist_in_a1_frame(b);
+    if crosses(wa, wb, NEAR_MM) {
+        return "overhead";
+    }
+    let phi = model.elbow_angle_deg();
+    if crosses(a[2] - phi, b[2] - phi, NEAR_DEG) {
+        return "elbow";
+    }
+    "axis speed limit"
+}
+
+/// The normalised (0..1) synchronous PTP profile from `start` to `target`.
+fn ptp_profile(
+    model: &RobotModel,
+    settings: &PlanSettings,
+    m: &Motion,
+    start: &Axes,
+    target: &Axes,
+) -> Trapezoid {
+    let mut v_norm = f64::INFINITY;
+    let mut a_norm = f64::INFINITY;
+    for i in 0..6 {
+        let d = (target[i] - start[i]).abs();
+        if d <= EPS {
+            continue;
+        }
+        let v = m.velocity / 100.0 * settings.override_pct / 100.0 * model.max_speed_deg_s[i];
+        let a = m.acceleration_pct / 100.0 * settings.max_acc_axis_deg_s2[i];
+        v_norm = v_norm.min(v / d);
+        a_norm = a_norm.min(a / d);
+    }
+    if !v_norm.is_finite() || !a_norm.is_finite() {
+        return Trapezoid::default();
+    }
+    Trapezoid::new(1.0, 0.0, 0.0, v_norm, a_norm)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn trapezoid_profiles() {
+        // Cruise: 0 → 100 at a = 100 needs 50 per ramp; 300 long.
+        let p = Trapezoid::new(300.0, 0.0, 0.0, 100.0, 100.0);
+        assert!((p.duration() - (300.0 / 100.0 + 1.0)).abs() < 1e-12);
+        assert!((p.pos(0.5) - 12.5).abs() < 1e-12);
+        assert!((p.pos(p.duration()) - 300.0).abs() < 1e-12);
+        // Triangle.
+        let p = Trapezoid::new(25.0, 0.0, 0.0, 100.0, 100.0);
+        assert!((p.duration() - 1.0).abs() < 1e-12);
+        assert!((p.pos(0.5) - 12.5).abs() < 1e-12);
+        // Entry and exit speeds.
+        let p = Trapezoid::new(100.0, 50.0, 50.0, 50.0, 100.0);
+        assert!((p.duration() - 2.0).abs() < 1e-12);
+        let p = Trapezoid::new(0.0, 0.0, 0.0, 50.0, 100.0);
+        assert_eq!(p.duration(), 0.0);
+        assert_eq!(p.pos(1.0), 0.0);
+    }
+
+    #[test]
+    fn circle_through_three_points() {
+        let (g, len, din, dout) = circle(
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(-1.0, 0.0, 0.0),
+        )
+        .expect("circle");
+        assert!((len - std::f64::consts::PI).abs() < 1e-12);
+        assert!((din - DVec3::Y).length() < 1e-12);
+        assert!((dout - DVec3::NEG_Y).length() < 1e-12);
+        assert!((g.at(0.5) - DVec3::Y).length() < 1e-12);
+        // Three quarters of a circle: the auxiliary point decides the way.
+        let (g, len, _, _) = circle(
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(-1.0, 0.0, 0.0),
+            DVec3::new(0.0, -1.0, 0.0),
+        )
+        .expect("circle");
+        assert!((len - 1.5 * std::f64::consts::PI).abs() < 1e-12);
+        assert!((g.at(1.0 / 1.5) - DVec3::NEG_X).length() < 1e-12);
+        assert!(matches!(
+            circle(DVec3::ZERO, DVec3::X, DVec3::X * 2.0),
+            Err(MotionError::Geometry(_))
+        ));
+        assert!(matches!(
+            circle(DVec3::ZERO, DVec3::ZERO, DVec3::X),
+            Err(MotionError::Geometry(_))
+        ));
+    }
 }

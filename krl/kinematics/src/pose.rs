@@ -90,10 +90,7 @@ impl Pose {
     /// `self · other` (KRL's `:` operator): `other` expressed in `self`.
     pub fn compose(&self, other: &Pose) -> Pose {
         let q = self.rotation();
-        Pose::from_parts(
-            self.position() + q * other.position(),
-            q * other.rotation(),
-        )
+        Pose::from_parts(self.position() + q * other.position(), q * other.rotation())
     }
 
     /// The inverse frame (KRL `INV_POS`).
