@@ -1,1 +1,17 @@
-//! stub
+//! kuka-bridge: a REST API for KUKA robots over a file protocol.
+//!
+//! One motion request travels `api` (parse, map errors to problem+json) →
+//! `safety` (validate, workspace, kinematic dry run) → `engine` (jobs,
+//! queue, the single owner of the channel) → `channel` (files) ⇄ the
+//! controller side (the KRL program, or `kuka_sim`) → back through the
+//! engine to the API. `app::run` wires it together for the binary and tests.
+#![deny(missing_docs)]
+
+pub mod api;
+pub mod app;
+pub mod channel;
+pub mod config;
+pub mod engine;
+pub mod error;
+pub mod motion;
+pub mod safety;

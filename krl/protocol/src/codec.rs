@@ -118,7 +118,9 @@ impl Field {
 /// be computed in KRL with 32-bit INT arithmetic:
 /// `c = 0; for v: m = v MOD 65521 (made non-negative); c = (c*31 + m) MOD 65521`.
 pub fn checksum(values: impl IntoIterator<Item = i64>) -> i64 {
-    values.into_iter().fold(0, |c, v| (c * 31 + v.rem_euclid(MODULUS)) % MODULUS)
+    values
+        .into_iter()
+        .fold(0, |c, v| (c * 31 + v.rem_euclid(MODULUS)) % MODULUS)
 }
 
 /// Converts a REAL to thousandths, rejecting what KRL could not hold.
@@ -170,12 +172,17 @@ impl<'a> Reader<'a> {
         if text.trim().is_empty() {
             return Err(DecodeError::Empty);
         }
-        Ok(Reader { lines: text.lines().enumerate() })
+        Ok(Reader {
+            lines: text.lines().enumerate(),
+        })
     }
 
     /// The tag of the next line, without consuming it.
     pub(crate) fn peek_tag(&self) -> Option<&'a str> {
-        self.lines.clone().next().map(|(_, l)| l.split(' ').next().unwrap_or(""))
+        self.lines
+            .clone()
+            .next()
+            .map(|(_, l)| l.split(' ').next().unwrap_or(""))
     }
 
     /// 1-based number of the next line.
@@ -195,7 +202,11 @@ impl<'a> Reader<'a> {
         let mut parts = text.split(' ');
         let found = parts.next().unwrap_or("");
         if found != tag {
-            return Err(DecodeError::Tag { line: number, expected: tag, found: found.to_string() });
+            return Err(DecodeError::Tag {
+                line: number,
+                expected: tag,
+                found: found.to_string(),
+            });
         }
         let parts: Vec<&str> = parts.collect();
         if parts.len() != kinds.len() + 1 {
@@ -207,7 +218,11 @@ impl<'a> Reader<'a> {
         }
         let mut fields = Vec::with_capacity(kinds.len());
         for (i, (kind, part)) in kinds.chars().zip(&parts).enumerate() {
-            let f = if kind == 'r' { parse_real(part) } else { parse_int(part).map(Field::Int) };
+            let f = if kind == 'r' {
+                parse_real(part)
+            } else {
+                parse_int(part).map(Field::Int)
+            };
             fields.push(f.ok_or_else(|| DecodeError::Number {
                 line: number,
                 field: i + 1,
@@ -224,9 +239,17 @@ impl<'a> Reader<'a> {
         })?;
         let expected = checksum(fields.iter().map(|f| f.value()));
         if i64::from(found) != expected {
-            return Err(DecodeError::Checksum { line: number, expected, found: i64::from(found) });
+            return Err(DecodeError::Checksum {
+                line: number,
+                expected,
+                found: i64::from(found),
+            });
         }
-        Ok(Line { number, fields, next: 0 })
+        Ok(Line {
+            number,
+            fields,
+            next: 0,
+        })
     }
 
     /// Fails unless only blank lines remain.
@@ -256,7 +279,10 @@ impl Line {
 
     /// A value error on this line.
     pub(crate) fn invalid(&self, what: impl Into<String>) -> DecodeError {
-        DecodeError::Value { line: self.number, what: what.into() }
+        DecodeError::Value {
+            line: self.number,
+            what: what.into(),
+        }
     }
 }
 
@@ -301,7 +327,15 @@ mod tests {
     #[test]
     fn reals_are_fixed_three_decimals() {
         let mut s = String::new();
-        write_line(&mut s, "TST", &[real("x", -0.5).unwrap(), real("y", 1234.5678).unwrap(), Field::Int(-3)]);
+        write_line(
+            &mut s,
+            "TST",
+            &[
+                real("x", -0.5).unwrap(),
+                real("y", 1234.5678).unwrap(),
+                Field::Int(-3),
+            ],
+        );
         assert!(s.starts_with("TST -0.500 1234.568 -3 "), "{s}");
         assert!(real("x", 10000.0).is_err());
         assert!(real("x", f64::NAN).is_err());

@@ -56,7 +56,8 @@ pub enum ReadError {
 fn is_lock_error(e: &io::Error) -> bool {
     // Windows: ERROR_SHARING_VIOLATION (32), ERROR_LOCK_VIOLATION (33),
     // ERROR_ACCESS_DENIED (5, also returned when the target is open).
-    matches!(e.raw_os_error(), Some(32 | 33)) || (cfg!(windows) && e.kind() == ErrorKind::PermissionDenied)
+    matches!(e.raw_os_error(), Some(32 | 33))
+        || (cfg!(windows) && e.kind() == ErrorKind::PermissionDenied)
 }
 
 /// Atomically replaces `dir/name` with `text`: writes `dir/name.<tag>.tmp`,
@@ -69,7 +70,9 @@ pub fn atomic_write(dir: &Path, name: &str, tag: &str, text: &str) -> Result<(),
     match File::open(&target) {
         Ok(f) => match f.try_lock() {
             Ok(()) => drop(f),
-            Err(fs::TryLockError::WouldBlock) => return Err(WriteError::Locked { path: display() }),
+            Err(fs::TryLockError::WouldBlock) => {
+                return Err(WriteError::Locked { path: display() });
+            }
             Err(fs::TryLockError::Error(e)) if is_lock_error(&e) => {
                 return Err(WriteError::Locked { path: display() });
             }
@@ -80,11 +83,18 @@ pub fn atomic_write(dir: &Path, name: &str, tag: &str, text: &str) -> Result<(),
     }
     let tmp = dir.join(format!("{name}.{tag}.tmp"));
     let write = || -> io::Result<()> {
-        let mut f = OpenOptions::new().write(true).create(true).truncate(true).open(&tmp)?;
+        let mut f = OpenOptions::new()
+            .write(true)
+            .create(true)
+            .truncate(true)
+            .open(&tmp)?;
         f.write_all(text.as_bytes())?;
         Ok(())
     };
-    write().map_err(|source| WriteError::Io { path: tmp.display().to_string(), source })?;
+    write().map_err(|source| WriteError::Io {
+        path: tmp.display().to_string(),
+        source,
+    })?;
     match fs::rename(&tmp, &target) {
         Ok(()) => Ok(()),
         Err(e) => {
@@ -92,7 +102,10 @@ pub fn atomic_write(dir: &Path, name: &str, tag: &str, text: &str) -> Result<(),
             if is_lock_error(&e) {
                 Err(WriteError::Locked { path: display() })
             } else {
-                Err(WriteError::Io { path: display(), source: e })
+                Err(WriteError::Io {
+                    path: display(),
+                    source: e,
+                })
             }
         }
     }
@@ -104,7 +117,12 @@ pub fn read(dir: &Path, name: &str) -> Result<Option<String>, ReadError> {
     match fs::read(&path) {
         Ok(bytes) => Ok(Some(String::from_utf8_lossy(&bytes).into_owned())),
         Err(e) if e.kind() == ErrorKind::NotFound => Ok(None),
-        Err(e) if is_lock_error(&e) => Err(ReadError::Locked { path: path.display().to_string() }),
-        Err(source) => Err(ReadError::Io { path: path.display().to_string(), source }),
+        Err(e) if is_lock_error(&e) => Err(ReadError::Locked {
+            path: path.display().to_string(),
+        }),
+        Err(source) => Err(ReadError::Io {
+            path: path.display().to_string(),
+            source,
+        }),
     }
 }

@@ -23,7 +23,14 @@ pub struct Frame {
 impl Frame {
     /// Builds a frame from `[x, y, z, a, b, c]`.
     pub fn from_array(v: [f64; 6]) -> Self {
-        Frame { x: v[0], y: v[1], z: v[2], a: v[3], b: v[4], c: v[5] }
+        Frame {
+            x: v[0],
+            y: v[1],
+            z: v[2],
+            a: v[3],
+            b: v[4],
+            c: v[5],
+        }
     }
 
     /// `[x, y, z, a, b, c]`.
@@ -32,14 +39,24 @@ impl Frame {
     }
 
     fn fields(&self, out: &mut Vec<Field>) -> Result<(), EncodeError> {
-        for (name, v) in ["x", "y", "z", "a", "b", "c"].into_iter().zip(self.to_array()) {
+        for (name, v) in ["x", "y", "z", "a", "b", "c"]
+            .into_iter()
+            .zip(self.to_array())
+        {
             out.push(real(name, v)?);
         }
         Ok(())
     }
 
     fn read(line: &mut crate::codec::Line) -> Self {
-        Frame { x: line.real(), y: line.real(), z: line.real(), a: line.real(), b: line.real(), c: line.real() }
+        Frame {
+            x: line.real(),
+            y: line.real(),
+            z: line.real(),
+            a: line.real(),
+            b: line.real(),
+            c: line.real(),
+        }
     }
 }
 
@@ -107,7 +124,11 @@ impl MotionParams {
     }
 
     fn read(line: &mut crate::codec::Line) -> Self {
-        MotionParams { velocity: line.real(), acceleration_pct: line.real(), approx_mm: line.real() }
+        MotionParams {
+            velocity: line.real(),
+            acceleration_pct: line.real(),
+            approx_mm: line.real(),
+        }
     }
 }
 
@@ -199,7 +220,10 @@ impl CommandFile {
     /// Encodes the file text.
     pub fn encode(&self) -> Result<String, EncodeError> {
         if self.cid <= 0 {
-            return Err(EncodeError::Shape(format!("CID {} is not positive", self.cid)));
+            return Err(EncodeError::Shape(format!(
+                "CID {} is not positive",
+                self.cid
+            )));
         }
         let mut body = String::new();
         let mut n = 0i32;
@@ -216,7 +240,12 @@ impl CommandFile {
                     f.clear();
                     f.push(Field::Int(i as i32));
                     let tag = match m {
-                        MotionRecord::Ptp { target, s, t, params } => {
+                        MotionRecord::Ptp {
+                            target,
+                            s,
+                            t,
+                            params,
+                        } => {
                             target.fields(&mut f)?;
                             f.push(Field::Int(s.map_or(-1, i32::from)));
                             f.push(Field::Int(t.map_or(-1, i32::from)));
@@ -224,7 +253,9 @@ impl CommandFile {
                             "PTP"
                         }
                         MotionRecord::PtpAxes { axes, params } => {
-                            for (name, v) in ["a1", "a2", "a3", "a4", "a5", "a6"].into_iter().zip(axes) {
+                            for (name, v) in
+                                ["a1", "a2", "a3", "a4", "a5", "a6"].into_iter().zip(axes)
+                            {
                                 f.push(real(name, *v)?);
                             }
                             params.fields(&mut f)?;
@@ -235,7 +266,11 @@ impl CommandFile {
                             params.fields(&mut f)?;
                             "LIN"
                         }
-                        MotionRecord::Circ { aux, target, params } => {
+                        MotionRecord::Circ {
+                            aux,
+                            target,
+                            params,
+                        } => {
                             for (name, v) in ["aux_x", "aux_y", "aux_z"].into_iter().zip(aux) {
                                 f.push(real(name, *v)?);
                             }
@@ -268,7 +303,12 @@ impl CommandFile {
         write_line(
             &mut out,
             "CMD",
-            &[Field::Int(PROTOCOL_VERSION), Field::Int(self.cid), Field::Int(self.command.op()), Field::Int(n)],
+            &[
+                Field::Int(PROTOCOL_VERSION),
+                Field::Int(self.cid),
+                Field::Int(self.command.op()),
+                Field::Int(n),
+            ],
         );
         out.push_str(&body);
         write_line(&mut out, "END", &[Field::Int(self.cid), Field::Int(n)]);
@@ -300,11 +340,19 @@ impl CommandFile {
         if cid <= 0 {
             return Err(h.invalid(format!("CID {cid} is not positive")));
         }
-        let expect_n = |want: i32| if n == want { Ok(()) } else { Err(h.invalid(format!("op {op} takes {want} body lines, not {n}"))) };
+        let expect_n = |want: i32| {
+            if n == want {
+                Ok(())
+            } else {
+                Err(h.invalid(format!("op {op} takes {want} body lines, not {n}")))
+            }
+        };
         let command = match op {
             1 => {
                 if n < 1 || n as usize > MAX_BATCH {
-                    return Err(h.invalid(format!("a batch holds 1 to {MAX_BATCH} motions, not {n}")));
+                    return Err(
+                        h.invalid(format!("a batch holds 1 to {MAX_BATCH} motions, not {n}"))
+                    );
                 }
                 let mut motions = Vec::with_capacity(n as usize);
                 for i in 0..n {
@@ -317,10 +365,33 @@ impl CommandFile {
                             let s = l.int();
                             let t = l.int();
                             let params = MotionParams::read(&mut l);
-                            let st = |v: i32, max: i32| if v == -1 { Ok(None) } else if (0..=max).contains(&v) { Ok(Some(v as u8)) } else { Err(v) };
-                            let s = st(s, 7).map_err(|v| l.invalid(format!("Status {v} is not in 0..=7 or -1")))?;
-                            let t = st(t, 63).map_err(|v| l.invalid(format!("Turn {v} is not in 0..=63 or -1")))?;
-                            (l, (idx, MotionRecord::Ptp { target, s, t, params }))
+                            let st = |v: i32, max: i32| {
+                                if v == -1 {
+                                    Ok(None)
+                                } else if (0..=max).contains(&v) {
+                                    Ok(Some(v as u8))
+                                } else {
+                                    Err(v)
+                                }
+                            };
+                            let s = st(s, 7).map_err(|v| {
+                                l.invalid(format!("Status {v} is not in 0..=7 or -1"))
+                            })?;
+                            let t = st(t, 63).map_err(|v| {
+                                l.invalid(format!("Turn {v} is not in 0..=63 or -1"))
+                            })?;
+                            (
+                                l,
+                                (
+                                    idx,
+                                    MotionRecord::Ptp {
+                                        target,
+                                        s,
+                                        t,
+                                        params,
+                                    },
+                                ),
+                            )
                         }
                         "PTA" => {
                             let mut l = r.line("PTA", "irrrrrrrrr")?;
@@ -342,7 +413,17 @@ impl CommandFile {
                             let aux = [l.real(), l.real(), l.real()];
                             let target = Frame::read(&mut l);
                             let params = MotionParams::read(&mut l);
-                            (l, (idx, MotionRecord::Circ { aux, target, params }))
+                            (
+                                l,
+                                (
+                                    idx,
+                                    MotionRecord::Circ {
+                                        aux,
+                                        target,
+                                        params,
+                                    },
+                                ),
+                            )
                         }
                         "END" => return Err(DecodeError::Truncated),
                         other => {
@@ -354,7 +435,9 @@ impl CommandFile {
                         }
                     };
                     if m.0 != i {
-                        return Err(l.invalid(format!("motion index {} where {i} was expected", m.0)));
+                        return Err(
+                            l.invalid(format!("motion index {} where {i} was expected", m.0))
+                        );
                     }
                     motions.push(m.1);
                 }
@@ -375,7 +458,11 @@ impl CommandFile {
                 expect_n(1)?;
                 let mut l = r.line("FRM", "rrrrrr")?;
                 let frame = Frame::read(&mut l);
-                if op == 8 { Command::SetTool(frame) } else { Command::SetBase(frame) }
+                if op == 8 {
+                    Command::SetTool(frame)
+                } else {
+                    Command::SetBase(frame)
+                }
             }
             13 => {
                 expect_n(1)?;
@@ -509,7 +596,11 @@ impl ResultFile {
         let results = &self.results[skip..];
         let n = results.len() as i32;
         let mut out = String::with_capacity(96 * (results.len() + 2));
-        write_line(&mut out, "RES", &[Field::Int(PROTOCOL_VERSION), Field::Int(n)]);
+        write_line(
+            &mut out,
+            "RES",
+            &[Field::Int(PROTOCOL_VERSION), Field::Int(n)],
+        );
         let mut f = Vec::with_capacity(13);
         for r in results {
             f.clear();
@@ -553,7 +644,11 @@ impl ResultFile {
             let s = l.int();
             let t = l.int();
             let axes = [l.real(), l.real(), l.real(), l.real(), l.real(), l.real()];
-            if completed < 0 || !(0..=6).contains(&axis) || !(0..=7).contains(&s) || !(0..=63).contains(&t) {
+            if completed < 0
+                || !(0..=6).contains(&axis)
+                || !(0..=7).contains(&s)
+                || !(0..=63).contains(&t)
+            {
                 return Err(l.invalid("count, axis, Status or Turn out of range"));
             }
             results.push(ResultRecord {
@@ -694,7 +789,10 @@ impl StateFile {
         f.extend([Field::Int(i32::from(self.s)), Field::Int(i32::from(self.t))]);
         write_line(&mut out, "POS", &f);
         f.clear();
-        for (name, v) in ["a1", "a2", "a3", "a4", "a5", "a6"].into_iter().zip(self.axes) {
+        for (name, v) in ["a1", "a2", "a3", "a4", "a5", "a6"]
+            .into_iter()
+            .zip(self.axes)
+        {
             f.push(real(name, v)?);
         }
         write_line(&mut out, "AXS", &f);

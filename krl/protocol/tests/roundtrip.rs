@@ -4,27 +4,71 @@
 use kuka_protocol::*;
 
 fn params(v: f64) -> MotionParams {
-    MotionParams { velocity: v, acceleration_pct: 100.0, approx_mm: 2.5 }
+    MotionParams {
+        velocity: v,
+        acceleration_pct: 100.0,
+        approx_mm: 2.5,
+    }
 }
 
 fn sample_commands() -> Vec<CommandFile> {
-    let f = Frame { x: 200.0, y: -12.345, z: 70.0, a: 0.0, b: 180.0, c: -179.999 };
+    let f = Frame {
+        x: 200.0,
+        y: -12.345,
+        z: 70.0,
+        a: 0.0,
+        b: 180.0,
+        c: -179.999,
+    };
     vec![
         CommandFile {
             cid: 2_147_483_647,
             command: Command::Move(vec![
-                MotionRecord::Ptp { target: f, s: Some(2), t: None, params: params(50.0) },
-                MotionRecord::PtpAxes { axes: [0.0, -90.0, 90.0, 0.0, 0.0, 0.0], params: params(100.0) },
-                MotionRecord::Lin { target: f, params: params(0.25) },
-                MotionRecord::Circ { aux: [1.0, 2.0, 3.0], target: f, params: params(0.1) },
+                MotionRecord::Ptp {
+                    target: f,
+                    s: Some(2),
+                    t: None,
+                    params: params(50.0),
+                },
+                MotionRecord::PtpAxes {
+                    axes: [0.0, -90.0, 90.0, 0.0, 0.0, 0.0],
+                    params: params(100.0),
+                },
+                MotionRecord::Lin {
+                    target: f,
+                    params: params(0.25),
+                },
+                MotionRecord::Circ {
+                    aux: [1.0, 2.0, 3.0],
+                    target: f,
+                    params: params(0.1),
+                },
             ]),
         },
-        CommandFile { cid: 1, command: Command::GetPosition },
-        CommandFile { cid: 7, command: Command::Home },
-        CommandFile { cid: 8, command: Command::SetTool(f) },
-        CommandFile { cid: 9, command: Command::GetTool },
-        CommandFile { cid: 10, command: Command::SetBase(f) },
-        CommandFile { cid: 11, command: Command::GetBase },
+        CommandFile {
+            cid: 1,
+            command: Command::GetPosition,
+        },
+        CommandFile {
+            cid: 7,
+            command: Command::Home,
+        },
+        CommandFile {
+            cid: 8,
+            command: Command::SetTool(f),
+        },
+        CommandFile {
+            cid: 9,
+            command: Command::GetTool,
+        },
+        CommandFile {
+            cid: 10,
+            command: Command::SetBase(f),
+        },
+        CommandFile {
+            cid: 11,
+            command: Command::GetBase,
+        },
         CommandFile {
             cid: 12,
             command: Command::SetSpeed(SpeedRecord {
@@ -35,8 +79,14 @@ fn sample_commands() -> Vec<CommandFile> {
                 cp_acceleration_pct: 100.0,
             }),
         },
-        CommandFile { cid: 13, command: Command::Stop },
-        CommandFile { cid: 14, command: Command::Reset },
+        CommandFile {
+            cid: 13,
+            command: Command::Stop,
+        },
+        CommandFile {
+            cid: 14,
+            command: Command::Reset,
+        },
     ]
 }
 
@@ -52,12 +102,22 @@ fn sample_state() -> StateFile {
         error_axis: 5,
         override_pct: 100.0,
         simulated: true,
-        position: Frame { x: 470.0, y: 0.0, z: 750.0, a: 0.0, b: 90.0, c: 0.0 },
+        position: Frame {
+            x: 470.0,
+            y: 0.0,
+            z: 750.0,
+            a: 0.0,
+            b: 90.0,
+            c: 0.0,
+        },
         s: 2,
         t: 35,
         axes: [0.0, -90.0, 90.0, 0.0, -0.001, 0.0],
         tool: Frame::default(),
-        base: Frame { x: 1.0, ..Frame::default() },
+        base: Frame {
+            x: 1.0,
+            ..Frame::default()
+        },
     }
 }
 
@@ -66,10 +126,21 @@ fn sample_results() -> ResultFile {
         results: (1..=3)
             .map(|i| ResultRecord {
                 cid: 100 + i,
-                code: if i == 2 { ResultCode::SoftwareLimit } else { ResultCode::Ok },
+                code: if i == 2 {
+                    ResultCode::SoftwareLimit
+                } else {
+                    ResultCode::Ok
+                },
                 completed: i as u32,
                 axis: if i == 2 { 5 } else { 0 },
-                position: Frame { x: f64::from(i), y: 0.5, z: -0.25, a: 0.0, b: 90.0, c: 0.0 },
+                position: Frame {
+                    x: f64::from(i),
+                    y: 0.5,
+                    z: -0.25,
+                    a: 0.0,
+                    b: 90.0,
+                    c: 0.0,
+                },
                 s: 2,
                 t: 0,
                 axes: [0.0, -90.0, 90.0, 0.0, 45.5, -0.001],
@@ -82,7 +153,11 @@ fn assert_krl_readable(text: &str) {
     assert!(text.ends_with('\n'));
     for line in text.lines() {
         assert!(line.is_ascii() && line.len() <= MAX_LINE_LEN, "{line}");
-        assert_eq!(line.split(' ').next().map(str::len), Some(3), "tag of {line}");
+        assert_eq!(
+            line.split(' ').next().map(str::len),
+            Some(3),
+            "tag of {line}"
+        );
     }
 }
 
@@ -123,15 +198,27 @@ fn result_file_keeps_the_newest_eight() {
 /// except the complete file (with or without its final newline).
 #[test]
 fn half_written_files_never_decode() {
-    let mut texts: Vec<String> = sample_commands().iter().map(|c| c.encode().expect("encodes")).collect();
+    let mut texts: Vec<String> = sample_commands()
+        .iter()
+        .map(|c| c.encode().expect("encodes"))
+        .collect();
     texts.push(sample_state().encode().expect("encodes"));
     texts.push(sample_results().encode().expect("encodes"));
     for text in texts {
         for cut in 0..text.len() - 1 {
             let part = &text[..cut];
-            assert!(CommandFile::decode(part).is_err(), "prefix {cut} decoded: {part:?}");
-            assert!(StateFile::decode(part).is_err(), "prefix {cut} decoded: {part:?}");
-            assert!(ResultFile::decode(part).is_err(), "prefix {cut} decoded: {part:?}");
+            assert!(
+                CommandFile::decode(part).is_err(),
+                "prefix {cut} decoded: {part:?}"
+            );
+            assert!(
+                StateFile::decode(part).is_err(),
+                "prefix {cut} decoded: {part:?}"
+            );
+            assert!(
+                ResultFile::decode(part).is_err(),
+                "prefix {cut} decoded: {part:?}"
+            );
         }
     }
 }
@@ -152,7 +239,11 @@ fn corrupted_digits_are_detected() {
             let mut changed = bytes.to_vec();
             changed[i] = d;
             let changed = String::from_utf8(changed).expect("ascii");
-            assert!(StateFile::decode(&changed).is_err(), "digit {i} -> {} decoded", d as char);
+            assert!(
+                StateFile::decode(&changed).is_err(),
+                "digit {i} -> {} decoded",
+                d as char
+            );
         }
     }
 }
@@ -162,23 +253,56 @@ fn invalid_values_are_refused() {
     let bad = CommandFile {
         cid: 5,
         command: Command::Move(vec![MotionRecord::Lin {
-            target: Frame { x: f64::NAN, ..Frame::default() },
+            target: Frame {
+                x: f64::NAN,
+                ..Frame::default()
+            },
             params: params(0.1),
         }]),
     };
     assert!(bad.encode().is_err());
-    assert!(CommandFile { cid: 0, command: Command::Home }.encode().is_err());
-    assert!(CommandFile { cid: 3, command: Command::Move(vec![]) }.encode().is_err());
+    assert!(
+        CommandFile {
+            cid: 0,
+            command: Command::Home
+        }
+        .encode()
+        .is_err()
+    );
+    assert!(
+        CommandFile {
+            cid: 3,
+            command: Command::Move(vec![])
+        }
+        .encode()
+        .is_err()
+    );
     let wrong_version = "CMD 2 5 3 0 K\n";
     assert!(CommandFile::decode(wrong_version).is_err());
-    let trailing = format!("{}junk 1\n", CommandFile { cid: 3, command: Command::Home }.encode().expect("ok"));
-    assert_eq!(CommandFile::decode(&trailing), Err(DecodeError::TrailingData));
+    let trailing = format!(
+        "{}junk 1\n",
+        CommandFile {
+            cid: 3,
+            command: Command::Home
+        }
+        .encode()
+        .expect("ok")
+    );
+    assert_eq!(
+        CommandFile::decode(&trailing),
+        Err(DecodeError::TrailingData)
+    );
 }
 
 #[test]
 fn checksum_matches_the_documented_example() {
     // The worked example in krl/PROTOCOL.md.
-    let text = CommandFile { cid: 17, command: Command::GetPosition }.encode().expect("ok");
+    let text = CommandFile {
+        cid: 17,
+        command: Command::GetPosition,
+    }
+    .encode()
+    .expect("ok");
     let first = text.lines().next().expect("line");
     assert_eq!(first, format!("CMD 1 17 3 0 {}", checksum([1, 17, 3, 0])));
     assert_eq!(checksum([1, 17, 3, 0]), ((31 + 17) * 31 + 3) * 31 % 65521);

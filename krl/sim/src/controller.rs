@@ -4,10 +4,12 @@
 use std::collections::VecDeque;
 use std::time::Instant;
 
-use kuka_kinematics::{Axes, Execution, IkError, Motion, MotionError, MotionKind, PlanSettings, Pose, RobotModel};
+use kuka_kinematics::{
+    Axes, Execution, IkError, Motion, MotionError, MotionKind, PlanSettings, Pose, RobotModel,
+};
 use kuka_protocol::{
-    Cid, Command, ControllerStatus, Frame, MotionRecord, OperatingMode, RESULT_HISTORY, ResultCode, ResultRecord,
-    SpeedRecord, StateFile,
+    Cid, Command, ControllerStatus, Frame, MotionRecord, OperatingMode, RESULT_HISTORY, ResultCode,
+    ResultRecord, SpeedRecord, StateFile,
 };
 use serde::Serialize;
 
@@ -33,7 +35,14 @@ pub fn frame_to_pose(f: &Frame) -> Pose {
 
 /// Converts a kinematics pose to a protocol frame.
 pub fn pose_to_frame(p: &Pose) -> Frame {
-    Frame { x: p.x, y: p.y, z: p.z, a: p.a, b: p.b, c: p.c }
+    Frame {
+        x: p.x,
+        y: p.y,
+        z: p.z,
+        a: p.a,
+        b: p.b,
+        c: p.c,
+    }
 }
 
 /// A batch being played back.
@@ -74,7 +83,10 @@ pub(crate) struct Changes {
 
 impl Changes {
     fn both() -> Self {
-        Changes { results: true, state: true }
+        Changes {
+            results: true,
+            state: true,
+        }
     }
 }
 
@@ -82,30 +94,66 @@ fn motion_error_code(e: &MotionError) -> (ResultCode, u8) {
     match e {
         MotionError::Ik(IkError::Unreachable) => (ResultCode::Unreachable, 0),
         MotionError::Ik(IkError::SoftwareLimit { axis, .. }) => (ResultCode::SoftwareLimit, *axis),
-        MotionError::Ik(IkError::NoMatchingConfiguration { .. }) => (ResultCode::NoConfiguration, 0),
+        MotionError::Ik(IkError::NoMatchingConfiguration { .. }) => {
+            (ResultCode::NoConfiguration, 0)
+        }
         MotionError::Singularity(_) => (ResultCode::Singularity, 0),
         MotionError::Geometry(_) => (ResultCode::Geometry, 0),
         MotionError::Parameter(_) => (ResultCode::BadCommand, 0),
     }
 }
 
-fn to_motion(r: &MotionRecord) -> Motion {
+/// Converts a protocol motion record to a planner motion.
+pub fn to_motion(r: &MotionRecord) -> Motion {
     let (kind, p) = match r {
-        MotionRecord::Ptp { target, s, t, params } => {
-            (MotionKind::Ptp { target: frame_to_pose(target), s: *s, t: *t }, params)
-        }
+        MotionRecord::Ptp {
+            target,
+            s,
+            t,
+            params,
+        } => (
+            MotionKind::Ptp {
+                target: frame_to_pose(target),
+                s: *s,
+                t: *t,
+            },
+            params,
+        ),
         MotionRecord::PtpAxes { axes, params } => (MotionKind::PtpAxes { axes: *axes }, params),
-        MotionRecord::Lin { target, params } => (MotionKind::Lin { target: frame_to_pose(target) }, params),
-        MotionRecord::Circ { aux, target, params } => (
-            MotionKind::Circ { aux: Pose::new(aux[0], aux[1], aux[2], 0.0, 0.0, 0.0), target: frame_to_pose(target) },
+        MotionRecord::Lin { target, params } => (
+            MotionKind::Lin {
+                target: frame_to_pose(target),
+            },
+            params,
+        ),
+        MotionRecord::Circ {
+            aux,
+            target,
+            params,
+        } => (
+            MotionKind::Circ {
+                aux: Pose::new(aux[0], aux[1], aux[2], 0.0, 0.0, 0.0),
+                target: frame_to_pose(target),
+            },
             params,
         ),
     };
-    Motion { kind, velocity: p.velocity, acceleration_pct: p.acceleration_pct, approx_mm: p.approx_mm }
+    Motion {
+        kind,
+        velocity: p.velocity,
+        acceleration_pct: p.acceleration_pct,
+        approx_mm: p.approx_mm,
+    }
 }
 
 impl Controller {
-    pub(crate) fn new(model: RobotModel, plan: PlanSettings, mode: OperatingMode, start: Axes, trace_capacity: usize) -> Self {
+    pub(crate) fn new(
+        model: RobotModel,
+        plan: PlanSettings,
+        mode: OperatingMode,
+        start: Axes,
+        trace_capacity: usize,
+    ) -> Self {
         Controller {
             model,
             speed: SpeedRecord {
@@ -134,7 +182,11 @@ impl Controller {
     /// TCP pose with Status and Turn.
     pub(crate) fn position(&self) -> (Pose, u8, u8) {
         let pose = self.model.forward(&self.axes, &self.tool, &self.base);
-        (pose, self.model.status(&self.axes), RobotModel::turn(&self.axes))
+        (
+            pose,
+            self.model.status(&self.axes),
+            RobotModel::turn(&self.axes),
+        )
     }
 
     pub(crate) fn is_busy(&self) -> bool {
@@ -151,10 +203,26 @@ impl Controller {
         Some(a.started_wall + std::time::Duration::from_secs_f64((s.t / time_scale).max(0.0)))
     }
 
-    fn push_result(&mut self, cid: Cid, code: ResultCode, completed: u32, axis: u8, position: Option<Frame>) {
+    fn push_result(
+        &mut self,
+        cid: Cid,
+        code: ResultCode,
+        completed: u32,
+        axis: u8,
+        position: Option<Frame>,
+    ) {
         let (pose, s, t) = self.position();
         let position = position.unwrap_or_else(|| pose_to_frame(&pose));
-        self.results.push_back(ResultRecord { cid, code, completed, axis, position, s, t, axes: self.axes });
+        self.results.push_back(ResultRecord {
+            cid,
+            code,
+            completed,
+            axis,
+            position,
+            s,
+            t,
+            axes: self.axes,
+        });
         while self.results.len() > RESULT_HISTORY {
             self.results.pop_front();
         }
@@ -182,9 +250,19 @@ impl Controller {
             Command::Stop => {
                 if let Some(active) = self.active.take() {
                     // Brake where the robot is now (the sample reached last).
-                    let elapsed = active.execution.samples.get(active.next_sample.saturating_sub(1)).map_or(0.0, |s| s.t);
+                    let elapsed = active
+                        .execution
+                        .samples
+                        .get(active.next_sample.saturating_sub(1))
+                        .map_or(0.0, |s| s.t);
                     self.sim_time += elapsed;
-                    self.push_result(active.cid, ResultCode::Cancelled, active.current_motion as u32, 0, None);
+                    self.push_result(
+                        active.cid,
+                        ResultCode::Cancelled,
+                        active.current_motion as u32,
+                        0,
+                        None,
+                    );
                 }
                 self.push_result(cid, ResultCode::Ok, 0, 0, None);
             }
@@ -210,9 +288,14 @@ impl Controller {
                 self.push_result(cid, ResultCode::Ok, 0, 0, Some(f));
             }
             Command::SetSpeed(s) => {
-                let valid = [s.override_pct, s.ptp_velocity_pct, s.ptp_acceleration_pct, s.cp_acceleration_pct]
-                    .iter()
-                    .all(|v| (0.0..=100.0).contains(v) && *v > 0.0)
+                let valid = [
+                    s.override_pct,
+                    s.ptp_velocity_pct,
+                    s.ptp_acceleration_pct,
+                    s.cp_acceleration_pct,
+                ]
+                .iter()
+                .all(|v| (0.0..=100.0).contains(v) && *v > 0.0)
                     && s.cp_velocity > 0.0;
                 if valid {
                     self.speed = s;
@@ -224,7 +307,9 @@ impl Controller {
             }
             Command::Home => {
                 let home = Motion {
-                    kind: MotionKind::PtpAxes { axes: self.model.home },
+                    kind: MotionKind::PtpAxes {
+                        axes: self.model.home,
+                    },
                     velocity: self.speed.ptp_velocity_pct,
                     acceleration_pct: self.speed.ptp_acceleration_pct,
                     approx_mm: 0.0,
@@ -240,7 +325,14 @@ impl Controller {
     }
 
     fn start(&mut self, cid: Cid, motions: Vec<Motion>, now: Instant) {
-        let execution = kuka_kinematics::plan::plan(&self.model, &self.axes, &self.tool, &self.base, &motions, &self.plan);
+        let execution = kuka_kinematics::plan::plan(
+            &self.model,
+            &self.axes,
+            &self.tool,
+            &self.base,
+            &motions,
+            &self.plan,
+        );
         if let Some((index, err)) = &execution.error
             && execution.samples.len() <= 1
             && *index == 0
@@ -269,7 +361,9 @@ impl Controller {
         let elapsed = if time_scale <= 0.0 {
             f64::INFINITY
         } else {
-            now.saturating_duration_since(active.started_wall).as_secs_f64() * time_scale
+            now.saturating_duration_since(active.started_wall)
+                .as_secs_f64()
+                * time_scale
         };
         let mut moved = false;
         while let Some(s) = active.execution.samples.get(active.next_sample) {
@@ -294,7 +388,10 @@ impl Controller {
             }
         }
         if active.next_sample < active.execution.samples.len() {
-            return Changes { results: false, state: moved };
+            return Changes {
+                results: false,
+                state: moved,
+            };
         }
         // Batch finished (or stopped at an error point).
         let Some(active) = self.active.take() else {
@@ -315,7 +412,11 @@ impl Controller {
 
     /// The heartbeat record (increments the sequence number).
     pub(crate) fn state_record(&mut self) -> StateFile {
-        self.seq = if self.seq >= i32::MAX { 1 } else { self.seq + 1 };
+        self.seq = if self.seq >= i32::MAX {
+            1
+        } else {
+            self.seq + 1
+        };
         let (pose, s, t) = self.position();
         let (status, busy_cid, busy_index) = match (&self.active, &self.error) {
             (_, Some(_)) => (ControllerStatus::Error, 0, 0),

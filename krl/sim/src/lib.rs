@@ -14,5 +14,5 @@
 mod controller;
 mod runner;
 
-pub use controller::{TraceSample, frame_to_pose, pose_to_frame};
+pub use controller::{TraceSample, frame_to_pose, pose_to_frame, to_motion};
 pub use runner::{SimConfig, SimController, SimError, SimSnapshot};

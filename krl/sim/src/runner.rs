@@ -11,7 +11,10 @@ use std::time::{Duration, Instant};
 
 use kuka_kinematics::{Axes, PlanSettings, RobotModel};
 use kuka_protocol::files::{self, WriteError};
-use kuka_protocol::{COMMAND_FILE, CommandFile, DecodeError, OperatingMode, RESULT_FILE, ResultCode, ResultFile, STATE_FILE};
+use kuka_protocol::{
+    COMMAND_FILE, CommandFile, DecodeError, OperatingMode, RESULT_FILE, ResultCode, ResultFile,
+    STATE_FILE,
+};
 use notify::{RecursiveMode, Watcher};
 
 use crate::controller::{Changes, Controller, TraceSample};
@@ -112,9 +115,18 @@ impl SimController {
     /// Starts the controller thread on `config.channel_dir` (created if missing).
     pub fn start(config: SimConfig) -> Result<Self, SimError> {
         let dir = config.channel_dir.clone();
-        std::fs::create_dir_all(&dir).map_err(|source| SimError::Channel { path: dir.display().to_string(), source })?;
+        std::fs::create_dir_all(&dir).map_err(|source| SimError::Channel {
+            path: dir.display().to_string(),
+            source,
+        })?;
         let start = config.start_axes.unwrap_or(config.model.home);
-        let controller = Controller::new(config.model.clone(), config.plan.clone(), config.mode, start, config.trace_capacity);
+        let controller = Controller::new(
+            config.model.clone(),
+            config.plan.clone(),
+            config.mode,
+            start,
+            config.trace_capacity,
+        );
         let (tx, rx) = mpsc::channel();
         let shared = Arc::new(Shared {
             controller: Mutex::new(controller),
@@ -125,7 +137,10 @@ impl SimController {
         // notify is a hint only: a failing watcher leaves the poll in charge.
         let watcher = notify::recommended_watcher(move |ev: notify::Result<notify::Event>| {
             if let Ok(ev) = ev
-                && ev.paths.iter().any(|p| p.file_name().is_some_and(|n| n == COMMAND_FILE))
+                && ev
+                    .paths
+                    .iter()
+                    .any(|p| p.file_name().is_some_and(|n| n == COMMAND_FILE))
             {
                 let _ = tx.send(());
             }
@@ -146,11 +161,18 @@ impl SimController {
                 Runner::new(config, thread_shared, rx).run();
             })
             .map_err(SimError::Thread)?;
-        Ok(SimController { shared, thread: Some(thread), channel_dir: dir })
+        Ok(SimController {
+            shared,
+            thread: Some(thread),
+            channel_dir: dir,
+        })
     }
 
     fn lock(&self) -> MutexGuard<'_, Controller> {
-        self.shared.controller.lock().unwrap_or_else(|p| p.into_inner())
+        self.shared
+            .controller
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
     }
 
     /// The channel directory.
@@ -258,7 +280,11 @@ impl Runner {
             let now = Instant::now();
             self.step(now);
             let due = {
-                let c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
+                let c = self
+                    .shared
+                    .controller
+                    .lock()
+                    .unwrap_or_else(|p| p.into_inner());
                 c.next_sample_due(self.config.time_scale)
             };
             let mut wait_until = self.next_heartbeat.min(now + self.config.poll);
@@ -290,7 +316,11 @@ impl Runner {
         {
             last = last.max(s.last_cid);
         }
-        let mut c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
+        let mut c = self
+            .shared
+            .controller
+            .lock()
+            .unwrap_or_else(|p| p.into_inner());
         c.last_cid = last;
         if let Ok(Some(text)) = files::read(dir, RESULT_FILE)
             && let Ok(r) = ResultFile::decode(&text)
@@ -303,7 +333,11 @@ impl Runner {
         let mut changes = Changes::default();
         self.read_command(now, &mut changes);
         {
-            let mut c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
+            let mut c = self
+                .shared
+                .controller
+                .lock()
+                .unwrap_or_else(|p| p.into_inner());
             let ch = c.advance(now, self.config.time_scale);
             changes.results |= ch.results;
             changes.state |= ch.state;
@@ -330,7 +364,11 @@ impl Runner {
         if text == self.last_text {
             return;
         }
-        let mut c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
+        let mut c = self
+            .shared
+            .controller
+            .lock()
+            .unwrap_or_else(|p| p.into_inner());
         match CommandFile::decode(&text) {
             Ok(cmd) => {
                 self.last_text = text;
@@ -363,15 +401,26 @@ impl Runner {
 
     fn write_results(&mut self) {
         let text = {
-            let c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
-            ResultFile { results: c.results.iter().copied().collect() }.encode()
+            let c = self
+                .shared
+                .controller
+                .lock()
+                .unwrap_or_else(|p| p.into_inner());
+            ResultFile {
+                results: c.results.iter().copied().collect(),
+            }
+            .encode()
         };
         match text {
-            Ok(text) => match files::atomic_write(&self.config.channel_dir, RESULT_FILE, &self.tag, &text) {
-                Ok(()) => self.pending_results = false,
-                Err(WriteError::Locked { .. }) => tracing::debug!("result file locked; retrying"),
-                Err(e) => tracing::warn!(error = %e, "cannot write result file"),
-            },
+            Ok(text) => {
+                match files::atomic_write(&self.config.channel_dir, RESULT_FILE, &self.tag, &text) {
+                    Ok(()) => self.pending_results = false,
+                    Err(WriteError::Locked { .. }) => {
+                        tracing::debug!("result file locked; retrying")
+                    }
+                    Err(e) => tracing::warn!(error = %e, "cannot write result file"),
+                }
+            }
             Err(e) => {
                 tracing::error!(error = %e, "cannot encode results");
                 self.pending_results = false;
@@ -381,16 +430,24 @@ impl Runner {
 
     fn write_state(&mut self) {
         let text = {
-            let mut c = self.shared.controller.lock().unwrap_or_else(|p| p.into_inner());
+            let mut c = self
+                .shared
+                .controller
+                .lock()
+                .unwrap_or_else(|p| p.into_inner());
             c.state_record().encode()
         };
         self.next_heartbeat = Instant::now() + self.config.heartbeat;
         match text {
-            Ok(text) => match files::atomic_write(&self.config.channel_dir, STATE_FILE, &self.tag, &text) {
-                Ok(()) => self.pending_state = false,
-                Err(WriteError::Locked { .. }) => tracing::debug!("state file locked; retrying"),
-                Err(e) => tracing::warn!(error = %e, "cannot write state file"),
-            },
+            Ok(text) => {
+                match files::atomic_write(&self.config.channel_dir, STATE_FILE, &self.tag, &text) {
+                    Ok(()) => self.pending_state = false,
+                    Err(WriteError::Locked { .. }) => {
+                        tracing::debug!("state file locked; retrying")
+                    }
+                    Err(e) => tracing::warn!(error = %e, "cannot write state file"),
+                }
+            }
             Err(e) => {
                 tracing::error!(error = %e, "cannot encode state");
                 self.pending_state = false;

@@ -1,0 +1,79 @@
+//! `GET /api/v1/events`: Server-Sent Events for job progress, state
+//! changes and alarms, optionally filtered by type.
+
+use std::convert::Infallible;
+use std::time::Duration;
+
+use axum::extract::State;
+use axum::response::sse::{Event as SseEvent, KeepAlive, Sse};
+use futures_util::{Stream, StreamExt};
+use serde::Deserialize;
+use tokio_stream::wrappers::BroadcastStream;
+use tokio_stream::wrappers::errors::BroadcastStreamRecvError;
+use utoipa::IntoParams;
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
+
+use super::AppState;
+use super::problem::QueryParams;
+use crate::engine::Event;
+
+/// Event filter.
+#[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct EventsQuery {
+    /// Comma-separated event types to receive: `job`, `state`, `alarm` (default: all).
+    types: Option<String>,
+}
+
+/// Live events (Server-Sent Events).
+///
+/// Each SSE message has `event:` = `job`, `state` or `alarm` and `data:` = the JSON
+/// of the job, the robot state or the problem. A state event follows each heartbeat
+/// that changed something. A `lagged` event says the client was too slow and missed
+/// some. The stream starts with the current state.
+#[utoipa::path(get, path = "/api/v1/events", tag = "events", params(EventsQuery),
+    responses((status = 200, description = "text/event-stream of job, state and alarm events", content_type = "text/event-stream", body = String)))]
+async fn events(
+    State(app): State<AppState>,
+    QueryParams(q): QueryParams<EventsQuery>,
+) -> Sse<impl Stream<Item = Result<SseEvent, Infallible>>> {
+    let wanted: Option<Vec<String>> = q
+        .types
+        .map(|t| t.split(',').map(|s| s.trim().to_string()).collect());
+    let want = move |name: &str| wanted.as_ref().is_none_or(|w| w.iter().any(|x| x == name));
+    let first = Event::State(Box::new(app.engine.state()));
+    let rx = app.engine.subscribe();
+    let stream = futures_util::stream::iter([Ok(first)])
+        .chain(BroadcastStream::new(rx))
+        .filter_map(move |item| {
+            let out = match item {
+                Ok(ev) => {
+                    let (name, data) = match &ev {
+                        Event::Job(j) => ("job", serde_json::to_string(j)),
+                        Event::State(s) => ("state", serde_json::to_string(s)),
+                        Event::Alarm(e) => ("alarm", serde_json::to_string(e)),
+                    };
+                    match data {
+                        Ok(data) if want(name) => {
+                            Some(Ok(SseEvent::default().event(name).data(data)))
+                        }
+                        _ => None,
+                    }
+                }
+                Err(BroadcastStreamRecvError::Lagged(n)) => {
+                    Some(Ok(SseEvent::default().event("lagged").data(n.to_string())))
+                }
+            };
+            std::future::ready(out)
+        });
+    let mut closing = app.closing.clone();
+    let stream = stream.take_until(async move {
+        let _ = closing.wait_for(|c| *c).await;
+    });
+    Sse::new(stream).keep_alive(KeepAlive::new().interval(Duration::from_secs(15)))
+}
+
+pub(super) fn router() -> OpenApiRouter<AppState> {
+    OpenApiRouter::new().routes(routes!(events))
+}

@@ -1,0 +1,172 @@
+//! The HTTP API: thesis-compatible `/krl/*` endpoints, the versioned JSON
+//! API under `/api/v1`, Server-Sent Events, `/health`, `/openapi.json` and
+//! Swagger UI at `/docs` (served from the binary, no internet needed).
+
+mod events;
+pub mod problem;
+mod sim;
+mod thesis;
+mod v1;
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::Router;
+use axum::extract::State;
+use axum::http::{StatusCode, Uri};
+use axum::response::Response;
+use serde::Serialize;
+use tower_http::trace::TraceLayer;
+use utoipa::OpenApi;
+use utoipa::ToSchema;
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
+use utoipa_swagger_ui::SwaggerUi;
+
+use crate::engine::{Connection, Engine};
+use crate::error::{BridgeError, ErrorCode};
+use problem::Problem;
+
+/// Shared state of all handlers.
+#[derive(Clone)]
+pub struct AppState {
+    /// The engine.
+    pub engine: Engine,
+    /// The embedded simulator, in `--simulate` mode.
+    pub sim: Option<Arc<kuka_sim::SimController>>,
+    /// Longest a synchronous request waits beyond its job's own timeout.
+    pub request_timeout: Duration,
+    /// The OpenAPI document served at `/openapi.json`.
+    pub openapi: Arc<utoipa::openapi::OpenApi>,
+    /// Becomes true when the service shuts down (ends event streams).
+    pub closing: tokio::sync::watch::Receiver<bool>,
+}
+
+impl AppState {
+    /// How long to wait for a job with this timeout.
+    pub(crate) fn wait_budget(&self, job_timeout: Option<Duration>) -> Duration {
+        job_timeout.map_or(self.request_timeout, |t| t + Duration::from_secs(5))
+    }
+}
+
+#[derive(OpenApi)]
+#[openapi(
+    info(
+        title = "kuka-bridge",
+        description = "A REST API for KUKA robots (KRC, KSS 8.x) over a file protocol.\n\n\
+            The `/krl/*` endpoints keep the 2023 thesis bridge's interface (POST with query parameters, \
+            answer `{\"statuscode\": 1, \"position\": [x, y, z, a, b, c]}`). The `/api/v1` endpoints are \
+            the versioned JSON API: robot state, motions (single or continuous batches), jobs, stop, \
+            frames, speeds and live events.\n\n\
+            Errors are `application/problem+json` with a stable `code` (see the ProblemDetails schema). \
+            Units: mm, degrees; PTP speeds in % of the maximum axis speed, LIN/CIRC speeds in m/s.",
+        license(name = "MIT OR Apache-2.0")
+    ),
+    tags(
+        (name = "thesis", description = "Compatible with the thesis bridge's clients."),
+        (name = "robot", description = "State, position, frames and speeds."),
+        (name = "motion", description = "Motions, jobs and stop."),
+        (name = "events", description = "Server-Sent Events."),
+        (name = "simulator", description = "Only in `--simulate` mode."),
+        (name = "service", description = "Health and documentation.")
+    )
+)]
+struct ApiDoc;
+
+/// Service health.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct Health {
+    /// Always `ok` when the service answers.
+    pub status: &'static str,
+    /// Service version.
+    pub version: &'static str,
+    /// Connection to the controller.
+    pub connection: Connection,
+    /// True when running on the embedded simulator.
+    pub simulated: bool,
+}
+
+/// Is the service up?
+///
+/// Always 200 while the service runs; `connection` tells whether the controller is reachable.
+#[utoipa::path(get, path = "/health", tag = "service", responses((status = 200, body = Health)))]
+async fn health(State(app): State<AppState>) -> axum::Json<Health> {
+    axum::Json(Health {
+        status: "ok",
+        version: env!("CARGO_PKG_VERSION"),
+        connection: app.engine.state().connection,
+        simulated: app.sim.is_some(),
+    })
+}
+
+async fn openapi_json(State(app): State<AppState>) -> Response {
+    problem::json_response(200, "application/json", app.openapi.as_ref())
+}
+
+async fn not_found(uri: Uri) -> Problem {
+    BridgeError::new(
+        ErrorCode::NotFound,
+        format!("no endpoint at {}; see /docs", uri.path()),
+    )
+    .into()
+}
+
+async fn method_not_allowed() -> Response {
+    let body = problem::ProblemDetails::from_error(&BridgeError::invalid(
+        "method not allowed on this endpoint; see /docs",
+    ));
+    let mut body = body;
+    body.status = 405;
+    body.title = "Method not allowed".into();
+    let mut r = problem::json_response(405, problem::PROBLEM_JSON, &body);
+    *r.status_mut() = StatusCode::METHOD_NOT_ALLOWED;
+    r
+}
+
+/// The documented routes and their OpenAPI description.
+fn documented() -> OpenApiRouter<AppState> {
+    OpenApiRouter::with_openapi(ApiDoc::openapi())
+        .routes(routes!(health))
+        .merge(thesis::router())
+        .merge(v1::router())
+        .merge(events::router())
+        .merge(sim::router())
+}
+
+/// The OpenAPI document (also used to write docs/openapi.json).
+pub fn openapi() -> utoipa::openapi::OpenApi {
+    documented().into_openapi()
+}
+
+/// Builds the whole HTTP application.
+pub fn app(
+    engine: Engine,
+    sim: Option<Arc<kuka_sim::SimController>>,
+    request_timeout: Duration,
+    closing: tokio::sync::watch::Receiver<bool>,
+) -> Router {
+    let (router, doc) = documented().split_for_parts();
+    let state = AppState {
+        engine,
+        sim,
+        request_timeout,
+        openapi: Arc::new(doc),
+        closing,
+    };
+    router
+        .route("/openapi.json", axum::routing::get(openapi_json))
+        .merge(SwaggerUi::new("/docs").config(utoipa_swagger_ui::Config::from("/openapi.json")))
+        .route(
+            "/",
+            axum::routing::get(|| async { axum::response::Redirect::temporary("/docs/") }),
+        )
+        .fallback(not_found)
+        .method_not_allowed_fallback(method_not_allowed)
+        .with_state(state)
+        .layer(TraceLayer::new_for_http())
+}
+
+/// Converts anything into a 200 JSON response.
+pub(crate) fn ok_json(body: &impl Serialize) -> Response {
+    problem::json_response(200, "application/json", body)
+}

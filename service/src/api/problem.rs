@@ -1,0 +1,153 @@
+//! RFC 9457 problem details: every error the API returns is
+//! `application/problem+json` with a stable `code` and a human `detail`.
+//! Also the JSON/query extractors whose rejections become problems.
+
+use axum::extract::rejection::{JsonRejection, QueryRejection};
+use axum::extract::{FromRequest, FromRequestParts, Request};
+use axum::http::{HeaderValue, StatusCode, header, request::Parts};
+use axum::response::{IntoResponse, Response};
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+use utoipa::ToSchema;
+
+use crate::engine::JobId;
+use crate::error::{BridgeError, ErrorCode};
+
+/// The media type of problem responses.
+pub const PROBLEM_JSON: &str = "application/problem+json";
+
+/// A problem details body (RFC 9457) with kuka-bridge extensions.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+#[schema(example = json!({
+    "type": "https://github.com/kuka-bridge/kuka-bridge/blob/main/docs/errors.md#software_limit",
+    "title": "Software limit switch",
+    "status": 422,
+    "detail": "motion 0: axis A5 would be at 128.000° outside its software limits [-120.0°, 120.0°]",
+    "code": "software_limit",
+    "axis": 5,
+    "motion": 0
+}))]
+pub struct ProblemDetails {
+    /// URI identifying the problem type (docs/errors.md anchor).
+    #[serde(rename = "type")]
+    pub type_uri: String,
+    /// Short summary of the problem type.
+    pub title: String,
+    /// HTTP status.
+    pub status: u16,
+    /// Human explanation of this occurrence.
+    pub detail: String,
+    /// Stable machine-readable code.
+    pub code: ErrorCode,
+    /// Axis (1..6) for software-limit errors.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub axis: Option<u8>,
+    /// Index of the failing motion in the batch.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub motion: Option<usize>,
+    /// Job the error belongs to.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub job_id: Option<JobId>,
+}
+
+impl ProblemDetails {
+    /// Builds the body for an error.
+    pub fn from_error(e: &BridgeError) -> Self {
+        ProblemDetails {
+            type_uri: format!(
+                "https://github.com/kuka-bridge/kuka-bridge/blob/main/docs/errors.md#{}",
+                e.code.as_str()
+            ),
+            title: e.code.title().into(),
+            status: e.code.http_status(),
+            detail: e.detail.clone(),
+            code: e.code,
+            axis: e.axis,
+            motion: e.motion,
+            job_id: None,
+        }
+    }
+}
+
+/// An error response.
+#[derive(Debug)]
+pub struct Problem {
+    /// The error.
+    pub error: BridgeError,
+    /// The job it belongs to.
+    pub job_id: Option<JobId>,
+}
+
+impl From<BridgeError> for Problem {
+    fn from(error: BridgeError) -> Self {
+        Problem {
+            error,
+            job_id: None,
+        }
+    }
+}
+
+/// Serialises `body` as JSON with the given status and media type.
+pub fn json_response(status: u16, content_type: &'static str, body: &impl Serialize) -> Response {
+    let status = StatusCode::from_u16(status).unwrap_or(StatusCode::INTERNAL_SERVER_ERROR);
+    match serde_json::to_vec(body) {
+        Ok(bytes) => (
+            status,
+            [(header::CONTENT_TYPE, HeaderValue::from_static(content_type))],
+            bytes,
+        )
+            .into_response(),
+        Err(e) => {
+            tracing::error!(error = %e, "cannot serialise response");
+            StatusCode::INTERNAL_SERVER_ERROR.into_response()
+        }
+    }
+}
+
+impl IntoResponse for Problem {
+    fn into_response(self) -> Response {
+        let mut body = ProblemDetails::from_error(&self.error);
+        body.job_id = self.job_id;
+        if body.code == ErrorCode::Internal {
+            tracing::error!(detail = %self.error.detail, "internal error");
+        }
+        json_response(body.status, PROBLEM_JSON, &body)
+    }
+}
+
+/// A JSON body whose rejection is a problem (`invalid_input`).
+pub struct JsonBody<T>(pub T);
+
+impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for JsonBody<T> {
+    type Rejection = Problem;
+
+    async fn from_request(req: Request, state: &S) -> Result<Self, Self::Rejection> {
+        match axum::Json::<T>::from_request(req, state).await {
+            Ok(axum::Json(v)) => Ok(JsonBody(v)),
+            Err(e) => Err(json_rejection(&e).into()),
+        }
+    }
+}
+
+fn json_rejection(e: &JsonRejection) -> BridgeError {
+    BridgeError::invalid(format!("request body: {}", e.body_text()))
+}
+
+/// Query parameters whose rejection is a problem (`invalid_input`).
+pub struct QueryParams<T>(pub T);
+
+impl<S: Send + Sync, T: DeserializeOwned> FromRequestParts<S> for QueryParams<T> {
+    type Rejection = Problem;
+
+    async fn from_request_parts(parts: &mut Parts, state: &S) -> Result<Self, Self::Rejection> {
+        match axum::extract::Query::<T>::from_request_parts(parts, state).await {
+            Ok(axum::extract::Query(v)) => Ok(QueryParams(v)),
+            Err(e) => Err(query_rejection(&e).into()),
+        }
+    }
+}
+
+/// The sentence for a rejected query string.
+pub fn query_rejection(e: &QueryRejection) -> BridgeError {
+    BridgeError::invalid(format!("query string: {}", e.body_text()))
+}

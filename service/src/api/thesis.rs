@@ -1,0 +1,309 @@
+//! Endpoints compatible with the 2023 thesis bridge: POST with query
+//! parameters `x y z a b c s t` (omitted coordinates keep their current
+//! value), answering `{"statuscode": 1, "position": [x, y, z, a, b, c]}`.
+//! Failures answer an HTTP error whose JSON still carries `statuscode`
+//! (never 1) and `position`, plus the problem details.
+
+use axum::extract::State;
+use axum::extract::rejection::QueryRejection;
+use axum::response::Response;
+use serde::{Deserialize, Serialize};
+use utoipa::{IntoParams, ToSchema};
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
+
+use super::AppState;
+use super::problem::{PROBLEM_JSON, ProblemDetails, json_response, query_rejection};
+use crate::engine::{CartesianFrame, Job, Operation};
+use crate::error::{BridgeError, ErrorCode};
+use crate::motion::{AuxPoint, MotionRequest, TargetSpec};
+
+/// Target coordinates; omitted ones keep their current value.
+#[derive(Debug, Default, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct PointQuery {
+    /// X in mm.
+    x: Option<f64>,
+    /// Y in mm.
+    y: Option<f64>,
+    /// Z in mm.
+    z: Option<f64>,
+    /// A (about Z) in degrees.
+    a: Option<f64>,
+    /// B (about Y) in degrees.
+    b: Option<f64>,
+    /// C (about X) in degrees.
+    c: Option<f64>,
+    /// Status (0..7); PTP only.
+    s: Option<i64>,
+    /// Turn (0..63); PTP only.
+    t: Option<i64>,
+}
+
+impl PointQuery {
+    fn target(&self) -> TargetSpec {
+        TargetSpec {
+            x: self.x,
+            y: self.y,
+            z: self.z,
+            a: self.a,
+            b: self.b,
+            c: self.c,
+            s: self.s,
+            t: self.t,
+        }
+    }
+}
+
+/// CIRC: end point `x y z a b c` and auxiliary point `ax ay az`.
+#[derive(Debug, Default, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct CircQuery {
+    /// End X in mm.
+    x: Option<f64>,
+    /// End Y in mm.
+    y: Option<f64>,
+    /// End Z in mm.
+    z: Option<f64>,
+    /// End A in degrees.
+    a: Option<f64>,
+    /// End B in degrees.
+    b: Option<f64>,
+    /// End C in degrees.
+    c: Option<f64>,
+    /// Auxiliary point X in mm.
+    ax: Option<f64>,
+    /// Auxiliary point Y in mm.
+    ay: Option<f64>,
+    /// Auxiliary point Z in mm.
+    az: Option<f64>,
+}
+
+/// The thesis's response.
+#[derive(Debug, Serialize, ToSchema)]
+#[schema(example = json!({"statuscode": 1, "position": [200.0, 0.0, 70.0, 0.0, 180.0, 0.0]}))]
+pub struct ThesisResponse {
+    /// 1 on success; see docs/errors.md for the other values.
+    pub statuscode: i32,
+    /// `[x, y, z, a, b, c]`: the robot position (for `tcp`/`gettcp`: the tool frame).
+    pub position: [f64; 6],
+}
+
+/// A thesis failure: the problem details plus `statuscode` and `position`.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct ThesisProblem {
+    /// Never 1.
+    pub statuscode: i32,
+    /// Last known position `[x, y, z, a, b, c]` (zeros when unknown).
+    pub position: [f64; 6],
+    /// The problem details.
+    #[serde(flatten)]
+    pub problem: ProblemDetails,
+}
+
+/// The thesis `statuscode` for an error (1 is success; controller errors
+/// keep the controller's result code).
+pub fn statuscode(code: ErrorCode) -> i32 {
+    match code {
+        ErrorCode::Cancelled => 2,
+        ErrorCode::ControllerBusy => 3,
+        ErrorCode::InvalidInput => 10,
+        ErrorCode::ProtocolError => 11,
+        ErrorCode::Unreachable => 20,
+        ErrorCode::SoftwareLimit => 21,
+        ErrorCode::Singularity => 22,
+        ErrorCode::WorkspaceViolation => 25,
+        ErrorCode::SpeedLimit => 26,
+        ErrorCode::ControllerError => 30,
+        ErrorCode::ControllerOffline => 50,
+        ErrorCode::ChannelLocked => 51,
+        ErrorCode::Timeout => 52,
+        ErrorCode::QueueFull => 53,
+        ErrorCode::NotFound => 54,
+        ErrorCode::Internal => 99,
+    }
+}
+
+fn fail(app: &AppState, e: &BridgeError) -> Response {
+    let position = app.engine.state().position.map_or([0.0; 6], |p| p.xyzabc());
+    let problem = ProblemDetails::from_error(e);
+    let body = ThesisProblem {
+        statuscode: statuscode(e.code),
+        position,
+        problem,
+    };
+    json_response(body.problem.status, PROBLEM_JSON, &body)
+}
+
+fn done(position: [f64; 6]) -> Response {
+    json_response(
+        200,
+        "application/json",
+        &ThesisResponse {
+            statuscode: 1,
+            position,
+        },
+    )
+}
+
+async fn run(app: &AppState, op: Operation, frame_result: bool) -> Response {
+    match app.engine.execute(op, None, app.request_timeout).await {
+        Ok(job) => done(job_position(&job, frame_result)),
+        Err(e) => fail(app, &e),
+    }
+}
+
+fn job_position(job: &Job, frame_result: bool) -> [f64; 6] {
+    if frame_result {
+        job.frame
+            .map_or([0.0; 6], |f| [f.x, f.y, f.z, f.a, f.b, f.c])
+    } else {
+        job.position.map_or([0.0; 6], |p| p.xyzabc())
+    }
+}
+
+fn query<T>(
+    app: &AppState,
+    q: Result<axum::extract::Query<T>, QueryRejection>,
+) -> Result<T, Response> {
+    q.map(|axum::extract::Query(v)| v)
+        .map_err(|e| fail(app, &query_rejection(&e)))
+}
+
+/// PTP to a Cartesian target (thesis method 1).
+///
+/// Moves point-to-point; omitted coordinates keep their current value
+/// (`/krl/ptp?x=30` moves only X). Waits until the motion is done.
+#[utoipa::path(post, path = "/krl/ptp", tag = "thesis", params(PointQuery),
+    responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
+async fn ptp(
+    State(app): State<AppState>,
+    q: Result<axum::extract::Query<PointQuery>, QueryRejection>,
+) -> Response {
+    let q = match query(&app, q) {
+        Ok(q) => q,
+        Err(r) => return r,
+    };
+    let m = MotionRequest::Ptp {
+        target: q.target(),
+        relative: false,
+        velocity_pct: None,
+        acceleration_pct: None,
+        approx_mm: None,
+    };
+    run(&app, Operation::Move(vec![m]), false).await
+}
+
+/// Straight line to a Cartesian target (thesis method 2).
+#[utoipa::path(post, path = "/krl/linmov", tag = "thesis", params(PointQuery),
+    responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
+async fn linmov(
+    State(app): State<AppState>,
+    q: Result<axum::extract::Query<PointQuery>, QueryRejection>,
+) -> Response {
+    let q = match query(&app, q) {
+        Ok(q) => q,
+        Err(r) => return r,
+    };
+    let m = MotionRequest::Lin {
+        target: q.target(),
+        relative: false,
+        velocity_m_s: None,
+        acceleration_pct: None,
+        approx_mm: None,
+    };
+    run(&app, Operation::Move(vec![m]), false).await
+}
+
+/// Circular motion through `ax ay az` to `x y z a b c` (thesis method 7).
+#[utoipa::path(post, path = "/krl/circ", tag = "thesis", params(CircQuery),
+    responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
+async fn circ(
+    State(app): State<AppState>,
+    q: Result<axum::extract::Query<CircQuery>, QueryRejection>,
+) -> Response {
+    let q = match query(&app, q) {
+        Ok(q) => q,
+        Err(r) => return r,
+    };
+    let m = MotionRequest::Circ {
+        aux: AuxPoint {
+            x: q.ax,
+            y: q.ay,
+            z: q.az,
+        },
+        target: TargetSpec {
+            x: q.x,
+            y: q.y,
+            z: q.z,
+            a: q.a,
+            b: q.b,
+            c: q.c,
+            s: None,
+            t: None,
+        },
+        relative: false,
+        velocity_m_s: None,
+        acceleration_pct: None,
+        approx_mm: None,
+    };
+    run(&app, Operation::Move(vec![m]), false).await
+}
+
+/// Current position (thesis method 3), read through the controller program.
+#[utoipa::path(post, path = "/krl/getpos", tag = "thesis",
+    responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
+async fn getpos(State(app): State<AppState>) -> Response {
+    run(&app, Operation::GetPosition, false).await
+}
+
+/// Move to the home position (thesis method 6, "base").
+#[utoipa::path(post, path = "/krl/base", tag = "thesis",
+    responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
+async fn base(State(app): State<AppState>) -> Response {
+    run(&app, Operation::Home, false).await
+}
+
+/// Set the tool (TCP) frame (thesis method 8); omitted values keep the current tool's.
+#[utoipa::path(post, path = "/krl/tcp", tag = "thesis", params(PointQuery),
+    responses((status = 200, description = "`position` is the new tool frame", body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
+async fn tcp(
+    State(app): State<AppState>,
+    q: Result<axum::extract::Query<PointQuery>, QueryRejection>,
+) -> Response {
+    let q = match query(&app, q) {
+        Ok(q) => q,
+        Err(r) => return r,
+    };
+    let cur = app.engine.state().tool.unwrap_or_default();
+    let frame = CartesianFrame {
+        x: q.x.unwrap_or(cur.x),
+        y: q.y.unwrap_or(cur.y),
+        z: q.z.unwrap_or(cur.z),
+        a: q.a.unwrap_or(cur.a),
+        b: q.b.unwrap_or(cur.b),
+        c: q.c.unwrap_or(cur.c),
+    };
+    if let Err(e) = super::v1::check_frame(&frame) {
+        return fail(&app, &e);
+    }
+    run(&app, Operation::SetTool(frame), true).await
+}
+
+/// Current tool (TCP) frame (thesis method 9).
+#[utoipa::path(post, path = "/krl/gettcp", tag = "thesis",
+    responses((status = 200, description = "`position` is the tool frame", body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
+async fn gettcp(State(app): State<AppState>) -> Response {
+    run(&app, Operation::GetTool, true).await
+}
+
+pub(super) fn router() -> OpenApiRouter<AppState> {
+    OpenApiRouter::new()
+        .routes(routes!(ptp))
+        .routes(routes!(linmov))
+        .routes(routes!(circ))
+        .routes(routes!(getpos))
+        .routes(routes!(base))
+        .routes(routes!(tcp))
+        .routes(routes!(gettcp))
+}

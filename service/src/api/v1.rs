@@ -1,0 +1,335 @@
+//! The versioned JSON API under `/api/v1`: state, position, motions, jobs,
+//! stop, home, reset, tool/base frames and speeds.
+
+use std::time::Duration;
+
+use axum::extract::{Path, State};
+use axum::http::{HeaderValue, header};
+use axum::response::Response;
+use kuka_protocol::MAX_REAL;
+use serde::{Deserialize, Serialize};
+use utoipa::{IntoParams, ToSchema};
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
+
+use super::problem::{JsonBody, PROBLEM_JSON, Problem, ProblemDetails, QueryParams, json_response};
+use super::{AppState, ok_json};
+use crate::engine::{
+    AxisAngles, CartesianFrame, Job, JobId, JobState, Operation, Position, RobotState,
+};
+use crate::error::{BridgeError, ErrorCode};
+use crate::motion::{MotionRequest, SpeedSettings};
+
+/// A motion request: one motion or a continuous batch.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({
+    "motions": [
+        {"type": "ptp", "target": {"x": 200, "y": 0, "z": 100, "a": 0, "b": 180, "c": 0}},
+        {"type": "lin", "target": {"z": 70}, "velocity_m_s": 0.1},
+        {"type": "circ", "aux": {"x": 250, "y": 50}, "target": {"x": 200, "y": 100}, "approx_mm": 2},
+        {"type": "lin", "target": {"z": 100}}
+    ],
+    "wait": true
+}))]
+pub struct MotionBatch {
+    /// The motions, executed in order as one continuous batch (approximated
+    /// between motions unless `approx_mm` is 0).
+    pub motions: Vec<MotionRequest>,
+    /// Wait for completion (default true). With false the answer is 202
+    /// with the queued job; poll `/api/v1/jobs/{id}` or listen to events.
+    pub wait: Option<bool>,
+    /// Fail the job (and stop the robot) if it has not finished after this many ms.
+    pub timeout_ms: Option<u64>,
+}
+
+/// Position with axis angles.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct PositionReport {
+    /// TCP in the base frame with Status/Turn.
+    pub position: Position,
+    /// Axis angles.
+    pub axes: Option<AxisAngles>,
+}
+
+/// Partial update of the speed settings; omitted fields keep their value.
+#[derive(Debug, Default, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"override_pct": 50}))]
+pub struct SpeedUpdate {
+    /// Program override in %.
+    pub override_pct: Option<f64>,
+    /// Default PTP velocity in %.
+    pub ptp_velocity_pct: Option<f64>,
+    /// Default PTP acceleration in %.
+    pub ptp_acceleration_pct: Option<f64>,
+    /// Default LIN/CIRC velocity in m/s.
+    pub cp_velocity_m_s: Option<f64>,
+    /// Default LIN/CIRC acceleration in %.
+    pub cp_acceleration_pct: Option<f64>,
+}
+
+/// Job list filter.
+#[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct JobsQuery {
+    /// Most jobs returned, newest first (default 100, at most 1000).
+    limit: Option<usize>,
+}
+
+/// Stop confirmation.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct Stopped {
+    /// True once the controller confirmed the stop.
+    pub stopped: bool,
+}
+
+/// Checks a frame's numbers.
+pub(crate) fn check_frame(f: &CartesianFrame) -> Result<(), BridgeError> {
+    for (name, v) in [
+        ("x", f.x),
+        ("y", f.y),
+        ("z", f.z),
+        ("a", f.a),
+        ("b", f.b),
+        ("c", f.c),
+    ] {
+        if !v.is_finite() || v.abs() > MAX_REAL {
+            return Err(BridgeError::invalid(format!(
+                "{name} = {v} is not a finite number within ±{MAX_REAL}"
+            )));
+        }
+    }
+    Ok(())
+}
+
+async fn execute(app: &AppState, op: Operation) -> Result<Job, Problem> {
+    Ok(app.engine.execute(op, None, app.request_timeout).await?)
+}
+
+/// Robot and controller state.
+///
+/// Served from the service's latest knowledge (heartbeat and results): connection
+/// (online/offline/locked), controller status and errors, position with S/T, axes,
+/// tool, base, speeds, the running job and the queue length. Cheap; no round trip.
+#[utoipa::path(get, path = "/api/v1/state", tag = "robot", responses((status = 200, body = RobotState)))]
+async fn get_state(State(app): State<AppState>) -> Response {
+    ok_json(&app.engine.state())
+}
+
+/// Current position, read through the controller program (a round trip).
+#[utoipa::path(get, path = "/api/v1/position", tag = "robot",
+    responses((status = 200, body = PositionReport), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_position(State(app): State<AppState>) -> Result<Response, Problem> {
+    let job = execute(&app, Operation::GetPosition).await?;
+    let position = job
+        .position
+        .ok_or_else(|| BridgeError::new(ErrorCode::ProtocolError, "no position in the result"))?;
+    Ok(ok_json(&PositionReport {
+        position,
+        axes: job.axes,
+    }))
+}
+
+/// Execute motions (PTP, axis PTP, LIN, CIRC), one or a continuous batch.
+///
+/// Each request is validated (numbers, Status/Turn, speed caps, workspace box, and with a
+/// robot model a dry run for reachability, software limits and singularities) before
+/// anything is written; a rejected request moves nothing. Omitted coordinates keep the
+/// previous target's value; `relative: true` adds to it. Requests are executed in arrival
+/// order. With `wait` (default) the answer is the finished job; otherwise 202 and the
+/// queued job with a `Location` header.
+#[utoipa::path(post, path = "/api/v1/motions", tag = "motion", request_body = MotionBatch,
+    responses(
+        (status = 200, description = "Done", body = Job),
+        (status = 202, description = "Queued (wait = false)", body = Job),
+        (status = "4XX", description = "Rejected or failed; nothing moved for 422 before execution", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "5XX", description = "Controller offline, channel locked or timeout", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn post_motions(
+    State(app): State<AppState>,
+    JsonBody(batch): JsonBody<MotionBatch>,
+) -> Result<Response, Problem> {
+    let timeout = batch.timeout_ms.map(Duration::from_millis);
+    if timeout.is_some_and(|t| t.is_zero()) {
+        return Err(BridgeError::invalid("timeout_ms must be positive").into());
+    }
+    let job = app
+        .engine
+        .submit(Operation::Move(batch.motions), timeout)
+        .await?;
+    if batch.wait == Some(false) {
+        let mut r = json_response(202, "application/json", &job);
+        if let Ok(v) = HeaderValue::from_str(&format!("/api/v1/jobs/{}", job.id)) {
+            r.headers_mut().insert(header::LOCATION, v);
+        }
+        return Ok(r);
+    }
+    let job = app.engine.wait(job.id, app.wait_budget(timeout)).await?;
+    job_outcome(job)
+}
+
+fn job_outcome(job: Job) -> Result<Response, Problem> {
+    match (job.state, &job.error) {
+        (JobState::Done, _) => Ok(ok_json(&job)),
+        (_, Some(e)) => Err(Problem {
+            error: e.clone(),
+            job_id: Some(job.id),
+        }),
+        _ => Err(Problem {
+            error: BridgeError::new(
+                ErrorCode::Timeout,
+                format!(
+                    "job {} has not finished yet; poll /api/v1/jobs/{}",
+                    job.id, job.id
+                ),
+            ),
+            job_id: Some(job.id),
+        }),
+    }
+}
+
+/// Recent jobs, newest first.
+#[utoipa::path(get, path = "/api/v1/jobs", tag = "motion", params(JobsQuery), responses((status = 200, body = [Job])))]
+async fn list_jobs(
+    State(app): State<AppState>,
+    QueryParams(q): QueryParams<JobsQuery>,
+) -> Response {
+    ok_json(&app.engine.jobs(q.limit.unwrap_or(100).min(1000)))
+}
+
+/// One job.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}", tag = "motion", params(("id" = u64, Path, description = "Job id")),
+    responses((status = 200, body = Job), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_job(State(app): State<AppState>, Path(id): Path<String>) -> Result<Response, Problem> {
+    Ok(ok_json(&app.engine.job(parse_id(&id)?)?))
+}
+
+fn parse_id(id: &str) -> Result<JobId, BridgeError> {
+    id.parse()
+        .map_err(|_| BridgeError::invalid(format!("job id {id:?} is not a number")))
+}
+
+/// Cancel a job: a queued job is removed, a running one is stopped (its state
+/// becomes `cancelled` when the controller confirms). Finished jobs are returned unchanged.
+#[utoipa::path(delete, path = "/api/v1/jobs/{id}", tag = "motion", params(("id" = u64, Path, description = "Job id")),
+    responses((status = 200, body = Job), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn cancel_job(
+    State(app): State<AppState>,
+    Path(id): Path<String>,
+) -> Result<Response, Problem> {
+    Ok(ok_json(&app.engine.cancel(parse_id(&id)?).await?))
+}
+
+/// Stop: brake now, cancel the running job and every queued job.
+///
+/// Always accepted, also while the queue is full or a job runs.
+#[utoipa::path(post, path = "/api/v1/stop", tag = "motion",
+    responses((status = 200, body = Stopped), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn stop(State(app): State<AppState>) -> Result<Response, Problem> {
+    app.engine.stop().await?;
+    Ok(ok_json(&Stopped { stopped: true }))
+}
+
+/// PTP to the home position (the BCO run), with the default PTP speed.
+#[utoipa::path(post, path = "/api/v1/home", tag = "motion",
+    responses((status = 200, body = Job), (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn home(State(app): State<AppState>) -> Result<Response, Problem> {
+    Ok(ok_json(&execute(&app, Operation::Home).await?))
+}
+
+/// Acknowledge a controller error state.
+#[utoipa::path(post, path = "/api/v1/reset", tag = "robot",
+    responses((status = 200, body = Job), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn reset(State(app): State<AppState>) -> Result<Response, Problem> {
+    Ok(ok_json(&execute(&app, Operation::Reset).await?))
+}
+
+fn frame_of(job: &Job) -> Result<CartesianFrame, Problem> {
+    Ok(job
+        .frame
+        .ok_or_else(|| BridgeError::new(ErrorCode::ProtocolError, "no frame in the result"))?)
+}
+
+/// The tool frame ($TOOL), read from the controller.
+#[utoipa::path(get, path = "/api/v1/tool", tag = "robot",
+    responses((status = 200, body = CartesianFrame), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_tool(State(app): State<AppState>) -> Result<Response, Problem> {
+    Ok(ok_json(&frame_of(
+        &execute(&app, Operation::GetTool).await?,
+    )?))
+}
+
+/// Set the tool frame ($TOOL): the TCP relative to the flange.
+#[utoipa::path(put, path = "/api/v1/tool", tag = "robot", request_body = CartesianFrame,
+    responses((status = 200, body = CartesianFrame), (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn put_tool(
+    State(app): State<AppState>,
+    JsonBody(frame): JsonBody<CartesianFrame>,
+) -> Result<Response, Problem> {
+    check_frame(&frame)?;
+    Ok(ok_json(&frame_of(
+        &execute(&app, Operation::SetTool(frame)).await?,
+    )?))
+}
+
+/// The base frame ($BASE), read from the controller.
+#[utoipa::path(get, path = "/api/v1/base", tag = "robot",
+    responses((status = 200, body = CartesianFrame), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_base(State(app): State<AppState>) -> Result<Response, Problem> {
+    Ok(ok_json(&frame_of(
+        &execute(&app, Operation::GetBase).await?,
+    )?))
+}
+
+/// Set the base frame ($BASE) relative to the robot root; positions are given in it.
+#[utoipa::path(put, path = "/api/v1/base", tag = "robot", request_body = CartesianFrame,
+    responses((status = 200, body = CartesianFrame), (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn put_base(
+    State(app): State<AppState>,
+    JsonBody(frame): JsonBody<CartesianFrame>,
+) -> Result<Response, Problem> {
+    check_frame(&frame)?;
+    Ok(ok_json(&frame_of(
+        &execute(&app, Operation::SetBase(frame)).await?,
+    )?))
+}
+
+/// Override and default speeds.
+#[utoipa::path(get, path = "/api/v1/speed", tag = "robot", responses((status = 200, body = SpeedSettings)))]
+async fn get_speed(State(app): State<AppState>) -> Response {
+    ok_json(&app.engine.state().speed)
+}
+
+/// Change override and default speeds (partial update); sent to the controller.
+#[utoipa::path(put, path = "/api/v1/speed", tag = "robot", request_body = SpeedUpdate,
+    responses((status = 200, body = SpeedSettings), (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn put_speed(
+    State(app): State<AppState>,
+    JsonBody(u): JsonBody<SpeedUpdate>,
+) -> Result<Response, Problem> {
+    let cur = app.engine.state().speed;
+    let next = SpeedSettings {
+        override_pct: u.override_pct.unwrap_or(cur.override_pct),
+        ptp_velocity_pct: u.ptp_velocity_pct.unwrap_or(cur.ptp_velocity_pct),
+        ptp_acceleration_pct: u.ptp_acceleration_pct.unwrap_or(cur.ptp_acceleration_pct),
+        cp_velocity_m_s: u.cp_velocity_m_s.unwrap_or(cur.cp_velocity_m_s),
+        cp_acceleration_pct: u.cp_acceleration_pct.unwrap_or(cur.cp_acceleration_pct),
+    };
+    execute(&app, Operation::SetSpeed(next)).await?;
+    Ok(ok_json(&app.engine.state().speed))
+}
+
+pub(super) fn router() -> OpenApiRouter<AppState> {
+    OpenApiRouter::new()
+        .routes(routes!(get_state))
+        .routes(routes!(get_position))
+        .routes(routes!(post_motions))
+        .routes(routes!(list_jobs))
+        .routes(routes!(get_job, cancel_job))
+        .routes(routes!(stop))
+        .routes(routes!(home))
+        .routes(routes!(reset))
+        .routes(routes!(get_tool, put_tool))
+        .routes(routes!(get_base, put_base))
+        .routes(routes!(get_speed, put_speed))
+}

@@ -1,0 +1,174 @@
+//! Wiring: builds the channel, the optional embedded simulator, the engine
+//! and the HTTP server from a validated [`Config`], and shuts them down in
+//! order. The binary and the tests both start the service through here.
+
+use std::future::Future;
+use std::net::SocketAddr;
+use std::sync::Arc;
+use std::time::Duration;
+
+use kuka_sim::{SimConfig, SimController};
+use tokio::sync::{oneshot, watch};
+use tokio::task::JoinHandle;
+
+use crate::channel::{Channel, ChannelError, CidStore, ServiceLock};
+use crate::config::{Config, ConfigError};
+use crate::engine::{Engine, EngineParts};
+use crate::safety::Safety;
+
+/// Why the service could not start or stopped with an error.
+#[derive(Debug, thiserror::Error)]
+pub enum AppError {
+    /// Invalid configuration.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// Channel directory, lock or counter.
+    #[error(transparent)]
+    Channel(#[from] ChannelError),
+    /// The simulator could not start.
+    #[error("simulated controller: {0}")]
+    Sim(#[from] kuka_sim::SimError),
+    /// The listen address is unavailable.
+    #[error("cannot listen on {addr}: {source}")]
+    Bind {
+        /// Address.
+        addr: SocketAddr,
+        /// Cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The HTTP server failed.
+    #[error("HTTP server: {0}")]
+    Serve(#[source] std::io::Error),
+}
+
+/// A running service.
+pub struct Service {
+    /// The address it listens on (with the real port when 0 was asked).
+    pub addr: SocketAddr,
+    /// The engine.
+    pub engine: Engine,
+    /// The embedded simulator (in `--simulate` mode).
+    pub sim: Option<Arc<SimController>>,
+    closing: watch::Sender<bool>,
+    stop_http: Option<oneshot::Sender<()>>,
+    server: JoinHandle<Result<(), AppError>>,
+    _lock: ServiceLock,
+}
+
+/// Starts everything and returns once the server listens.
+pub async fn start(config: Config) -> Result<Service, AppError> {
+    config.validate()?;
+    let model = config.robot_model()?;
+    let dir = config.channel_dir();
+    let channel = Channel::open(&dir)?;
+    let lock = ServiceLock::acquire(&dir)?;
+    let cids = CidStore::open(&config.data_dir)?;
+    let sim = if config.simulator.enabled {
+        let mut sc = SimConfig::new(&dir);
+        if let Some(m) = &model {
+            sc.model = m.clone();
+        }
+        sc.time_scale = config.simulator.time_scale;
+        sc.heartbeat = Duration::from_millis(config.simulator.heartbeat_ms);
+        Some(Arc::new(SimController::start(sc)?))
+    } else {
+        None
+    };
+    let safety = Safety::new(config.motion.clone(), config.workspace, model);
+    let engine = Engine::start(
+        &config,
+        EngineParts {
+            channel,
+            cids,
+            safety,
+        },
+    );
+    let listener = tokio::net::TcpListener::bind(config.server.listen)
+        .await
+        .map_err(|source| AppError::Bind {
+            addr: config.server.listen,
+            source,
+        })?;
+    let addr = listener.local_addr().map_err(|source| AppError::Bind {
+        addr: config.server.listen,
+        source,
+    })?;
+    let (closing, closing_rx) = watch::channel(false);
+    let router = crate::api::app(
+        engine.clone(),
+        sim.clone(),
+        Duration::from_millis(config.server.request_timeout_ms),
+        closing_rx,
+    );
+    let (stop_http, stop_rx) = oneshot::channel::<()>();
+    let server = tokio::spawn(async move {
+        axum::serve(listener, router)
+            .with_graceful_shutdown(async move {
+                let _ = stop_rx.await;
+            })
+            .await
+            .map_err(AppError::Serve)
+    });
+    tracing::info!(%addr, channel = %dir.display(), simulated = sim.is_some(), "kuka-bridge listening");
+    Ok(Service {
+        addr,
+        engine,
+        sim,
+        closing,
+        stop_http: Some(stop_http),
+        server,
+        _lock: lock,
+    })
+}
+
+impl Service {
+    /// `http://ADDR`.
+    pub fn base_url(&self) -> String {
+        format!("http://{}", self.addr)
+    }
+
+    /// Graceful shutdown: stop accepting requests, end event streams, let the
+    /// running job finish or fail within its timeout, stop the simulator.
+    pub async fn shutdown(mut self) -> Result<(), AppError> {
+        let _ = self.closing.send(true);
+        if let Some(tx) = self.stop_http.take() {
+            let _ = tx.send(());
+        }
+        self.engine.shutdown().await;
+        let served = match tokio::time::timeout(Duration::from_secs(10), &mut self.server).await {
+            Ok(Ok(r)) => r,
+            Ok(Err(e)) => {
+                tracing::error!(error = %e, "server task failed");
+                Ok(())
+            }
+            Err(_) => {
+                tracing::warn!("HTTP connections still open after 10 s; closing them");
+                self.server.abort();
+                Ok(())
+            }
+        };
+        if let Some(sim) = self.sim.take() {
+            match Arc::try_unwrap(sim) {
+                Ok(sim) => sim.shutdown(),
+                Err(shared) => drop(shared),
+            }
+        }
+        tracing::info!("kuka-bridge stopped");
+        served
+    }
+}
+
+/// Runs until `shutdown` resolves (Ctrl-C, or the Windows service manager).
+pub async fn run(config: Config, shutdown: impl Future<Output = ()>) -> Result<(), AppError> {
+    let service = start(config).await?;
+    tokio::pin!(shutdown);
+    let server_done = {
+        tokio::select! {
+            () = &mut shutdown => false,
+            _ = tokio::time::sleep(Duration::MAX) => true,
+        }
+    };
+    let _ = server_done;
+    service.shutdown().await
+}

@@ -1,0 +1,271 @@
+//! The service's side of the file channel: writing commands, reading
+//! results and heartbeats, watching the directory, the persistent command
+//! id counter, and the lock that keeps two services off one channel.
+
+use std::fs::File;
+use std::path::{Path, PathBuf};
+
+use kuka_protocol::files::{self, ReadError, WriteError};
+use kuka_protocol::{
+    COMMAND_FILE, Cid, CommandFile, DecodeError, RESULT_FILE, ResultFile, STATE_FILE, StateFile,
+};
+use notify::{RecursiveMode, Watcher};
+use tokio::sync::mpsc;
+
+/// Errors of the channel.
+#[derive(Debug, thiserror::Error)]
+pub enum ChannelError {
+    /// Writing the command file failed.
+    #[error(transparent)]
+    Write(#[from] WriteError),
+    /// The command could not be encoded.
+    #[error("cannot encode command: {0}")]
+    Encode(#[from] kuka_protocol::EncodeError),
+    /// Directory or counter I/O failed.
+    #[error("{what} {path}: {source}")]
+    Io {
+        /// What was attempted.
+        what: &'static str,
+        /// The path.
+        path: String,
+        /// Cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Another service instance holds the channel.
+    #[error("another kuka-bridge already serves channel {0} (its lock file is held)")]
+    InUse(String),
+    /// Command ids ran out (2^31 - 1 commands).
+    #[error("command ids exhausted; reset the counter file {0} together with the controller")]
+    CidExhausted(String),
+}
+
+/// A read that did not yield a record.
+#[derive(Debug)]
+pub enum ReadOutcome<T> {
+    /// The record.
+    Record(T),
+    /// No file yet.
+    Missing,
+    /// Held by another process.
+    Locked,
+    /// Half-written or corrupt: read again later.
+    Invalid(DecodeError),
+    /// Other I/O failure.
+    Failed(String),
+}
+
+/// The channel directory as the service sees it.
+#[derive(Debug, Clone)]
+pub struct Channel {
+    dir: PathBuf,
+    tag: String,
+}
+
+impl Channel {
+    /// Opens (creating if needed) a channel directory.
+    pub fn open(dir: &Path) -> Result<Self, ChannelError> {
+        std::fs::create_dir_all(dir).map_err(|source| ChannelError::Io {
+            what: "cannot create channel directory",
+            path: dir.display().to_string(),
+            source,
+        })?;
+        Ok(Channel {
+            dir: dir.to_path_buf(),
+            tag: format!("svc{}", std::process::id()),
+        })
+    }
+
+    /// The directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// One attempt to write the command file atomically.
+    pub fn write_command(&self, cmd: &CommandFile) -> Result<(), ChannelError> {
+        let text = cmd.encode()?;
+        files::atomic_write(&self.dir, COMMAND_FILE, &self.tag, &text)?;
+        Ok(())
+    }
+
+    fn read<T>(
+        &self,
+        name: &str,
+        decode: impl Fn(&str) -> Result<T, DecodeError>,
+    ) -> ReadOutcome<T> {
+        match files::read(&self.dir, name) {
+            Ok(Some(text)) => match decode(&text) {
+                Ok(v) => ReadOutcome::Record(v),
+                Err(e) => ReadOutcome::Invalid(e),
+            },
+            Ok(None) => ReadOutcome::Missing,
+            Err(ReadError::Locked { .. }) => ReadOutcome::Locked,
+            Err(e) => ReadOutcome::Failed(e.to_string()),
+        }
+    }
+
+    /// Reads the result file.
+    pub fn read_results(&self) -> ReadOutcome<ResultFile> {
+        self.read(RESULT_FILE, ResultFile::decode)
+    }
+
+    /// Reads the state file.
+    pub fn read_state(&self) -> ReadOutcome<StateFile> {
+        self.read(STATE_FILE, StateFile::decode)
+    }
+
+    /// Watches the directory; a message means "result or state file may
+    /// have changed". Events are a hint: the caller still polls. Returns
+    /// the watcher (keep it alive) or None when watching is unavailable.
+    pub fn watch(&self, tx: mpsc::Sender<()>) -> Option<notify::RecommendedWatcher> {
+        let result = notify::recommended_watcher(move |ev: notify::Result<notify::Event>| {
+            let relevant = match &ev {
+                Ok(ev) => ev.paths.iter().any(|p| {
+                    p.file_name()
+                        .is_some_and(|n| n == RESULT_FILE || n == STATE_FILE)
+                }),
+                // Overflow and errors: let the poll look.
+                Err(_) => true,
+            };
+            if relevant {
+                let _ = tx.try_send(());
+            }
+        })
+        .and_then(|mut w| w.watch(&self.dir, RecursiveMode::NonRecursive).map(|()| w));
+        match result {
+            Ok(w) => Some(w),
+            Err(e) => {
+                tracing::warn!(error = %e, dir = %self.dir.display(), "file watcher unavailable; polling only");
+                None
+            }
+        }
+    }
+}
+
+/// Holds an exclusive lock on `<channel>/kb_service.lock` while the service runs.
+#[derive(Debug)]
+pub struct ServiceLock {
+    _file: File,
+}
+
+impl ServiceLock {
+    /// Takes the lock or fails with [`ChannelError::InUse`].
+    pub fn acquire(dir: &Path) -> Result<Self, ChannelError> {
+        let path = dir.join("kb_service.lock");
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .map_err(|source| ChannelError::Io {
+                what: "cannot open lock file",
+                path: path.display().to_string(),
+                source,
+            })?;
+        match file.try_lock() {
+            Ok(()) => Ok(ServiceLock { _file: file }),
+            Err(_) => Err(ChannelError::InUse(dir.display().to_string())),
+        }
+    }
+}
+
+/// Persistent, strictly increasing command ids. Ids are reserved in blocks
+/// written (and synced) to `<data_dir>/next_cid` before use, so a restarted
+/// service — even after a crash — starts above every id it ever sent.
+#[derive(Debug)]
+pub struct CidStore {
+    path: PathBuf,
+    next: i64,
+    reserved_until: i64,
+}
+
+const CID_BLOCK: i64 = 1024;
+const CID_MAX: i64 = i32::MAX as i64;
+
+impl CidStore {
+    /// Opens the counter in `data_dir` (created if needed).
+    pub fn open(data_dir: &Path) -> Result<Self, ChannelError> {
+        std::fs::create_dir_all(data_dir).map_err(|source| ChannelError::Io {
+            what: "cannot create data directory",
+            path: data_dir.display().to_string(),
+            source,
+        })?;
+        let path = data_dir.join("next_cid");
+        let next = match std::fs::read_to_string(&path) {
+            Ok(text) => text.trim().parse::<i64>().ok().filter(|v| (1..=CID_MAX).contains(v)).unwrap_or_else(|| {
+                tracing::warn!(path = %path.display(), "command id counter unreadable; starting from the controller's ids");
+                1
+            }),
+            Err(_) => 1,
+        };
+        Ok(CidStore {
+            path,
+            next,
+            reserved_until: next,
+        })
+    }
+
+    /// The next id, at least `floor` (ids the controller reports having seen).
+    pub fn next(&mut self, floor: Cid) -> Result<Cid, ChannelError> {
+        self.next = self.next.max(i64::from(floor) + 1);
+        if self.next > CID_MAX {
+            return Err(ChannelError::CidExhausted(self.path.display().to_string()));
+        }
+        if self.next >= self.reserved_until {
+            let until = (self.next + CID_BLOCK).min(CID_MAX + 1);
+            self.persist(until)?;
+            self.reserved_until = until;
+        }
+        let cid = self.next;
+        self.next += 1;
+        // In range by the check above.
+        Ok(Cid::try_from(cid).unwrap_or(i32::MAX))
+    }
+
+    fn persist(&self, value: i64) -> Result<(), ChannelError> {
+        use std::io::Write;
+        let tmp = self.path.with_extension("tmp");
+        let io = |source| ChannelError::Io {
+            what: "cannot persist command id counter",
+            path: self.path.display().to_string(),
+            source,
+        };
+        let mut f = File::create(&tmp).map_err(io)?;
+        f.write_all(value.to_string().as_bytes()).map_err(io)?;
+        f.sync_all().map_err(io)?;
+        drop(f);
+        std::fs::rename(&tmp, &self.path).map_err(io)?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cids_increase_across_restarts() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let mut a = CidStore::open(dir.path()).expect("open");
+        let first: Vec<_> = (0..5).map(|_| a.next(0).expect("cid")).collect();
+        assert_eq!(first, vec![1, 2, 3, 4, 5]);
+        drop(a);
+        let mut b = CidStore::open(dir.path()).expect("open");
+        let after = b.next(0).expect("cid");
+        assert!(after > 5, "restart reused {after}");
+        assert!(
+            b.next(5000).expect("cid") == 5001,
+            "floor from the controller wins"
+        );
+    }
+
+    #[test]
+    fn second_service_on_a_channel_is_refused() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let _held = ServiceLock::acquire(dir.path()).expect("first");
+        assert!(matches!(
+            ServiceLock::acquire(dir.path()),
+            Err(ChannelError::InUse(_))
+        ));
+    }
+}

@@ -1,0 +1,482 @@
+//! The service configuration: one TOML file (every key optional), merged
+//! with command-line overrides into a validated [`Config`]. Code past the
+//! binary's edge only sees this type.
+
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use kuka_kinematics::RobotModel;
+use serde::{Deserialize, Serialize};
+
+/// Configuration errors name the file, the key and what is wrong.
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    /// The file cannot be read.
+    #[error("cannot read config file {path}: {source}")]
+    Read {
+        /// The file.
+        path: String,
+        /// Cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file is not valid TOML or has unknown keys / wrong types.
+    #[error("config file {path}: {message}")]
+    Parse {
+        /// The file.
+        path: String,
+        /// The parser's message (names the key and line).
+        message: String,
+    },
+    /// A value is out of range.
+    #[error("config {source_name}: key `{key}`: {message}")]
+    Invalid {
+        /// The file (or "command line").
+        source_name: String,
+        /// Dotted key.
+        key: &'static str,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Everything the service needs to run.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Config {
+    /// HTTP server.
+    pub server: ServerConfig,
+    /// The file channel to the controller.
+    pub channel: ChannelConfig,
+    /// Robot model for reachability and software-limit checks.
+    pub robot: RobotConfig,
+    /// Default speeds and caps for motions.
+    pub motion: MotionConfig,
+    /// Optional Cartesian box every target must lie in (base frame, mm).
+    pub workspace: Option<WorkspaceBox>,
+    /// The embedded simulated controller (`run --simulate`).
+    pub simulator: SimulatorConfig,
+    /// Where the service keeps its own state (command id counter).
+    pub data_dir: PathBuf,
+    /// Where the config was loaded from (for messages); not a key.
+    #[serde(skip)]
+    pub source_name: String,
+}
+
+/// HTTP server settings.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ServerConfig {
+    /// Address and port to listen on. Default 127.0.0.1:8080 (loopback only).
+    pub listen: SocketAddr,
+    /// How long a synchronous request may wait for its job by default (ms).
+    pub request_timeout_ms: u64,
+}
+
+/// File channel settings.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ChannelConfig {
+    /// Directory shared with the controller (on a KRC: C:\KRC\ROBOTER\UserFiles).
+    /// Default with `--simulate`: `<data_dir>/sim-channel`.
+    pub dir: Option<PathBuf>,
+    /// Poll period for the result and state files (notify events are a hint).
+    pub poll_interval_ms: u64,
+    /// Controller counts as offline when its heartbeat has not changed for this long.
+    pub offline_after_ms: u64,
+    /// The controller must pick a command up within this time.
+    pub ack_timeout_ms: u64,
+    /// A command must finish within this time (per-request `timeout_ms` may lower or raise it).
+    pub command_timeout_ms: u64,
+    /// How long to retry writing a locked command file before failing with `channel_locked`.
+    pub lock_timeout_ms: u64,
+}
+
+/// Which robot the checks use.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RobotConfig {
+    /// Built-in model id (`kr3_r540`, `kr6_r700_sixx`, `kr6_r900_sixx`,
+    /// `kr10_r1100_sixx`) or `none` to skip kinematic checks.
+    pub model: String,
+    /// A custom model (OPW parameters, limits, speeds, home); overrides `model`.
+    pub custom: Option<RobotModel>,
+}
+
+/// Default speeds and the caps no request may exceed.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MotionConfig {
+    /// PTP velocity when a request gives none (% of max axis speed).
+    pub default_ptp_velocity_pct: f64,
+    /// LIN/CIRC velocity when a request gives none (m/s).
+    pub default_cp_velocity: f64,
+    /// Acceleration when a request gives none (%).
+    pub default_acceleration_pct: f64,
+    /// Approximation between motions of a batch when a request gives none (mm).
+    pub default_batch_approx_mm: f64,
+    /// Highest PTP velocity accepted (%).
+    pub max_ptp_velocity_pct: f64,
+    /// Highest LIN/CIRC velocity accepted (m/s).
+    pub max_cp_velocity: f64,
+    /// Largest approximation distance accepted (mm).
+    pub max_approx_mm: f64,
+    /// Most motions in one batch.
+    pub max_batch: usize,
+    /// Most jobs waiting in the queue.
+    pub max_queue: usize,
+}
+
+/// An axis-aligned box in the base frame (mm).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct WorkspaceBox {
+    /// [min, max] X.
+    pub x: [f64; 2],
+    /// [min, max] Y.
+    pub y: [f64; 2],
+    /// [min, max] Z.
+    pub z: [f64; 2],
+}
+
+impl WorkspaceBox {
+    /// True if the point lies inside (borders included).
+    pub fn contains(&self, x: f64, y: f64, z: f64) -> bool {
+        (self.x[0]..=self.x[1]).contains(&x)
+            && (self.y[0]..=self.y[1]).contains(&y)
+            && (self.z[0]..=self.z[1]).contains(&z)
+    }
+}
+
+/// The embedded simulator.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SimulatorConfig {
+    /// Run the simulated controller inside the service.
+    pub enabled: bool,
+    /// Simulated seconds per wall second (1 = real time, 0 = instant).
+    pub time_scale: f64,
+    /// Heartbeat period (ms).
+    pub heartbeat_ms: u64,
+}
+
+impl Default for ServerConfig {
+    fn default() -> Self {
+        ServerConfig {
+            listen: SocketAddr::from(([127, 0, 0, 1], 8080)),
+            request_timeout_ms: 120_000,
+        }
+    }
+}
+
+impl Default for ChannelConfig {
+    fn default() -> Self {
+        ChannelConfig {
+            dir: None,
+            poll_interval_ms: 50,
+            offline_after_ms: 1000,
+            ack_timeout_ms: 2000,
+            command_timeout_ms: 60_000,
+            lock_timeout_ms: 2000,
+        }
+    }
+}
+
+impl Default for RobotConfig {
+    fn default() -> Self {
+        RobotConfig {
+            model: "kr3_r540".into(),
+            custom: None,
+        }
+    }
+}
+
+impl Default for MotionConfig {
+    fn default() -> Self {
+        MotionConfig {
+            default_ptp_velocity_pct: 20.0,
+            default_cp_velocity: 0.25,
+            default_acceleration_pct: 100.0,
+            default_batch_approx_mm: 2.0,
+            max_ptp_velocity_pct: 100.0,
+            max_cp_velocity: 1.0,
+            max_approx_mm: 100.0,
+            max_batch: kuka_protocol::MAX_BATCH,
+            max_queue: 100,
+        }
+    }
+}
+
+impl Default for SimulatorConfig {
+    fn default() -> Self {
+        SimulatorConfig {
+            enabled: false,
+            time_scale: 1.0,
+            heartbeat_ms: 50,
+        }
+    }
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            server: ServerConfig::default(),
+            channel: ChannelConfig::default(),
+            robot: RobotConfig::default(),
+            motion: MotionConfig::default(),
+            workspace: None,
+            simulator: SimulatorConfig::default(),
+            data_dir: default_data_dir(),
+            source_name: "defaults".into(),
+        }
+    }
+}
+
+/// `%ProgramData%\kuka-bridge` on Windows, `$XDG_STATE_HOME/kuka-bridge`
+/// or `~/.local/state/kuka-bridge` elsewhere.
+pub fn default_data_dir() -> PathBuf {
+    if cfg!(windows) {
+        let base = std::env::var_os("ProgramData")
+            .map_or_else(|| PathBuf::from(r"C:\ProgramData"), PathBuf::from);
+        return base.join("kuka-bridge");
+    }
+    if let Some(x) = std::env::var_os("XDG_STATE_HOME").filter(|v| !v.is_empty()) {
+        return PathBuf::from(x).join("kuka-bridge");
+    }
+    if let Some(h) = std::env::var_os("HOME").filter(|v| !v.is_empty()) {
+        return PathBuf::from(h).join(".local/state/kuka-bridge");
+    }
+    PathBuf::from("kuka-bridge-data")
+}
+
+fn ms(v: u64) -> Duration {
+    Duration::from_millis(v)
+}
+
+impl ChannelConfig {
+    /// Poll period.
+    pub fn poll_interval(&self) -> Duration {
+        ms(self.poll_interval_ms)
+    }
+    /// Offline threshold.
+    pub fn offline_after(&self) -> Duration {
+        ms(self.offline_after_ms)
+    }
+    /// Acknowledge timeout.
+    pub fn ack_timeout(&self) -> Duration {
+        ms(self.ack_timeout_ms)
+    }
+    /// Default command timeout.
+    pub fn command_timeout(&self) -> Duration {
+        ms(self.command_timeout_ms)
+    }
+    /// Lock retry budget.
+    pub fn lock_timeout(&self) -> Duration {
+        ms(self.lock_timeout_ms)
+    }
+}
+
+impl Config {
+    /// Loads a TOML file; every key is optional.
+    pub fn load(path: &Path) -> Result<Config, ConfigError> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
+            path: name.clone(),
+            source,
+        })?;
+        let mut config: Config = toml::from_str(&text).map_err(|e| ConfigError::Parse {
+            path: name.clone(),
+            message: e.to_string(),
+        })?;
+        config.source_name = name;
+        Ok(config)
+    }
+
+    /// The channel directory in effect.
+    pub fn channel_dir(&self) -> PathBuf {
+        match &self.channel.dir {
+            Some(d) => d.clone(),
+            None => self.data_dir.join(if self.simulator.enabled {
+                "sim-channel"
+            } else {
+                "channel"
+            }),
+        }
+    }
+
+    /// The robot model in effect (None: no kinematic checks).
+    pub fn robot_model(&self) -> Result<Option<RobotModel>, ConfigError> {
+        if let Some(custom) = &self.robot.custom {
+            return Ok(Some(custom.clone()));
+        }
+        if self.robot.model == "none" {
+            return Ok(None);
+        }
+        RobotModel::by_name(&self.robot.model)
+            .map(Some)
+            .ok_or_else(|| {
+                self.invalid(
+                    "robot.model",
+                    format!(
+                        "unknown model {:?}; built-in models: {}, or \"none\"",
+                        self.robot.model,
+                        RobotModel::builtin_names().join(", ")
+                    ),
+                )
+            })
+    }
+
+    fn invalid(&self, key: &'static str, message: String) -> ConfigError {
+        ConfigError::Invalid {
+            source_name: self.source_name.clone(),
+            key,
+            message,
+        }
+    }
+
+    /// Checks every value; the first problem names its key.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let c = &self.channel;
+        for (key, v, min) in [
+            ("channel.poll_interval_ms", c.poll_interval_ms, 1),
+            ("channel.offline_after_ms", c.offline_after_ms, 10),
+            ("channel.ack_timeout_ms", c.ack_timeout_ms, 10),
+            ("channel.command_timeout_ms", c.command_timeout_ms, 10),
+            ("channel.lock_timeout_ms", c.lock_timeout_ms, 0),
+            ("simulator.heartbeat_ms", self.simulator.heartbeat_ms, 1),
+        ] {
+            if v < min {
+                return Err(self.invalid(key, format!("{v} is below the minimum {min}")));
+            }
+        }
+        if self.simulator.enabled
+            && self.channel.offline_after_ms <= self.simulator.heartbeat_ms * 2
+        {
+            return Err(self.invalid(
+                "channel.offline_after_ms",
+                format!(
+                    "must be more than twice simulator.heartbeat_ms ({})",
+                    self.simulator.heartbeat_ms
+                ),
+            ));
+        }
+        let m = &self.motion;
+        let pct = |key, v: f64| {
+            if v.is_finite() && v > 0.0 && v <= 100.0 {
+                Ok(())
+            } else {
+                Err(self.invalid(key, format!("{v} is not in (0, 100]")))
+            }
+        };
+        pct(
+            "motion.default_ptp_velocity_pct",
+            m.default_ptp_velocity_pct,
+        )?;
+        pct(
+            "motion.default_acceleration_pct",
+            m.default_acceleration_pct,
+        )?;
+        pct("motion.max_ptp_velocity_pct", m.max_ptp_velocity_pct)?;
+        if !(m.max_cp_velocity.is_finite() && m.max_cp_velocity > 0.0 && m.max_cp_velocity <= 2.0) {
+            return Err(self.invalid(
+                "motion.max_cp_velocity",
+                format!("{} m/s is not in (0, 2]", m.max_cp_velocity),
+            ));
+        }
+        if !(m.default_cp_velocity > 0.0 && m.default_cp_velocity <= m.max_cp_velocity) {
+            return Err(self.invalid(
+                "motion.default_cp_velocity",
+                format!(
+                    "{} m/s is not in (0, max_cp_velocity]",
+                    m.default_cp_velocity
+                ),
+            ));
+        }
+        if m.default_ptp_velocity_pct > m.max_ptp_velocity_pct {
+            return Err(self.invalid(
+                "motion.default_ptp_velocity_pct",
+                "exceeds motion.max_ptp_velocity_pct".into(),
+            ));
+        }
+        if !(m.max_approx_mm.is_finite() && m.max_approx_mm >= 0.0 && m.max_approx_mm <= 1000.0) {
+            return Err(self.invalid(
+                "motion.max_approx_mm",
+                format!("{} is not in [0, 1000]", m.max_approx_mm),
+            ));
+        }
+        if !(m.default_batch_approx_mm >= 0.0 && m.default_batch_approx_mm <= m.max_approx_mm) {
+            return Err(self.invalid(
+                "motion.default_batch_approx_mm",
+                "must be in [0, max_approx_mm]".into(),
+            ));
+        }
+        if m.max_batch == 0 || m.max_batch > kuka_protocol::MAX_BATCH {
+            return Err(self.invalid(
+                "motion.max_batch",
+                format!("{} is not in 1..={}", m.max_batch, kuka_protocol::MAX_BATCH),
+            ));
+        }
+        if m.max_queue == 0 {
+            return Err(self.invalid("motion.max_queue", "must be at least 1".into()));
+        }
+        if let Some(w) = &self.workspace {
+            for (key, r) in [
+                ("workspace.x", w.x),
+                ("workspace.y", w.y),
+                ("workspace.z", w.z),
+            ] {
+                if !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]) {
+                    return Err(
+                        self.invalid(key, format!("{r:?} is not [min, max] with min < max"))
+                    );
+                }
+            }
+        }
+        if !(self.simulator.time_scale.is_finite() && self.simulator.time_scale >= 0.0) {
+            return Err(self.invalid(
+                "simulator.time_scale",
+                format!("{} is not ≥ 0", self.simulator.time_scale),
+            ));
+        }
+        self.robot_model()?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn errors_name_file_and_key() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let p = dir.path().join("c.toml");
+        std::fs::write(&p, "[channel]\npoll_interval_ms = 0\n").expect("write");
+        let err = Config::load(&p)
+            .expect("parses")
+            .validate()
+            .expect_err("invalid");
+        let text = err.to_string();
+        assert!(
+            text.contains("c.toml") && text.contains("channel.poll_interval_ms"),
+            "{text}"
+        );
+        std::fs::write(&p, "[channel]\npol_interval_ms = 5\n").expect("write");
+        let text = Config::load(&p).expect_err("unknown key").to_string();
+        assert!(
+            text.contains("c.toml") && text.contains("pol_interval_ms"),
+            "{text}"
+        );
+        std::fs::write(&p, "[robot]\nmodel = \"kr99\"\n").expect("write");
+        let text = Config::load(&p)
+            .expect("parses")
+            .validate()
+            .expect_err("bad model")
+            .to_string();
+        assert!(
+            text.contains("robot.model") && text.contains("kr3_r540"),
+            "{text}"
+        );
+    }
+}

@@ -1,0 +1,798 @@
+//! The engine's actor: owns the channel, the queue and the job on the
+//! controller. It reacts to submissions, file events and a poll tick; the
+//! poll is the source of truth, events only make it faster.
+
+use std::collections::VecDeque;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use kuka_protocol::{
+    Cid, Command, CommandFile, ControllerStatus, Frame, OperatingMode, ResultCode, ResultRecord,
+    SpeedRecord, StateFile,
+};
+use tokio::sync::{mpsc, oneshot};
+
+use super::{Msg, Shared};
+use crate::channel::{Channel, ChannelError, CidStore, ReadOutcome};
+use crate::config::{ChannelConfig, Config};
+use crate::engine::types::*;
+use crate::error::{BridgeError, ErrorCode, Result};
+use crate::motion::{SpeedSettings, StartPoint, resolve};
+
+/// A job waiting in the queue.
+pub(crate) struct QueuedJob {
+    pub(crate) id: JobId,
+    pub(crate) op: Operation,
+    pub(crate) timeout: Option<Duration>,
+}
+
+struct InFlight {
+    id: JobId,
+    op: Operation,
+    cid: Cid,
+    sent_at: Instant,
+    deadline: Instant,
+    acked: bool,
+}
+
+struct StopInFlight {
+    cid: Cid,
+    deadline: Instant,
+    waiters: Vec<oneshot::Sender<Result<()>>>,
+}
+
+/// What the service knows about the controller.
+#[derive(Default)]
+struct ControllerView {
+    state: Option<StateFile>,
+    seq_changed_at: Option<Instant>,
+    online: bool,
+    locked: bool,
+    max_result_cid: Cid,
+    pose: Option<(Frame, u8, u8)>,
+    axes: Option<[f64; 6]>,
+    tool: Option<Frame>,
+    base: Option<Frame>,
+}
+
+pub(crate) struct Actor {
+    shared: Arc<Shared>,
+    channel: Channel,
+    cids: CidStore,
+    cfg: ChannelConfig,
+    default_approx_mm: f64,
+    rx: mpsc::Receiver<Msg>,
+    queue: VecDeque<QueuedJob>,
+    inflight: Option<InFlight>,
+    stop: Option<StopInFlight>,
+    ctl: ControllerView,
+    speeds: SpeedSettings,
+    shutting_down: Option<oneshot::Sender<()>>,
+}
+
+fn result_error(r: &ResultRecord) -> Option<BridgeError> {
+    let (code, detail) = match r.code {
+        ResultCode::Ok => return None,
+        ResultCode::Cancelled => (
+            ErrorCode::Cancelled,
+            format!("stopped after {} motion(s)", r.completed),
+        ),
+        ResultCode::Busy => (
+            ErrorCode::ControllerBusy,
+            "the controller was still executing an earlier command".into(),
+        ),
+        ResultCode::BadCommand => (
+            ErrorCode::ProtocolError,
+            "the controller rejected the command as malformed".into(),
+        ),
+        ResultCode::Unsupported => (
+            ErrorCode::ProtocolError,
+            "the controller program does not support this operation".into(),
+        ),
+        ResultCode::Unreachable => (
+            ErrorCode::Unreachable,
+            "the controller reports the target out of reach".into(),
+        ),
+        ResultCode::NoConfiguration => (
+            ErrorCode::Unreachable,
+            "the controller found no axis solution with the requested Status/Turn".into(),
+        ),
+        ResultCode::SoftwareLimit => (
+            ErrorCode::SoftwareLimit,
+            format!(
+                "the controller stopped at the software limit switch of axis A{}",
+                r.axis
+            ),
+        ),
+        ResultCode::Singularity => (
+            ErrorCode::Singularity,
+            "the controller stopped at a singularity".into(),
+        ),
+        ResultCode::Geometry => (
+            ErrorCode::InvalidInput,
+            "the controller rejected the motion geometry".into(),
+        ),
+        ResultCode::ControllerError => (
+            ErrorCode::ControllerError,
+            "the controller is in an error state; acknowledge it with POST /api/v1/reset".into(),
+        ),
+        ResultCode::NotReady => (
+            ErrorCode::ControllerError,
+            "the controller is not ready (drives off or wrong mode)".into(),
+        ),
+        ResultCode::RuntimeError => (
+            ErrorCode::ControllerError,
+            "a KRL runtime error stopped the command".into(),
+        ),
+        ResultCode::Other(c) => (
+            ErrorCode::ProtocolError,
+            format!("the controller answered unknown result code {c}"),
+        ),
+    };
+    let mut e = BridgeError::new(code, detail).on_axis(r.axis);
+    if !matches!(
+        r.code,
+        ResultCode::Cancelled | ResultCode::Busy | ResultCode::ControllerError
+    ) {
+        e = e.at_motion(r.completed as usize);
+    }
+    Some(e)
+}
+
+fn state_error(s: &StateFile) -> Option<BridgeError> {
+    let code = s.error?;
+    let r = ResultRecord {
+        cid: 0,
+        code,
+        completed: 0,
+        axis: s.error_axis,
+        position: s.position,
+        s: s.s,
+        t: s.t,
+        axes: s.axes,
+    };
+    result_error(&r).map(|mut e| {
+        e.motion = None;
+        e
+    })
+}
+
+fn mode_name(m: OperatingMode) -> &'static str {
+    match m {
+        OperatingMode::T1 => "T1",
+        OperatingMode::T2 => "T2",
+        OperatingMode::Aut => "AUT",
+        OperatingMode::Ext => "EXT",
+        OperatingMode::Unknown => "unknown",
+    }
+}
+
+impl Actor {
+    pub(crate) fn new(
+        shared: Arc<Shared>,
+        channel: Channel,
+        cids: CidStore,
+        config: &Config,
+        rx: mpsc::Receiver<Msg>,
+        speeds: SpeedSettings,
+    ) -> Self {
+        Actor {
+            shared,
+            channel,
+            cids,
+            cfg: config.channel.clone(),
+            default_approx_mm: config.motion.default_batch_approx_mm,
+            rx,
+            queue: VecDeque::new(),
+            inflight: None,
+            stop: None,
+            ctl: ControllerView::default(),
+            speeds,
+            shutting_down: None,
+        }
+    }
+
+    pub(crate) async fn run(mut self) {
+        let (fs_tx, mut fs_rx) = mpsc::channel(16);
+        let _watcher = self.channel.watch(fs_tx);
+        // Results already in the file belong to earlier runs.
+        if let ReadOutcome::Record(r) = self.channel.read_results() {
+            self.ctl.max_result_cid = r.results.iter().map(|r| r.cid).max().unwrap_or(0);
+        }
+        let mut tick = tokio::time::interval(self.cfg.poll_interval());
+        tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+        tracing::info!(dir = %self.channel.dir().display(), "engine running");
+        loop {
+            tokio::select! {
+                msg = self.rx.recv() => match msg {
+                    Some(msg) => self.handle(msg),
+                    None => break,
+                },
+                Some(()) = fs_rx.recv() => self.refresh(),
+                _ = tick.tick() => {
+                    self.refresh();
+                    self.check_timeouts();
+                }
+            }
+            self.dispatch().await;
+            self.publish_state();
+            if self.shutting_down.is_some() && self.inflight.is_none() {
+                break;
+            }
+        }
+        if let Some(done) = self.shutting_down.take() {
+            let _ = done.send(());
+        }
+        tracing::info!("engine stopped");
+    }
+
+    fn handle(&mut self, msg: Msg) {
+        match msg {
+            Msg::Submit(job) => {
+                if self.shutting_down.is_some() {
+                    self.finish_queued(
+                        job.id,
+                        JobState::Cancelled,
+                        BridgeError::new(ErrorCode::Cancelled, "the service is shutting down"),
+                    );
+                } else {
+                    self.queue.push_back(job);
+                }
+            }
+            Msg::Cancel(id, reply) => {
+                let result = self.cancel(id);
+                let _ = reply.send(result);
+            }
+            Msg::Stop(reply) => self.stop(reply),
+            Msg::Shutdown(done) => {
+                tracing::info!(
+                    queued = self.queue.len(),
+                    running = self.inflight.is_some(),
+                    "engine shutting down"
+                );
+                self.cancel_queue("the service is shutting down");
+                self.shutting_down = Some(done);
+            }
+        }
+    }
+
+    fn finish_queued(&self, id: JobId, state: JobState, error: BridgeError) {
+        self.shared.dequeued();
+        self.shared.update(id, |j| {
+            j.state = state;
+            j.finished_ms = Some(now_ms());
+            j.error = Some(error);
+        });
+    }
+
+    fn cancel_queue(&mut self, why: &str) {
+        for job in std::mem::take(&mut self.queue) {
+            self.finish_queued(
+                job.id,
+                JobState::Cancelled,
+                BridgeError::new(ErrorCode::Cancelled, why),
+            );
+        }
+    }
+
+    fn fail_queue(&mut self, error: &BridgeError) {
+        for job in std::mem::take(&mut self.queue) {
+            self.finish_queued(job.id, JobState::Failed, error.clone());
+        }
+    }
+
+    fn cancel(&mut self, id: JobId) -> Result<Job> {
+        if let Some(pos) = self.queue.iter().position(|j| j.id == id) {
+            if let Some(job) = self.queue.remove(pos) {
+                self.finish_queued(
+                    job.id,
+                    JobState::Cancelled,
+                    BridgeError::new(ErrorCode::Cancelled, "cancelled by request"),
+                );
+            }
+        } else if self.inflight.as_ref().is_some_and(|f| f.id == id) && self.stop.is_none() {
+            // The controller answers the running command with CANCELLED.
+            let cid = self.send_stop()?;
+            self.stop = Some(StopInFlight {
+                cid,
+                deadline: Instant::now() + self.cfg.ack_timeout(),
+                waiters: Vec::new(),
+            });
+        }
+        self.shared_job(id)
+    }
+
+    fn shared_job(&self, id: JobId) -> Result<Job> {
+        let table = self.shared.table();
+        table
+            .jobs
+            .get(&id)
+            .map(|tx| tx.borrow().clone())
+            .ok_or_else(|| BridgeError::new(ErrorCode::NotFound, format!("no job {id}")))
+    }
+
+    fn stop(&mut self, reply: oneshot::Sender<Result<()>>) {
+        self.cancel_queue("cancelled by stop");
+        if let Some(stop) = &mut self.stop {
+            stop.waiters.push(reply);
+            return;
+        }
+        match self.send_stop() {
+            Ok(cid) => {
+                self.stop = Some(StopInFlight {
+                    cid,
+                    deadline: Instant::now() + self.cfg.ack_timeout(),
+                    waiters: vec![reply],
+                });
+            }
+            Err(e) => {
+                let _ = reply.send(Err(e));
+            }
+        }
+    }
+
+    /// Writes a STOP command (retrying a locked file within the lock budget).
+    fn send_stop(&mut self) -> Result<Cid> {
+        let cid = self.next_cid()?;
+        self.write_blocking(&CommandFile {
+            cid,
+            command: Command::Stop,
+        })?;
+        tracing::warn!(cid, "stop sent");
+        Ok(cid)
+    }
+
+    fn next_cid(&mut self) -> Result<Cid> {
+        let floor = self
+            .ctl
+            .state
+            .as_ref()
+            .map_or(0, |s| s.last_cid)
+            .max(self.ctl.max_result_cid);
+        self.cids
+            .next(floor)
+            .map_err(|e| BridgeError::new(ErrorCode::Internal, e.to_string()))
+    }
+
+    /// Writes a command, retrying with backoff while the file is locked,
+    /// at most `lock_timeout`; reports `channel_locked` after that.
+    fn write_blocking(&mut self, cmd: &CommandFile) -> Result<()> {
+        let deadline = Instant::now() + self.cfg.lock_timeout();
+        let mut backoff = Duration::from_micros(200);
+        loop {
+            match self.channel.write_command(cmd) {
+                Ok(()) => {
+                    if self.ctl.locked {
+                        tracing::warn!(dir = %self.channel.dir().display(), "channel unlocked");
+                        self.ctl.locked = false;
+                    }
+                    return Ok(());
+                }
+                Err(ChannelError::Write(kuka_protocol::files::WriteError::Locked { path })) => {
+                    if !self.ctl.locked {
+                        tracing::warn!(%path, "command file locked by another process; retrying");
+                        self.ctl.locked = true;
+                        self.publish_state();
+                        self.shared.publish(Event::Alarm(BridgeError::new(
+                            ErrorCode::ChannelLocked,
+                            format!("{path} is locked by another process"),
+                        )));
+                    }
+                    if Instant::now() + backoff > deadline {
+                        return Err(BridgeError::new(
+                            ErrorCode::ChannelLocked,
+                            format!(
+                                "{path} stayed locked by another process for {} ms; nothing was sent. Close the program holding it (on a KRC: the KRL program's open file handle)",
+                                self.cfg.lock_timeout_ms
+                            ),
+                        ));
+                    }
+                    // Blocking the actor is bounded by lock_timeout; nothing
+                    // else can be written meanwhile anyway.
+                    std::thread::sleep(backoff);
+                    backoff = (backoff * 2).min(Duration::from_millis(50));
+                }
+                Err(ChannelError::Encode(e)) => return Err(BridgeError::invalid(e.to_string())),
+                Err(e) => return Err(BridgeError::new(ErrorCode::Internal, e.to_string())),
+            }
+        }
+    }
+
+    /// Reads the state and result files and reacts to what changed.
+    fn refresh(&mut self) {
+        let now = Instant::now();
+        match self.channel.read_state() {
+            ReadOutcome::Record(s) => {
+                let changed = self.ctl.state.as_ref().is_none_or(|old| old.seq != s.seq);
+                if changed {
+                    // The first heartbeat seen may be a stale file: only a change proves life.
+                    if self.ctl.state.is_some() {
+                        self.ctl.seq_changed_at = Some(now);
+                    }
+                    self.on_state(s);
+                }
+            }
+            ReadOutcome::Invalid(e) => {
+                tracing::trace!(error = %e, "state file not complete; reading again later")
+            }
+            ReadOutcome::Failed(e) => tracing::debug!(error = %e, "state file unreadable"),
+            ReadOutcome::Missing | ReadOutcome::Locked => {}
+        }
+        match self.channel.read_results() {
+            ReadOutcome::Record(r) => {
+                for rec in r.results {
+                    if rec.cid > self.ctl.max_result_cid {
+                        self.ctl.max_result_cid = rec.cid;
+                        self.on_result(rec);
+                    }
+                }
+            }
+            ReadOutcome::Invalid(e) => {
+                tracing::debug!(error = %e, "result file not complete; reading again later")
+            }
+            ReadOutcome::Failed(e) => tracing::debug!(error = %e, "result file unreadable"),
+            ReadOutcome::Missing | ReadOutcome::Locked => {}
+        }
+        let online = self
+            .ctl
+            .seq_changed_at
+            .is_some_and(|t| now.duration_since(t) < self.cfg.offline_after());
+        if online != self.ctl.online {
+            self.ctl.online = online;
+            if online {
+                tracing::info!("controller online");
+            } else {
+                tracing::warn!(
+                    after_ms = self.cfg.offline_after_ms,
+                    "controller offline: heartbeat stopped"
+                );
+                self.on_offline();
+            }
+        }
+    }
+
+    fn on_state(&mut self, s: StateFile) {
+        self.ctl.pose = Some((s.position, s.s, s.t));
+        self.ctl.axes = Some(s.axes);
+        self.ctl.tool = Some(s.tool);
+        self.ctl.base = Some(s.base);
+        if let Some(f) = &mut self.inflight {
+            let picked = s.last_cid >= f.cid || s.busy_cid == f.cid;
+            if picked && !f.acked {
+                f.acked = true;
+            }
+            if s.status == ControllerStatus::Busy && s.busy_cid == f.cid {
+                let id = f.id;
+                let index = s.busy_index as usize;
+                let current = self.shared_job(id).ok();
+                if current.is_some_and(|j| j.state != JobState::Executing || j.completed != index) {
+                    self.shared.update(id, |j| {
+                        j.state = JobState::Executing;
+                        j.completed = index;
+                    });
+                }
+            }
+        }
+        self.ctl.state = Some(s);
+    }
+
+    fn on_result(&mut self, r: ResultRecord) {
+        let is_frame_op = |op: &Operation| {
+            matches!(
+                op,
+                Operation::SetTool(_)
+                    | Operation::GetTool
+                    | Operation::SetBase(_)
+                    | Operation::GetBase
+            )
+        };
+        if let Some(stop) = &self.stop
+            && stop.cid == r.cid
+        {
+            if let Some(stop) = self.stop.take() {
+                for w in stop.waiters {
+                    let _ = w.send(Ok(()));
+                }
+            }
+            self.ctl.pose = Some((r.position, r.s, r.t));
+            self.ctl.axes = Some(r.axes);
+            return;
+        }
+        let Some(f) = self.inflight.take_if(|f| f.cid == r.cid) else {
+            tracing::info!(
+                cid = r.cid,
+                code = r.code.code(),
+                "result for a command no job waits for (late or foreign)"
+            );
+            return;
+        };
+        self.ctl.axes = Some(r.axes);
+        match &f.op {
+            Operation::SetTool(_) | Operation::GetTool if r.code == ResultCode::Ok => {
+                self.ctl.tool = Some(r.position)
+            }
+            Operation::SetBase(_) | Operation::GetBase if r.code == ResultCode::Ok => {
+                self.ctl.base = Some(r.position)
+            }
+            Operation::SetSpeed(s) if r.code == ResultCode::Ok => self.speeds = *s,
+            op if !is_frame_op(op) => self.ctl.pose = Some((r.position, r.s, r.t)),
+            _ => {}
+        }
+        let error = result_error(&r);
+        let elapsed_ms = f.sent_at.elapsed().as_secs_f64() * 1000.0;
+        match &error {
+            None => tracing::debug!(job = f.id, cid = r.cid, elapsed_ms, "job done"),
+            Some(e) => {
+                tracing::warn!(job = f.id, cid = r.cid, code = e.code.as_str(), detail = %e.detail, "job failed")
+            }
+        }
+        let frame_op = is_frame_op(&f.op);
+        self.shared.update(f.id, |j| {
+            j.finished_ms = Some(now_ms());
+            j.completed = if matches!(f.op, Operation::Move(_)) {
+                r.completed as usize
+            } else {
+                0
+            };
+            j.axes = Some(r.axes.into());
+            if frame_op {
+                j.frame = Some(r.position.into());
+            } else {
+                j.position = Some(Position::new(&r.position, r.s, r.t));
+            }
+            j.state = match r.code {
+                ResultCode::Ok => JobState::Done,
+                ResultCode::Cancelled => JobState::Cancelled,
+                _ => JobState::Failed,
+            };
+            j.error = error;
+        });
+    }
+
+    fn fail_inflight(&mut self, error: BridgeError) {
+        if let Some(f) = self.inflight.take() {
+            tracing::warn!(job = f.id, cid = f.cid, code = error.code.as_str(), detail = %error.detail, "job failed");
+            self.shared.update(f.id, |j| {
+                j.state = JobState::Failed;
+                j.finished_ms = Some(now_ms());
+                j.error = Some(error);
+            });
+        }
+    }
+
+    fn on_offline(&mut self) {
+        let secs = self.cfg.offline_after_ms as f64 / 1000.0;
+        if let Some(f) = &self.inflight {
+            let e = BridgeError::new(
+                ErrorCode::Timeout,
+                format!(
+                    "no heartbeat from the controller for {secs:.1} s while command {} was running; its outcome is unknown",
+                    f.cid
+                ),
+            );
+            self.fail_inflight(e);
+        }
+        let e = BridgeError::new(
+            ErrorCode::ControllerOffline,
+            format!("the controller went offline (no heartbeat for {secs:.1} s)"),
+        );
+        self.fail_queue(&e);
+        if let Some(stop) = self.stop.take() {
+            for w in stop.waiters {
+                let _ = w.send(Err(e.clone()));
+            }
+        }
+        self.shared.publish(Event::Alarm(e));
+    }
+
+    fn check_timeouts(&mut self) {
+        let now = Instant::now();
+        let mut supersede = false;
+        if let Some(f) = &self.inflight {
+            if !f.acked && now.duration_since(f.sent_at) > self.cfg.ack_timeout() {
+                let e = BridgeError::new(
+                    ErrorCode::Timeout,
+                    format!(
+                        "the controller did not pick up command {} within {} ms",
+                        f.cid, self.cfg.ack_timeout_ms
+                    ),
+                );
+                self.fail_inflight(e);
+                supersede = true;
+            } else if now > f.deadline {
+                let e = BridgeError::new(
+                    ErrorCode::Timeout,
+                    format!(
+                        "command {} got no result within {} ms; it was stopped",
+                        f.cid,
+                        f.deadline.duration_since(f.sent_at).as_millis()
+                    ),
+                );
+                self.fail_inflight(e);
+                supersede = true;
+            }
+        }
+        if supersede && self.ctl.online && self.stop.is_none() {
+            // A newer command supersedes one the controller has not read yet,
+            // and brakes one it is executing: a timed-out motion never runs
+            // on unobserved.
+            match self.send_stop() {
+                Ok(cid) => {
+                    self.stop = Some(StopInFlight {
+                        cid,
+                        deadline: now + self.cfg.ack_timeout(),
+                        waiters: Vec::new(),
+                    })
+                }
+                Err(e) => {
+                    tracing::error!(code = e.code.as_str(), detail = %e.detail, "cannot stop after a timeout")
+                }
+            }
+        }
+        if let Some(stop) = &self.stop
+            && now > stop.deadline
+            && let Some(stop) = self.stop.take()
+        {
+            let e = BridgeError::new(
+                ErrorCode::Timeout,
+                format!("the controller did not confirm stop command {}", stop.cid),
+            );
+            tracing::error!(cid = stop.cid, "stop not confirmed");
+            for w in stop.waiters {
+                let _ = w.send(Err(e.clone()));
+            }
+        }
+    }
+
+    /// Sends the next queued job when the controller is free.
+    async fn dispatch(&mut self) {
+        while self.inflight.is_none() && self.stop.is_none() {
+            if !self.ctl.online {
+                if !self.queue.is_empty() {
+                    let e = BridgeError::new(
+                        ErrorCode::ControllerOffline,
+                        "the controller is offline (no heartbeat); nothing was sent",
+                    );
+                    self.fail_queue(&e);
+                }
+                return;
+            }
+            // The controller may still run a command whose job already
+            // failed (e.g. after a timeout): wait for it to become idle.
+            if let Some(s) = &self.ctl.state
+                && s.status == ControllerStatus::Busy
+                && s.busy_cid > self.ctl.max_result_cid
+            {
+                return;
+            }
+            let Some(job) = self.queue.pop_front() else {
+                return;
+            };
+            self.shared.dequeued();
+            if let Err(e) = self.send(&job) {
+                tracing::warn!(job = job.id, code = e.code.as_str(), detail = %e.detail, "job not sent");
+                self.shared.update(job.id, |j| {
+                    j.state = JobState::Failed;
+                    j.finished_ms = Some(now_ms());
+                    j.error = Some(e);
+                });
+            }
+            tokio::task::yield_now().await;
+        }
+    }
+
+    fn start_point(&self) -> Result<(StartPoint, Frame, Frame)> {
+        match (self.ctl.pose, self.ctl.axes) {
+            (Some((pose, _, _)), Some(axes)) => Ok((
+                StartPoint { pose, axes },
+                self.ctl.tool.unwrap_or_default(),
+                self.ctl.base.unwrap_or_default(),
+            )),
+            _ => Err(BridgeError::new(
+                ErrorCode::ControllerOffline,
+                "the robot position is not known yet (no heartbeat read)",
+            )),
+        }
+    }
+
+    fn send(&mut self, job: &QueuedJob) -> Result<()> {
+        let command = match &job.op {
+            Operation::Move(requests) => {
+                let (start, tool, base) = self.start_point()?;
+                let records = resolve(requests, &start, &self.speeds, self.default_approx_mm)?;
+                self.shared
+                    .safety
+                    .check_resolved(&records, &start, &tool, &base)?;
+                Command::Move(records)
+            }
+            Operation::GetPosition => Command::GetPosition,
+            Operation::Home => Command::Home,
+            Operation::SetTool(f) => Command::SetTool((*f).into()),
+            Operation::GetTool => Command::GetTool,
+            Operation::SetBase(f) => Command::SetBase((*f).into()),
+            Operation::GetBase => Command::GetBase,
+            Operation::SetSpeed(s) => Command::SetSpeed(SpeedRecord {
+                override_pct: s.override_pct,
+                ptp_velocity_pct: s.ptp_velocity_pct,
+                ptp_acceleration_pct: s.ptp_acceleration_pct,
+                cp_velocity: s.cp_velocity_m_s,
+                cp_acceleration_pct: s.cp_acceleration_pct,
+            }),
+            Operation::Reset => Command::Reset,
+        };
+        let cid = self.next_cid()?;
+        self.write_blocking(&CommandFile { cid, command })?;
+        let now = Instant::now();
+        let timeout = job.timeout.unwrap_or(self.cfg.command_timeout());
+        self.inflight = Some(InFlight {
+            id: job.id,
+            op: job.op.clone(),
+            cid,
+            sent_at: now,
+            deadline: now + timeout,
+            acked: false,
+        });
+        tracing::debug!(job = job.id, cid, op = job.op.name(), "command sent");
+        self.shared.update(job.id, |j| {
+            j.state = JobState::Sent;
+            j.cid = Some(cid);
+            j.sent_ms = Some(now_ms());
+        });
+        Ok(())
+    }
+
+    fn publish_state(&self) {
+        let now = Instant::now();
+        let s = self.ctl.state.as_ref();
+        let connection = if !self.ctl.online {
+            Connection::Offline
+        } else if self.ctl.locked {
+            Connection::Locked
+        } else {
+            Connection::Online
+        };
+        let controller = ControllerInfo {
+            status: match s.map(|s| s.status) {
+                Some(ControllerStatus::Idle) => "idle",
+                Some(ControllerStatus::Busy) => "busy",
+                Some(ControllerStatus::Error) => "error",
+                None => "unknown",
+            }
+            .into(),
+            mode: s.map_or("unknown", |s| mode_name(s.mode)).into(),
+            error: s.and_then(state_error),
+            simulated: s.is_some_and(|s| s.simulated),
+            override_pct: s.map_or(self.speeds.override_pct, |s| s.override_pct),
+            heartbeat_seq: s.map(|s| s.seq),
+            heartbeat_age_ms: self
+                .ctl
+                .seq_changed_at
+                .map(|t| now.duration_since(t).as_millis() as u64),
+            last_cid: s.map(|s| s.last_cid),
+        };
+        let next = RobotState {
+            connection,
+            controller,
+            busy: self.inflight.is_some(),
+            current_job: self.inflight.as_ref().map(|f| f.id),
+            queue_length: self.queue.len(),
+            position: self.ctl.pose.map(|(f, s, t)| Position::new(&f, s, t)),
+            axes: self.ctl.axes.map(Into::into),
+            tool: self.ctl.tool.map(Into::into),
+            base: self.ctl.base.map(Into::into),
+            speed: self.speeds,
+            model: self.shared.safety.model().map(|m| m.name.clone()),
+        };
+        let changed = self.shared.state.send_if_modified(|cur| {
+            // The heartbeat age changes every call; publish only real changes.
+            let mut a = cur.clone();
+            a.controller.heartbeat_age_ms = next.controller.heartbeat_age_ms;
+            let differs = a != next;
+            *cur = next.clone();
+            differs
+        });
+        if changed {
+            self.shared.publish(Event::State(Box::new(next)));
+        }
+    }
+}

@@ -1,0 +1,385 @@
+//! The engine: the single owner of the file channel. HTTP handlers (and
+//! later plugins) submit operations and await their jobs; one actor task
+//! serialises them onto the controller in arrival order, watches results
+//! and heartbeats, enforces timeouts and publishes state and events.
+
+mod actor;
+mod types;
+
+use std::collections::{HashMap, VecDeque};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
+
+use tokio::sync::{broadcast, mpsc, oneshot, watch};
+
+pub use types::*;
+
+use crate::channel::{Channel, CidStore};
+use crate::config::Config;
+use crate::error::{BridgeError, ErrorCode, Result};
+use crate::motion::SpeedSettings;
+use crate::safety::Safety;
+
+/// How many finished jobs are kept for `GET /jobs`.
+const JOB_HISTORY: usize = 1000;
+
+pub(crate) enum Msg {
+    Submit(actor::QueuedJob),
+    Cancel(JobId, oneshot::Sender<Result<Job>>),
+    Stop(oneshot::Sender<Result<()>>),
+    Shutdown(oneshot::Sender<()>),
+}
+
+pub(crate) struct JobTable {
+    jobs: HashMap<JobId, watch::Sender<Job>>,
+    order: VecDeque<JobId>,
+}
+
+pub(crate) struct Shared {
+    jobs: Mutex<JobTable>,
+    state: watch::Sender<RobotState>,
+    events: broadcast::Sender<Event>,
+    safety: Safety,
+    next_id: AtomicU64,
+    max_queue: usize,
+    queued: AtomicU64,
+}
+
+impl Shared {
+    fn table(&self) -> MutexGuard<'_, JobTable> {
+        self.jobs.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Applies `f` to a job and publishes the change.
+    pub(crate) fn update(&self, id: JobId, f: impl FnOnce(&mut Job)) -> Option<Job> {
+        let job = {
+            let table = self.table();
+            let tx = table.jobs.get(&id)?;
+            tx.send_modify(f);
+            tx.borrow().clone()
+        };
+        let _ = self.events.send(Event::Job(job.clone()));
+        Some(job)
+    }
+
+    /// A job left the queue (sent, failed or cancelled before sending).
+    pub(crate) fn dequeued(&self) {
+        let _ = self
+            .queued
+            .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |q| {
+                Some(q.saturating_sub(1))
+            });
+    }
+
+    pub(crate) fn publish(&self, event: Event) {
+        let _ = self.events.send(event);
+    }
+}
+
+/// A cheap, cloneable handle to the engine.
+#[derive(Clone)]
+pub struct Engine {
+    shared: Arc<Shared>,
+    tx: mpsc::Sender<Msg>,
+}
+
+/// What the engine needs to start.
+pub struct EngineParts {
+    /// The channel.
+    pub channel: Channel,
+    /// The command id counter.
+    pub cids: CidStore,
+    /// Safety gate.
+    pub safety: Safety,
+}
+
+impl Engine {
+    /// Starts the actor on the current tokio runtime.
+    pub fn start(config: &Config, parts: EngineParts) -> Engine {
+        let speeds = SpeedSettings::from_config(&config.motion);
+        let initial = RobotState {
+            connection: Connection::Offline,
+            controller: ControllerInfo {
+                status: "unknown".into(),
+                mode: "unknown".into(),
+                error: None,
+                simulated: false,
+                override_pct: 100.0,
+                heartbeat_seq: None,
+                heartbeat_age_ms: None,
+                last_cid: None,
+            },
+            busy: false,
+            current_job: None,
+            queue_length: 0,
+            position: None,
+            axes: None,
+            tool: None,
+            base: None,
+            speed: speeds,
+            model: parts.safety.model().map(|m| m.name.clone()),
+        };
+        let (state, _) = watch::channel(initial);
+        let (events, _) = broadcast::channel(1024);
+        let shared = Arc::new(Shared {
+            jobs: Mutex::new(JobTable {
+                jobs: HashMap::new(),
+                order: VecDeque::new(),
+            }),
+            state,
+            events,
+            safety: parts.safety,
+            next_id: AtomicU64::new(1),
+            max_queue: config.motion.max_queue,
+            queued: AtomicU64::new(0),
+        });
+        let (tx, rx) = mpsc::channel(256);
+        let actor = actor::Actor::new(
+            shared.clone(),
+            parts.channel,
+            parts.cids,
+            config,
+            rx,
+            speeds,
+        );
+        tokio::spawn(actor.run());
+        Engine { shared, tx }
+    }
+
+    /// The safety gate (also used by plugins and handlers for early checks).
+    pub fn safety(&self) -> &Safety {
+        &self.shared.safety
+    }
+
+    /// Current robot state.
+    pub fn state(&self) -> RobotState {
+        self.shared.state.borrow().clone()
+    }
+
+    /// A receiver that sees every state change.
+    pub fn watch_state(&self) -> watch::Receiver<RobotState> {
+        self.shared.state.subscribe()
+    }
+
+    /// Subscribes to events.
+    pub fn subscribe(&self) -> broadcast::Receiver<Event> {
+        self.shared.events.subscribe()
+    }
+
+    /// Validates and queues an operation; returns the queued job.
+    pub async fn submit(&self, op: Operation, timeout: Option<Duration>) -> Result<Job> {
+        if let Operation::Move(motions) = &op {
+            self.shared.safety.check_request(motions)?;
+        }
+        if let Operation::SetSpeed(s) = &op {
+            check_speeds(s, &self.shared.safety)?;
+        }
+        if self.state().connection == Connection::Offline {
+            return Err(BridgeError::new(
+                ErrorCode::ControllerOffline,
+                "the controller is offline (no heartbeat); nothing was sent",
+            ));
+        }
+        if self.shared.queued.load(Ordering::SeqCst) >= self.shared.max_queue as u64 {
+            return Err(BridgeError::new(
+                ErrorCode::QueueFull,
+                format!(
+                    "{} jobs are already waiting; try again later",
+                    self.shared.max_queue
+                ),
+            ));
+        }
+        let id = self.shared.next_id.fetch_add(1, Ordering::SeqCst);
+        let job = Job {
+            id,
+            operation: op.name().into(),
+            state: JobState::Queued,
+            motions: if let Operation::Move(m) = &op {
+                m.len()
+            } else {
+                0
+            },
+            completed: 0,
+            cid: None,
+            created_ms: now_ms(),
+            sent_ms: None,
+            finished_ms: None,
+            position: None,
+            axes: None,
+            frame: None,
+            error: None,
+        };
+        {
+            let mut table = self.shared.table();
+            let (tx, _) = watch::channel(job.clone());
+            table.jobs.insert(id, tx);
+            table.order.push_back(id);
+            while table.order.len() > JOB_HISTORY {
+                let Some(old) = table.order.front().copied() else {
+                    break;
+                };
+                let finished = table
+                    .jobs
+                    .get(&old)
+                    .is_none_or(|j| j.borrow().state.is_terminal());
+                if !finished {
+                    break;
+                }
+                table.order.pop_front();
+                table.jobs.remove(&old);
+            }
+        }
+        self.shared.queued.fetch_add(1, Ordering::SeqCst);
+        self.shared.publish(Event::Job(job.clone()));
+        let queued = actor::QueuedJob { id, op, timeout };
+        if self.tx.send(Msg::Submit(queued)).await.is_err() {
+            return Err(BridgeError::new(
+                ErrorCode::Internal,
+                "the engine has stopped",
+            ));
+        }
+        Ok(job)
+    }
+
+    /// Waits until the job is finished or `max` elapses; returns its latest state.
+    pub async fn wait(&self, id: JobId, max: Duration) -> Result<Job> {
+        let mut rx = {
+            let table = self.shared.table();
+            table
+                .jobs
+                .get(&id)
+                .map(|tx| tx.subscribe())
+                .ok_or_else(|| not_found(id))?
+        };
+        let finished = tokio::time::timeout(max, rx.wait_for(|j| j.state.is_terminal()))
+            .await
+            .map(|r| r.map(|j| j.clone()));
+        match finished {
+            Ok(Ok(job)) => Ok(job),
+            _ => Ok(rx.borrow().clone()),
+        }
+    }
+
+    /// Submits, waits, and turns a failed job into its error.
+    pub async fn execute(
+        &self,
+        op: Operation,
+        timeout: Option<Duration>,
+        max_wait: Duration,
+    ) -> Result<Job> {
+        let job = self.submit(op, timeout).await?;
+        let job = self.wait(job.id, max_wait).await?;
+        match (&job.state, &job.error) {
+            (JobState::Done, _) => Ok(job),
+            (_, Some(e)) => Err(e.clone()),
+            (state, None) if !state.is_terminal() => Err(BridgeError::new(
+                ErrorCode::Timeout,
+                format!(
+                    "job {} is still {:?} after {} ms; poll /api/v1/jobs/{}",
+                    job.id,
+                    state,
+                    max_wait.as_millis(),
+                    job.id
+                ),
+            )),
+            _ => Err(BridgeError::new(
+                ErrorCode::Internal,
+                format!("job {} ended without a result", job.id),
+            )),
+        }
+    }
+
+    /// One job.
+    pub fn job(&self, id: JobId) -> Result<Job> {
+        let table = self.shared.table();
+        table
+            .jobs
+            .get(&id)
+            .map(|tx| tx.borrow().clone())
+            .ok_or_else(|| not_found(id))
+    }
+
+    /// Recent jobs, newest first.
+    pub fn jobs(&self, limit: usize) -> Vec<Job> {
+        let table = self.shared.table();
+        table
+            .order
+            .iter()
+            .rev()
+            .take(limit)
+            .filter_map(|id| table.jobs.get(id).map(|tx| tx.borrow().clone()))
+            .collect()
+    }
+
+    /// Cancels a queued or running job.
+    pub async fn cancel(&self, id: JobId) -> Result<Job> {
+        self.job(id)?;
+        let (tx, rx) = oneshot::channel();
+        self.tx
+            .send(Msg::Cancel(id, tx))
+            .await
+            .map_err(|_| stopped())?;
+        rx.await.map_err(|_| stopped())?
+    }
+
+    /// Stops the robot: brakes, cancels the running job and every queued one.
+    pub async fn stop(&self) -> Result<()> {
+        let (tx, rx) = oneshot::channel();
+        self.tx.send(Msg::Stop(tx)).await.map_err(|_| stopped())?;
+        rx.await.map_err(|_| stopped())?
+    }
+
+    /// Graceful shutdown: queued jobs are cancelled, the running one may
+    /// finish (bounded by its timeout), then the actor exits.
+    pub async fn shutdown(&self) {
+        let (tx, rx) = oneshot::channel();
+        if self.tx.send(Msg::Shutdown(tx)).await.is_ok() {
+            let _ = rx.await;
+        }
+    }
+}
+
+fn check_speeds(s: &SpeedSettings, safety: &Safety) -> Result<()> {
+    let m = safety.motion_config();
+    for (name, v, max) in [
+        ("override_pct", s.override_pct, 100.0),
+        (
+            "ptp_velocity_pct",
+            s.ptp_velocity_pct,
+            m.max_ptp_velocity_pct,
+        ),
+        ("ptp_acceleration_pct", s.ptp_acceleration_pct, 100.0),
+        ("cp_acceleration_pct", s.cp_acceleration_pct, 100.0),
+        ("cp_velocity_m_s", s.cp_velocity_m_s, m.max_cp_velocity),
+    ] {
+        if !v.is_finite() || v <= 0.0 {
+            return Err(BridgeError::invalid(format!(
+                "{name} = {v} must be a positive number"
+            )));
+        }
+        if v > max {
+            let code = if name.contains("velocity") {
+                ErrorCode::SpeedLimit
+            } else {
+                ErrorCode::InvalidInput
+            };
+            return Err(BridgeError::new(
+                code,
+                format!("{name} = {v} exceeds the maximum {max}"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn not_found(id: JobId) -> BridgeError {
+    BridgeError::new(
+        ErrorCode::NotFound,
+        format!("no job {id} (finished jobs are kept for the last {JOB_HISTORY})"),
+    )
+}
+
+fn stopped() -> BridgeError {
+    BridgeError::new(ErrorCode::Internal, "the engine has stopped")
+}

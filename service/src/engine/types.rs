@@ -1,0 +1,307 @@
+//! The engine's public vocabulary: operations, jobs, robot state and
+//! events, as the API serialises them.
+
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+use crate::error::BridgeError;
+use crate::motion::{MotionRequest, SpeedSettings};
+
+/// Job identifier (increasing, unique per service run).
+pub type JobId = u64;
+
+/// A Cartesian frame in mm and degrees (A, B, C about Z, Y, X).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"x": 0.0, "y": 0.0, "z": 100.0, "a": 0.0, "b": 0.0, "c": 0.0}))]
+pub struct CartesianFrame {
+    /// X in mm.
+    pub x: f64,
+    /// Y in mm.
+    pub y: f64,
+    /// Z in mm.
+    pub z: f64,
+    /// A (about Z) in degrees.
+    pub a: f64,
+    /// B (about Y) in degrees.
+    pub b: f64,
+    /// C (about X) in degrees.
+    pub c: f64,
+}
+
+impl From<kuka_protocol::Frame> for CartesianFrame {
+    fn from(f: kuka_protocol::Frame) -> Self {
+        CartesianFrame {
+            x: f.x,
+            y: f.y,
+            z: f.z,
+            a: f.a,
+            b: f.b,
+            c: f.c,
+        }
+    }
+}
+
+impl From<CartesianFrame> for kuka_protocol::Frame {
+    fn from(f: CartesianFrame) -> Self {
+        kuka_protocol::Frame {
+            x: f.x,
+            y: f.y,
+            z: f.z,
+            a: f.a,
+            b: f.b,
+            c: f.c,
+        }
+    }
+}
+
+/// TCP position in the base frame with Status and Turn (a KUKA E6POS without external axes).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, ToSchema)]
+#[schema(example = json!({"x": 200.0, "y": 0.0, "z": 70.0, "a": 0.0, "b": 180.0, "c": 0.0, "s": 2, "t": 2}))]
+pub struct Position {
+    /// X in mm.
+    pub x: f64,
+    /// Y in mm.
+    pub y: f64,
+    /// Z in mm.
+    pub z: f64,
+    /// A in degrees.
+    pub a: f64,
+    /// B in degrees.
+    pub b: f64,
+    /// C in degrees.
+    pub c: f64,
+    /// Status bits.
+    pub s: u8,
+    /// Turn bits.
+    pub t: u8,
+}
+
+impl Position {
+    /// From a protocol frame plus S/T.
+    pub fn new(f: &kuka_protocol::Frame, s: u8, t: u8) -> Self {
+        Position {
+            x: f.x,
+            y: f.y,
+            z: f.z,
+            a: f.a,
+            b: f.b,
+            c: f.c,
+            s,
+            t,
+        }
+    }
+
+    /// `[x, y, z, a, b, c]` (the thesis's response format).
+    pub fn xyzabc(&self) -> [f64; 6] {
+        [self.x, self.y, self.z, self.a, self.b, self.c]
+    }
+}
+
+/// Axis angles A1..A6 in degrees.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct AxisAngles {
+    /// A1.
+    pub a1: f64,
+    /// A2.
+    pub a2: f64,
+    /// A3.
+    pub a3: f64,
+    /// A4.
+    pub a4: f64,
+    /// A5.
+    pub a5: f64,
+    /// A6.
+    pub a6: f64,
+}
+
+impl From<[f64; 6]> for AxisAngles {
+    fn from(a: [f64; 6]) -> Self {
+        AxisAngles {
+            a1: a[0],
+            a2: a[1],
+            a3: a[2],
+            a4: a[3],
+            a5: a[4],
+            a6: a[5],
+        }
+    }
+}
+
+/// What a job asks the controller to do.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Operation {
+    /// Motions as one continuous batch.
+    Move(Vec<MotionRequest>),
+    /// Read the position through the controller program.
+    GetPosition,
+    /// PTP to home.
+    Home,
+    /// Set the tool frame.
+    SetTool(CartesianFrame),
+    /// Read the tool frame.
+    GetTool,
+    /// Set the base frame.
+    SetBase(CartesianFrame),
+    /// Read the base frame.
+    GetBase,
+    /// Set override and default speeds.
+    SetSpeed(SpeedSettings),
+    /// Acknowledge a controller error state.
+    Reset,
+}
+
+impl Operation {
+    /// Lowercase name used in jobs and logs.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Operation::Move(_) => "move",
+            Operation::GetPosition => "get_position",
+            Operation::Home => "home",
+            Operation::SetTool(_) => "set_tool",
+            Operation::GetTool => "get_tool",
+            Operation::SetBase(_) => "set_base",
+            Operation::GetBase => "get_base",
+            Operation::SetSpeed(_) => "set_speed",
+            Operation::Reset => "reset",
+        }
+    }
+}
+
+/// Life of a job: queued → sent → executing → done | failed | cancelled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum JobState {
+    /// Waiting for the controller.
+    Queued,
+    /// Written to the command file.
+    Sent,
+    /// The controller is executing it.
+    Executing,
+    /// Finished successfully.
+    Done,
+    /// Finished with an error (see `error`).
+    Failed,
+    /// Cancelled by stop or cancel.
+    Cancelled,
+}
+
+impl JobState {
+    /// Done, failed or cancelled.
+    pub fn is_terminal(self) -> bool {
+        matches!(
+            self,
+            JobState::Done | JobState::Failed | JobState::Cancelled
+        )
+    }
+}
+
+/// A job as clients see it.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct Job {
+    /// Job id.
+    pub id: JobId,
+    /// Operation name (`move`, `home`, `get_position`, ...).
+    pub operation: String,
+    /// Current state.
+    pub state: JobState,
+    /// Number of motions (for `move`).
+    pub motions: usize,
+    /// Motions completed so far.
+    pub completed: usize,
+    /// Command id used on the channel, once sent.
+    pub cid: Option<i32>,
+    /// Creation time (Unix ms).
+    pub created_ms: u64,
+    /// When written to the channel (Unix ms).
+    pub sent_ms: Option<u64>,
+    /// When finished (Unix ms).
+    pub finished_ms: Option<u64>,
+    /// Position at the end (for motions and position reads).
+    pub position: Option<Position>,
+    /// Axis angles at the end.
+    pub axes: Option<AxisAngles>,
+    /// Tool or base frame (for the frame operations).
+    pub frame: Option<CartesianFrame>,
+    /// Why it failed or was cancelled.
+    pub error: Option<BridgeError>,
+}
+
+/// Connection to the controller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Connection {
+    /// Heartbeat is alive.
+    Online,
+    /// No heartbeat within `offline_after_ms` (or none seen yet).
+    Offline,
+    /// Heartbeat alive but the command file is locked by another process.
+    Locked,
+}
+
+/// What the controller reports about itself.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct ControllerInfo {
+    /// `idle`, `busy`, `error` or `unknown`.
+    pub status: String,
+    /// `T1`, `T2`, `AUT`, `EXT` or `unknown`.
+    pub mode: String,
+    /// The controller's error state, if any.
+    pub error: Option<BridgeError>,
+    /// True when the controller is the simulator.
+    pub simulated: bool,
+    /// Program override in %.
+    pub override_pct: f64,
+    /// Last heartbeat sequence number.
+    pub heartbeat_seq: Option<i32>,
+    /// Milliseconds since the heartbeat last changed.
+    pub heartbeat_age_ms: Option<u64>,
+    /// Highest command id the controller has accepted.
+    pub last_cid: Option<i32>,
+}
+
+/// The robot's state as the service knows it.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct RobotState {
+    /// Connection to the controller.
+    pub connection: Connection,
+    /// Controller details.
+    pub controller: ControllerInfo,
+    /// A job is on the controller.
+    pub busy: bool,
+    /// The job on the controller.
+    pub current_job: Option<JobId>,
+    /// Jobs waiting.
+    pub queue_length: usize,
+    /// TCP position (base frame) with Status/Turn.
+    pub position: Option<Position>,
+    /// Axis angles.
+    pub axes: Option<AxisAngles>,
+    /// Tool frame ($TOOL).
+    pub tool: Option<CartesianFrame>,
+    /// Base frame ($BASE).
+    pub base: Option<CartesianFrame>,
+    /// Default speeds and override.
+    pub speed: SpeedSettings,
+    /// Robot model used for checks (None: checks off).
+    pub model: Option<String>,
+}
+
+/// A push event (Server-Sent Events on `/api/v1/events`).
+#[derive(Debug, Clone, Serialize, ToSchema)]
+#[serde(tag = "type", content = "data", rename_all = "snake_case")]
+pub enum Event {
+    /// A job changed state or progressed.
+    Job(Job),
+    /// The robot state changed (at most at the heartbeat rate).
+    State(Box<RobotState>),
+    /// Something went wrong outside a job (channel locked, controller offline...).
+    Alarm(BridgeError),
+}
+
+/// Unix time in ms.
+pub fn now_ms() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis() as u64)
+}

@@ -1,0 +1,158 @@
+//! The service's domain error: a stable machine-readable code, a human
+//! sentence and, for motion errors, the axis and the motion index. The API
+//! turns it into `application/problem+json`.
+
+use serde::Serialize;
+use utoipa::ToSchema;
+
+/// Stable error codes (part of the API contract; never renamed).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum ErrorCode {
+    /// The request is malformed or a value is out of range.
+    InvalidInput,
+    /// A target lies outside the configured workspace box.
+    WorkspaceViolation,
+    /// A speed exceeds the configured cap.
+    SpeedLimit,
+    /// The target or a path point is out of the robot's reach.
+    Unreachable,
+    /// An axis would pass its software limit switch.
+    SoftwareLimit,
+    /// The path passes a singularity.
+    Singularity,
+    /// No heartbeat from the controller.
+    ControllerOffline,
+    /// The command file is locked by another process.
+    ChannelLocked,
+    /// The controller did not answer in time.
+    Timeout,
+    /// The controller is in an error state (acknowledge with reset).
+    ControllerError,
+    /// The controller was still busy with an earlier command.
+    ControllerBusy,
+    /// The job was cancelled (stop or cancel).
+    Cancelled,
+    /// No such resource.
+    NotFound,
+    /// Too many jobs waiting.
+    QueueFull,
+    /// The controller answered something this service does not understand.
+    ProtocolError,
+    /// A bug or an unexpected I/O failure.
+    Internal,
+}
+
+impl ErrorCode {
+    /// HTTP status for this code.
+    pub fn http_status(self) -> u16 {
+        match self {
+            ErrorCode::InvalidInput
+            | ErrorCode::WorkspaceViolation
+            | ErrorCode::SpeedLimit
+            | ErrorCode::Unreachable
+            | ErrorCode::SoftwareLimit
+            | ErrorCode::Singularity => 422,
+            ErrorCode::ControllerOffline | ErrorCode::ChannelLocked | ErrorCode::QueueFull => 503,
+            ErrorCode::Timeout => 504,
+            ErrorCode::ControllerError | ErrorCode::ControllerBusy | ErrorCode::Cancelled => 409,
+            ErrorCode::NotFound => 404,
+            ErrorCode::ProtocolError => 502,
+            ErrorCode::Internal => 500,
+        }
+    }
+
+    /// Short title for problem+json.
+    pub fn title(self) -> &'static str {
+        match self {
+            ErrorCode::InvalidInput => "Invalid input",
+            ErrorCode::WorkspaceViolation => "Outside the workspace",
+            ErrorCode::SpeedLimit => "Speed above the configured cap",
+            ErrorCode::Unreachable => "Target unreachable",
+            ErrorCode::SoftwareLimit => "Software limit switch",
+            ErrorCode::Singularity => "Singularity",
+            ErrorCode::ControllerOffline => "Controller offline",
+            ErrorCode::ChannelLocked => "Channel locked",
+            ErrorCode::Timeout => "Controller timeout",
+            ErrorCode::ControllerError => "Controller in error state",
+            ErrorCode::ControllerBusy => "Controller busy",
+            ErrorCode::Cancelled => "Cancelled",
+            ErrorCode::NotFound => "Not found",
+            ErrorCode::QueueFull => "Queue full",
+            ErrorCode::ProtocolError => "Protocol error",
+            ErrorCode::Internal => "Internal error",
+        }
+    }
+
+    /// The code as it appears in JSON.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ErrorCode::InvalidInput => "invalid_input",
+            ErrorCode::WorkspaceViolation => "workspace_violation",
+            ErrorCode::SpeedLimit => "speed_limit",
+            ErrorCode::Unreachable => "unreachable",
+            ErrorCode::SoftwareLimit => "software_limit",
+            ErrorCode::Singularity => "singularity",
+            ErrorCode::ControllerOffline => "controller_offline",
+            ErrorCode::ChannelLocked => "channel_locked",
+            ErrorCode::Timeout => "timeout",
+            ErrorCode::ControllerError => "controller_error",
+            ErrorCode::ControllerBusy => "controller_busy",
+            ErrorCode::Cancelled => "cancelled",
+            ErrorCode::NotFound => "not_found",
+            ErrorCode::QueueFull => "queue_full",
+            ErrorCode::ProtocolError => "protocol_error",
+            ErrorCode::Internal => "internal",
+        }
+    }
+}
+
+/// An error with its code, sentence and context.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema, thiserror::Error)]
+#[error("{code:?}: {detail}")]
+pub struct BridgeError {
+    /// Stable code.
+    pub code: ErrorCode,
+    /// Human sentence.
+    pub detail: String,
+    /// 1-based axis for software-limit errors.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub axis: Option<u8>,
+    /// 0-based index of the motion in the batch that failed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub motion: Option<usize>,
+}
+
+impl BridgeError {
+    /// An error with a code and a sentence.
+    pub fn new(code: ErrorCode, detail: impl Into<String>) -> Self {
+        BridgeError {
+            code,
+            detail: detail.into(),
+            axis: None,
+            motion: None,
+        }
+    }
+
+    /// Shorthand for `invalid_input`.
+    pub fn invalid(detail: impl Into<String>) -> Self {
+        Self::new(ErrorCode::InvalidInput, detail)
+    }
+
+    /// Adds the motion index.
+    pub fn at_motion(mut self, index: usize) -> Self {
+        self.motion = Some(index);
+        self
+    }
+
+    /// Adds the axis.
+    pub fn on_axis(mut self, axis: u8) -> Self {
+        if axis > 0 {
+            self.axis = Some(axis);
+        }
+        self
+    }
+}
+
+/// Result alias for the service library.
+pub type Result<T, E = BridgeError> = std::result::Result<T, E>;

@@ -1,0 +1,342 @@
+//! Motion requests as clients send them (coordinates may be omitted or
+//! relative), and their resolution into the absolute protocol records the
+//! controller executes.
+
+use kuka_protocol::{Frame, MotionParams, MotionRecord};
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+use crate::config::MotionConfig;
+use crate::error::{BridgeError, Result};
+
+/// A Cartesian target; omitted components keep their current value (the
+/// previous motion's target inside a batch).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"x": 200.0, "y": 0.0, "z": 70.0, "a": 0.0, "b": 180.0, "c": 0.0}))]
+pub struct TargetSpec {
+    /// X in mm.
+    pub x: Option<f64>,
+    /// Y in mm.
+    pub y: Option<f64>,
+    /// Z in mm.
+    pub z: Option<f64>,
+    /// A (about Z) in degrees.
+    pub a: Option<f64>,
+    /// B (about Y) in degrees.
+    pub b: Option<f64>,
+    /// C (about X) in degrees.
+    pub c: Option<f64>,
+    /// Status (0..=7), PTP only; omitted: keep the current Status.
+    pub s: Option<i64>,
+    /// Turn (0..=63), PTP only; omitted: shortest axis path.
+    pub t: Option<i64>,
+}
+
+impl TargetSpec {
+    fn components(&self) -> [Option<f64>; 6] {
+        [self.x, self.y, self.z, self.a, self.b, self.c]
+    }
+}
+
+/// Auxiliary point of a CIRC (position only, as in KRL).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AuxPoint {
+    /// X in mm.
+    pub x: Option<f64>,
+    /// Y in mm.
+    pub y: Option<f64>,
+    /// Z in mm.
+    pub z: Option<f64>,
+}
+
+/// Axis angles; omitted axes keep their value.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AxesSpec {
+    /// A1 in degrees.
+    pub a1: Option<f64>,
+    /// A2 in degrees.
+    pub a2: Option<f64>,
+    /// A3 in degrees.
+    pub a3: Option<f64>,
+    /// A4 in degrees.
+    pub a4: Option<f64>,
+    /// A5 in degrees.
+    pub a5: Option<f64>,
+    /// A6 in degrees.
+    pub a6: Option<f64>,
+}
+
+/// One motion. PTP speeds are % of the maximum axis speed, LIN/CIRC speeds
+/// m/s; `approx_mm` > 0 blends into the next motion of a batch (C_DIS).
+/// `relative: true` adds the given components to the start of the motion.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize, ToSchema)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum MotionRequest {
+    /// Point-to-point (synchronous axes) to a Cartesian target.
+    #[schema(example = json!({"type": "ptp", "target": {"x": 200, "y": 0, "z": 200, "a": 0, "b": 90, "c": 0}}))]
+    Ptp {
+        /// Target.
+        target: TargetSpec,
+        /// Add to the start instead of replacing.
+        #[serde(default)]
+        relative: bool,
+        /// % of max axis speed (default from config).
+        velocity_pct: Option<f64>,
+        /// % of max acceleration.
+        acceleration_pct: Option<f64>,
+        /// Approximation distance in mm.
+        approx_mm: Option<f64>,
+    },
+    /// Axis-specific PTP.
+    PtpAxes {
+        /// Target axis angles.
+        axes: AxesSpec,
+        /// Add to the start instead of replacing.
+        #[serde(default)]
+        relative: bool,
+        /// % of max axis speed.
+        velocity_pct: Option<f64>,
+        /// % of max acceleration.
+        acceleration_pct: Option<f64>,
+        /// Approximation distance in mm.
+        approx_mm: Option<f64>,
+    },
+    /// Straight line of the TCP.
+    #[schema(example = json!({"type": "lin", "target": {"x": 250, "y": 100}, "velocity_m_s": 0.1}))]
+    Lin {
+        /// Target.
+        target: TargetSpec,
+        /// Add to the start instead of replacing.
+        #[serde(default)]
+        relative: bool,
+        /// TCP speed in m/s.
+        velocity_m_s: Option<f64>,
+        /// % of max acceleration.
+        acceleration_pct: Option<f64>,
+        /// Approximation distance in mm.
+        approx_mm: Option<f64>,
+    },
+    /// Circular arc through `aux` to `target`.
+    Circ {
+        /// Auxiliary point.
+        aux: AuxPoint,
+        /// End point.
+        target: TargetSpec,
+        /// Add both points to the start instead of replacing.
+        #[serde(default)]
+        relative: bool,
+        /// TCP speed in m/s.
+        velocity_m_s: Option<f64>,
+        /// % of max acceleration.
+        acceleration_pct: Option<f64>,
+        /// Approximation distance in mm.
+        approx_mm: Option<f64>,
+    },
+}
+
+impl MotionRequest {
+    /// `ptp`, `ptp_axes`, `lin` or `circ`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            MotionRequest::Ptp { .. } => "ptp",
+            MotionRequest::PtpAxes { .. } => "ptp_axes",
+            MotionRequest::Lin { .. } => "lin",
+            MotionRequest::Circ { .. } => "circ",
+        }
+    }
+
+    fn speed(&self) -> (Option<f64>, Option<f64>, Option<f64>) {
+        match self {
+            MotionRequest::Ptp {
+                velocity_pct,
+                acceleration_pct,
+                approx_mm,
+                ..
+            }
+            | MotionRequest::PtpAxes {
+                velocity_pct,
+                acceleration_pct,
+                approx_mm,
+                ..
+            } => (*velocity_pct, *acceleration_pct, *approx_mm),
+            MotionRequest::Lin {
+                velocity_m_s,
+                acceleration_pct,
+                approx_mm,
+                ..
+            }
+            | MotionRequest::Circ {
+                velocity_m_s,
+                acceleration_pct,
+                approx_mm,
+                ..
+            } => (*velocity_m_s, *acceleration_pct, *approx_mm),
+        }
+    }
+}
+
+/// Where the robot is (or will be) when a motion starts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StartPoint {
+    /// TCP pose in the base frame.
+    pub pose: Frame,
+    /// Axis angles.
+    pub axes: [f64; 6],
+}
+
+/// The current default speeds (settable through the API).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct SpeedSettings {
+    /// Program override in % ($OV_PRO).
+    pub override_pct: f64,
+    /// Default PTP velocity in %.
+    pub ptp_velocity_pct: f64,
+    /// Default PTP acceleration in %.
+    pub ptp_acceleration_pct: f64,
+    /// Default LIN/CIRC velocity in m/s.
+    pub cp_velocity_m_s: f64,
+    /// Default LIN/CIRC acceleration in %.
+    pub cp_acceleration_pct: f64,
+}
+
+impl SpeedSettings {
+    /// Defaults from the configuration, override 100 %.
+    pub fn from_config(m: &MotionConfig) -> Self {
+        SpeedSettings {
+            override_pct: 100.0,
+            ptp_velocity_pct: m.default_ptp_velocity_pct,
+            ptp_acceleration_pct: m.default_acceleration_pct,
+            cp_velocity_m_s: m.default_cp_velocity,
+            cp_acceleration_pct: m.default_acceleration_pct,
+        }
+    }
+}
+
+fn pick(given: Option<f64>, relative: bool, previous: f64) -> f64 {
+    match (given, relative) {
+        (Some(v), true) => previous + v,
+        (Some(v), false) => v,
+        (None, _) => previous,
+    }
+}
+
+/// Resolves a batch against its start: omitted coordinates keep the
+/// previous target's value, relative ones are added to it, speeds fall
+/// back to the defaults; intermediate motions of a batch are approximated
+/// by `default_approx_mm` unless set, the last one stops exactly unless set.
+pub fn resolve(
+    requests: &[MotionRequest],
+    start: &StartPoint,
+    speeds: &SpeedSettings,
+    default_approx_mm: f64,
+) -> Result<Vec<MotionRecord>> {
+    let mut pose = start.pose.to_array();
+    let mut axes = start.axes;
+    let last = requests.len().saturating_sub(1);
+    let mut out = Vec::with_capacity(requests.len());
+    for (i, req) in requests.iter().enumerate() {
+        let (vel, acc, apo) = req.speed();
+        let is_ptp = matches!(
+            req,
+            MotionRequest::Ptp { .. } | MotionRequest::PtpAxes { .. }
+        );
+        let params = MotionParams {
+            velocity: vel.unwrap_or(if is_ptp {
+                speeds.ptp_velocity_pct
+            } else {
+                speeds.cp_velocity_m_s
+            }),
+            acceleration_pct: acc.unwrap_or(if is_ptp {
+                speeds.ptp_acceleration_pct
+            } else {
+                speeds.cp_acceleration_pct
+            }),
+            approx_mm: apo.unwrap_or(if i == last { 0.0 } else { default_approx_mm }),
+        };
+        let st = |v: Option<i64>| v.and_then(|v| u8::try_from(v).ok());
+        let record = match req {
+            MotionRequest::Ptp {
+                target, relative, ..
+            } => {
+                for (p, c) in pose.iter_mut().zip(target.components()) {
+                    *p = pick(c, *relative, *p);
+                }
+                MotionRecord::Ptp {
+                    target: Frame::from_array(pose),
+                    s: st(target.s),
+                    t: st(target.t),
+                    params,
+                }
+            }
+            MotionRequest::Lin {
+                target, relative, ..
+            } => {
+                for (p, c) in pose.iter_mut().zip(target.components()) {
+                    *p = pick(c, *relative, *p);
+                }
+                MotionRecord::Lin {
+                    target: Frame::from_array(pose),
+                    params,
+                }
+            }
+            MotionRequest::Circ {
+                aux,
+                target,
+                relative,
+                ..
+            } => {
+                let aux = [
+                    pick(aux.x, *relative, pose[0]),
+                    pick(aux.y, *relative, pose[1]),
+                    pick(aux.z, *relative, pose[2]),
+                ];
+                for (p, c) in pose.iter_mut().zip(target.components()) {
+                    *p = pick(c, *relative, *p);
+                }
+                MotionRecord::Circ {
+                    aux,
+                    target: Frame::from_array(pose),
+                    params,
+                }
+            }
+            MotionRequest::PtpAxes {
+                axes: spec,
+                relative,
+                ..
+            } => {
+                let given = [spec.a1, spec.a2, spec.a3, spec.a4, spec.a5, spec.a6];
+                let after_cartesian = requests[..i]
+                    .iter()
+                    .any(|r| !matches!(r, MotionRequest::PtpAxes { .. }));
+                if after_cartesian && (*relative || given.iter().any(Option::is_none)) {
+                    return Err(BridgeError::invalid(format!(
+                        "motion {i}: an axis PTP after a Cartesian motion in the same batch must give all six axes absolutely"
+                    ))
+                    .at_motion(i));
+                }
+                for (a, g) in axes.iter_mut().zip(given) {
+                    *a = pick(g, *relative, *a);
+                }
+                MotionRecord::PtpAxes { axes, params }
+            }
+        };
+        // After an axis PTP the Cartesian start of the next motion is only
+        // known to the controller, so a batch cannot mix them that way.
+        if matches!(req, MotionRequest::PtpAxes { .. }) && i < last {
+            let needs_pose = requests[i + 1..]
+                .iter()
+                .any(|r| !matches!(r, MotionRequest::PtpAxes { .. }));
+            if needs_pose {
+                return Err(BridgeError::invalid(format!(
+                    "motion {i}: an axis PTP may only be followed by other axis PTPs in one batch (its Cartesian end is computed by the controller); send the Cartesian motions as a separate request"
+                ))
+                .at_motion(i));
+            }
+        }
+        out.push(record);
+    }
+    Ok(out)
+}

@@ -1,0 +1,277 @@
+//! Checks every motion must pass before anything is written to the
+//! channel: finite numbers, Status/Turn ranges, speed caps, the workspace
+//! box and — with a robot model — a dry run of the whole batch through the
+//! same planner the simulated controller executes (reachability, software
+//! limit switches, singularities along LIN/CIRC paths).
+
+use kuka_kinematics::{IkError, MotionError, RobotModel, plan};
+use kuka_protocol::{Frame, MAX_REAL, MotionRecord};
+
+use crate::config::{MotionConfig, WorkspaceBox};
+use crate::error::{BridgeError, ErrorCode, Result};
+use crate::motion::{MotionRequest, StartPoint, TargetSpec};
+
+/// The safety gate shared by HTTP handlers and (later) plugins.
+#[derive(Debug, Clone)]
+pub struct Safety {
+    motion: MotionConfig,
+    workspace: Option<WorkspaceBox>,
+    model: Option<RobotModel>,
+}
+
+fn finite(what: &str, v: Option<f64>, i: usize) -> Result<()> {
+    match v {
+        Some(x) if !x.is_finite() || x.abs() > MAX_REAL => Err(BridgeError::invalid(format!(
+            "motion {i}: {what} = {x} is not a finite number within ±{MAX_REAL}"
+        ))
+        .at_motion(i)),
+        _ => Ok(()),
+    }
+}
+
+fn check_target(t: &TargetSpec, i: usize, allow_st: bool) -> Result<()> {
+    for (name, v) in [
+        ("x", t.x),
+        ("y", t.y),
+        ("z", t.z),
+        ("a", t.a),
+        ("b", t.b),
+        ("c", t.c),
+    ] {
+        finite(name, v, i)?;
+    }
+    if let Some(s) = t.s
+        && !(allow_st && (0..=7).contains(&s))
+    {
+        let why = if allow_st {
+            format!("Status {s} is not in 0..=7")
+        } else {
+            "Status applies to PTP only".into()
+        };
+        return Err(BridgeError::invalid(format!("motion {i}: {why}")).at_motion(i));
+    }
+    if let Some(t) = t.t
+        && !(allow_st && (0..=63).contains(&t))
+    {
+        let why = if allow_st {
+            format!("Turn {t} is not in 0..=63")
+        } else {
+            "Turn applies to PTP only".into()
+        };
+        return Err(BridgeError::invalid(format!("motion {i}: {why}")).at_motion(i));
+    }
+    Ok(())
+}
+
+impl Safety {
+    /// A gate for this configuration and optional robot model.
+    pub fn new(
+        motion: MotionConfig,
+        workspace: Option<WorkspaceBox>,
+        model: Option<RobotModel>,
+    ) -> Self {
+        Safety {
+            motion,
+            workspace,
+            model,
+        }
+    }
+
+    /// The robot model in use, if any.
+    pub fn model(&self) -> Option<&RobotModel> {
+        self.model.as_ref()
+    }
+
+    /// The motion configuration.
+    pub fn motion_config(&self) -> &MotionConfig {
+        &self.motion
+    }
+
+    /// Checks a request before it is queued (no knowledge of the start).
+    pub fn check_request(&self, requests: &[MotionRequest]) -> Result<()> {
+        if requests.is_empty() {
+            return Err(BridgeError::invalid(
+                "a motion request needs at least one motion",
+            ));
+        }
+        if requests.len() > self.motion.max_batch {
+            return Err(BridgeError::invalid(format!(
+                "{} motions in one batch; at most {} are allowed",
+                requests.len(),
+                self.motion.max_batch
+            )));
+        }
+        for (i, r) in requests.iter().enumerate() {
+            let (vel, acc, apo) = match r {
+                MotionRequest::Ptp {
+                    target,
+                    velocity_pct,
+                    acceleration_pct,
+                    approx_mm,
+                    ..
+                } => {
+                    check_target(target, i, true)?;
+                    if let Some(v) = velocity_pct {
+                        self.cap(i, "velocity_pct", *v, self.motion.max_ptp_velocity_pct, "%")?;
+                    }
+                    (*velocity_pct, *acceleration_pct, *approx_mm)
+                }
+                MotionRequest::PtpAxes {
+                    axes,
+                    velocity_pct,
+                    acceleration_pct,
+                    approx_mm,
+                    ..
+                } => {
+                    for (name, v) in [
+                        ("a1", axes.a1),
+                        ("a2", axes.a2),
+                        ("a3", axes.a3),
+                        ("a4", axes.a4),
+                        ("a5", axes.a5),
+                        ("a6", axes.a6),
+                    ] {
+                        finite(name, v, i)?;
+                    }
+                    if let Some(v) = velocity_pct {
+                        self.cap(i, "velocity_pct", *v, self.motion.max_ptp_velocity_pct, "%")?;
+                    }
+                    (*velocity_pct, *acceleration_pct, *approx_mm)
+                }
+                MotionRequest::Lin {
+                    target,
+                    velocity_m_s,
+                    acceleration_pct,
+                    approx_mm,
+                    ..
+                } => {
+                    check_target(target, i, false)?;
+                    if let Some(v) = velocity_m_s {
+                        self.cap(i, "velocity_m_s", *v, self.motion.max_cp_velocity, " m/s")?;
+                    }
+                    (*velocity_m_s, *acceleration_pct, *approx_mm)
+                }
+                MotionRequest::Circ {
+                    aux,
+                    target,
+                    velocity_m_s,
+                    acceleration_pct,
+                    approx_mm,
+                    ..
+                } => {
+                    check_target(target, i, false)?;
+                    for (name, v) in [("aux.x", aux.x), ("aux.y", aux.y), ("aux.z", aux.z)] {
+                        finite(name, v, i)?;
+                    }
+                    if let Some(v) = velocity_m_s {
+                        self.cap(i, "velocity_m_s", *v, self.motion.max_cp_velocity, " m/s")?;
+                    }
+                    (*velocity_m_s, *acceleration_pct, *approx_mm)
+                }
+            };
+            let _ = vel;
+            if let Some(a) = acc
+                && !(a.is_finite() && a > 0.0 && a <= 100.0)
+            {
+                return Err(BridgeError::invalid(format!(
+                    "motion {i}: acceleration_pct = {a} is not in (0, 100]"
+                ))
+                .at_motion(i));
+            }
+            if let Some(d) = apo
+                && !(d.is_finite() && d >= 0.0 && d <= self.motion.max_approx_mm)
+            {
+                return Err(BridgeError::invalid(format!(
+                    "motion {i}: approx_mm = {d} is not in [0, {}]",
+                    self.motion.max_approx_mm
+                ))
+                .at_motion(i));
+            }
+        }
+        Ok(())
+    }
+
+    fn cap(&self, i: usize, name: &str, v: f64, max: f64, unit: &str) -> Result<()> {
+        if !v.is_finite() || v <= 0.0 {
+            return Err(BridgeError::invalid(format!(
+                "motion {i}: {name} = {v} must be a positive number"
+            ))
+            .at_motion(i));
+        }
+        if v > max {
+            return Err(BridgeError::new(
+                ErrorCode::SpeedLimit,
+                format!("motion {i}: {name} = {v}{unit} exceeds the configured cap of {max}{unit}"),
+            )
+            .at_motion(i));
+        }
+        Ok(())
+    }
+
+    /// Checks resolved motions from a known start: workspace box, then a
+    /// dry run with the robot model (if configured).
+    pub fn check_resolved(
+        &self,
+        motions: &[MotionRecord],
+        start: &StartPoint,
+        tool: &Frame,
+        base: &Frame,
+    ) -> Result<()> {
+        if let Some(ws) = &self.workspace {
+            for (i, m) in motions.iter().enumerate() {
+                let mut points: Vec<[f64; 3]> = Vec::with_capacity(2);
+                match m {
+                    MotionRecord::Ptp { target, .. } | MotionRecord::Lin { target, .. } => {
+                        points.push([target.x, target.y, target.z])
+                    }
+                    MotionRecord::Circ { aux, target, .. } => {
+                        points.push(*aux);
+                        points.push([target.x, target.y, target.z]);
+                    }
+                    MotionRecord::PtpAxes { .. } => {}
+                }
+                for p in points {
+                    if !ws.contains(p[0], p[1], p[2]) {
+                        return Err(BridgeError::new(
+                            ErrorCode::WorkspaceViolation,
+                            format!(
+                                "motion {i}: point ({:.1}, {:.1}, {:.1}) mm lies outside the workspace box x {:?}, y {:?}, z {:?}",
+                                p[0], p[1], p[2], ws.x, ws.y, ws.z
+                            ),
+                        )
+                        .at_motion(i));
+                    }
+                }
+            }
+        }
+        let Some(model) = &self.model else {
+            return Ok(());
+        };
+        let motions: Vec<_> = motions.iter().map(kuka_sim::to_motion).collect();
+        let to_pose = |f: &Frame| kuka_sim::frame_to_pose(f);
+        let execution = plan::plan(
+            model,
+            &start.axes,
+            &to_pose(tool),
+            &to_pose(base),
+            &motions,
+            &plan::PlanSettings::default(),
+        );
+        match execution.error {
+            None => Ok(()),
+            Some((i, e)) => Err(motion_error(&e).at_motion(i)),
+        }
+    }
+}
+
+/// Maps a planner error to the API error (the same mapping as controller results).
+pub fn motion_error(e: &MotionError) -> BridgeError {
+    let (code, axis) = match e {
+        MotionError::Ik(IkError::Unreachable)
+        | MotionError::Ik(IkError::NoMatchingConfiguration { .. }) => (ErrorCode::Unreachable, 0),
+        MotionError::Ik(IkError::SoftwareLimit { axis, .. }) => (ErrorCode::SoftwareLimit, *axis),
+        MotionError::Singularity(_) => (ErrorCode::Singularity, 0),
+        MotionError::Geometry(_) | MotionError::Parameter(_) => (ErrorCode::InvalidInput, 0),
+    };
+    BridgeError::new(code, e.to_string()).on_axis(axis)
+}
