@@ -10,6 +10,7 @@
 pub mod api;
 pub mod app;
 pub mod channel;
+pub mod cli;
 pub mod config;
 pub mod engine;
 pub mod error;
