@@ -31,7 +31,11 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options { simulate: true, time_scale: 0.0, tweak: Box::new(|_| {}) }
+        Options {
+            simulate: true,
+            time_scale: 0.0,
+            tweak: Box::new(|_| {}),
+        }
     }
 }
 
@@ -64,9 +68,18 @@ impl TestService {
 
     /// Starts the service with a prepared config.
     pub async fn start_with(config: Config, dirs: tempfile::TempDir) -> TestService {
-        let service = kuka_bridge::app::start(config).await.expect("service starts");
-        let http = reqwest::Client::builder().timeout(Duration::from_secs(30)).build().expect("client");
-        let t = TestService { service, http, dirs };
+        let service = kuka_bridge::app::start(config)
+            .await
+            .expect("service starts");
+        let http = reqwest::Client::builder()
+            .timeout(Duration::from_secs(30))
+            .build()
+            .expect("client");
+        let t = TestService {
+            service,
+            http,
+            dirs,
+        };
         t.wait_online().await;
         t
     }
@@ -109,43 +122,81 @@ impl TestService {
 
     /// POST without body.
     pub async fn post(&self, path: &str) -> (u16, Value) {
-        let r = self.http.post(self.url(path)).send().await.expect("request");
+        let r = self
+            .http
+            .post(self.url(path))
+            .send()
+            .await
+            .expect("request");
         decode(r).await
     }
 
     /// POST a JSON body.
     pub async fn post_json(&self, path: &str, body: &Value) -> (u16, Value) {
-        let r = self.http.post(self.url(path)).json(body).send().await.expect("request");
+        let r = self
+            .http
+            .post(self.url(path))
+            .json(body)
+            .send()
+            .await
+            .expect("request");
         decode(r).await
     }
 
     /// PUT a JSON body.
     pub async fn put_json(&self, path: &str, body: &Value) -> (u16, Value) {
-        let r = self.http.put(self.url(path)).json(body).send().await.expect("request");
+        let r = self
+            .http
+            .put(self.url(path))
+            .json(body)
+            .send()
+            .await
+            .expect("request");
         decode(r).await
     }
 
     /// DELETE.
     pub async fn delete(&self, path: &str) -> (u16, Value) {
-        let r = self.http.delete(self.url(path)).send().await.expect("request");
+        let r = self
+            .http
+            .delete(self.url(path))
+            .send()
+            .await
+            .expect("request");
         decode(r).await
     }
 
     /// POST /api/v1/motions with these motions (wait = true).
     pub async fn motions(&self, motions: Value) -> (u16, Value) {
-        self.post_json("/api/v1/motions", &serde_json::json!({ "motions": motions })).await
+        self.post_json(
+            "/api/v1/motions",
+            &serde_json::json!({ "motions": motions }),
+        )
+        .await
     }
 }
 
 /// Status and JSON body (Null when empty); checks the problem media type on errors.
 pub async fn decode(r: reqwest::Response) -> (u16, Value) {
     let status = r.status().as_u16();
-    let ct = r.headers().get("content-type").and_then(|v| v.to_str().ok()).unwrap_or("").to_string();
+    let ct = r
+        .headers()
+        .get("content-type")
+        .and_then(|v| v.to_str().ok())
+        .unwrap_or("")
+        .to_string();
     let text = r.text().await.expect("body");
     if status >= 400 {
-        assert_eq!(ct, "application/problem+json", "error without problem+json: {status} {text}");
+        assert_eq!(
+            ct, "application/problem+json",
+            "error without problem+json: {status} {text}"
+        );
     }
-    let v = if text.is_empty() { Value::Null } else { serde_json::from_str(&text).unwrap_or(Value::String(text)) };
+    let v = if text.is_empty() {
+        Value::Null
+    } else {
+        serde_json::from_str(&text).unwrap_or(Value::String(text))
+    };
     (status, v)
 }
 

@@ -38,7 +38,10 @@ async fn thesis_motions_move_the_simulated_robot() {
     // The simulator really drew a straight line between the two points.
     let sim = t.service.sim.as_ref().expect("sim");
     let trace = sim.trace();
-    let last_lin: Vec<_> = trace.iter().filter(|s| s.cid == trace.last().expect("samples").cid).collect();
+    let last_lin: Vec<_> = trace
+        .iter()
+        .filter(|s| s.cid == trace.last().expect("samples").cid)
+        .collect();
     assert!(last_lin.len() > 3, "LIN sampled");
     for s in &last_lin {
         // On the segment (200,0)→(250,100): y = 2 (x − 200).
@@ -111,6 +114,9 @@ async fn thesis_failures_keep_statuscode_and_position() {
     let (status, v) = t.post("/krl/ptp?x=300&s=9").await;
     assert_eq!(status, 422, "{v}");
     assert_eq!(v["code"], "invalid_input");
-    assert!(v["detail"].as_str().expect("detail").contains("Status"), "{v}");
+    assert!(
+        v["detail"].as_str().expect("detail").contains("Status"),
+        "{v}"
+    );
     t.service.shutdown().await.expect("shutdown");
 }

@@ -27,18 +27,38 @@ async fn state_health_and_docs() {
     assert_eq!(v["controller"]["simulated"], true);
     assert_eq!(v["model"], "kr3_r540");
     assert_eq!(v["position"]["s"], 2, "home Status: elbow bit set");
-    assert_close(v["axes"]["a2"].as_f64().expect("a2"), -90.0, 1e-6, "home A2");
+    assert_close(
+        v["axes"]["a2"].as_f64().expect("a2"),
+        -90.0,
+        1e-6,
+        "home A2",
+    );
     let (s, v) = t.get("/openapi.json").await;
     assert_eq!(s, 200);
     assert!(v["openapi"].as_str().expect("version").starts_with("3.1"));
-    for path in ["/krl/ptp", "/krl/circ", "/api/v1/motions", "/api/v1/jobs/{id}", "/api/v1/events", "/api/v1/stop"] {
+    for path in [
+        "/krl/ptp",
+        "/krl/circ",
+        "/api/v1/motions",
+        "/api/v1/jobs/{id}",
+        "/api/v1/events",
+        "/api/v1/stop",
+    ] {
         assert!(v["paths"][path].is_object(), "{path} documented");
     }
     let r = t.http.get(t.url("/docs/")).send().await.expect("docs");
     assert_eq!(r.status(), 200);
     let html = r.text().await.expect("html");
-    assert!(html.contains("swagger"), "Swagger UI served from the binary");
-    let r = t.http.get(t.url("/docs/swagger-ui-bundle.js")).send().await.expect("bundle");
+    assert!(
+        html.contains("swagger"),
+        "Swagger UI served from the binary"
+    );
+    let r = t
+        .http
+        .get(t.url("/docs/swagger-ui-bundle.js"))
+        .send()
+        .await
+        .expect("bundle");
     assert_eq!(r.status(), 200, "Swagger UI assets are embedded (offline)");
     let (s, v) = t.get("/api/v1/nothing").await;
     assert_eq!((s, v["code"].as_str()), (404, Some("not_found")));
@@ -63,7 +83,12 @@ async fn batch_runs_continuously_and_jobs_report_it() {
     assert_eq!(v["state"], "done");
     assert_eq!(v["motions"], 5);
     assert_eq!(v["completed"], 5);
-    assert_close(v["position"]["x"].as_f64().expect("x"), 200.0, 0.01, "end x");
+    assert_close(
+        v["position"]["x"].as_f64().expect("x"),
+        200.0,
+        0.01,
+        "end x",
+    );
     assert_close(v["position"]["y"].as_f64().expect("y"), 0.0, 0.01, "end y");
     let id = v["id"].as_u64().expect("id");
     let (s, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
@@ -74,16 +99,33 @@ async fn batch_runs_continuously_and_jobs_report_it() {
     let sim = t.service.sim.as_ref().expect("sim").snapshot();
     assert!(sim.sim_time_s > before, "simulated time advanced");
     // Relative move.
-    let (s, v) = t.motions(json!([{"type": "lin", "target": {"z": 30}, "relative": true}])).await;
+    let (s, v) = t
+        .motions(json!([{"type": "lin", "target": {"z": 30}, "relative": true}]))
+        .await;
     assert_eq!(s, 200, "{v}");
-    assert_close(v["position"]["z"].as_f64().expect("z"), 100.0, 0.01, "relative z");
+    assert_close(
+        v["position"]["z"].as_f64().expect("z"),
+        100.0,
+        0.01,
+        "relative z",
+    );
     // Position round trip and axis PTP.
     let (s, v) = t.get("/api/v1/position").await;
     assert_eq!(s, 200);
-    assert_close(v["position"]["z"].as_f64().expect("z"), 100.0, 0.01, "position z");
+    assert_close(
+        v["position"]["z"].as_f64().expect("z"),
+        100.0,
+        0.01,
+        "position z",
+    );
     let (s, v) = t.motions(json!([{"type": "ptp_axes", "axes": {"a1": 10, "a2": -90, "a3": 90, "a4": 0, "a5": 30, "a6": 0}}])).await;
     assert_eq!(s, 200, "{v}");
-    assert_close(v["axes"]["a1"].as_f64().expect("a1"), 10.0, 1e-3, "axis ptp");
+    assert_close(
+        v["axes"]["a1"].as_f64().expect("a1"),
+        10.0,
+        1e-3,
+        "axis ptp",
+    );
     let (s, v) = t.post("/api/v1/home").await;
     assert_eq!(s, 200, "{v}");
     assert_close(v["axes"]["a1"].as_f64().expect("a1"), 0.0, 1e-3, "home");
@@ -93,7 +135,13 @@ async fn batch_runs_continuously_and_jobs_report_it() {
 #[tokio::test]
 async fn validation_errors_write_nothing() {
     let t = TestService::start(Options {
-        tweak: Box::new(|c| c.workspace = Some(WorkspaceBox { x: [0.0, 400.0], y: [-300.0, 300.0], z: [20.0, 700.0] })),
+        tweak: Box::new(|c| {
+            c.workspace = Some(WorkspaceBox {
+                x: [0.0, 400.0],
+                y: [-300.0, 300.0],
+                z: [20.0, 700.0],
+            })
+        }),
         ..Options::default()
     })
     .await;
@@ -103,45 +151,122 @@ async fn validation_errors_write_nothing() {
     let before = std::fs::read_to_string(&cmd).expect("command file");
     let cases: Vec<(Value, &str)> = vec![
         (json!({"motions": []}), "invalid_input"),
-        (json!({"motions": [{"type": "ptp", "target": {"x": 200}, "s": 1}]}), "invalid_input"),
-        (json!({"motions": [{"type": "ptp", "target": {"x": 200, "s": 8}}]}), "invalid_input"),
-        (json!({"motions": [{"type": "ptp", "target": {"x": 200, "t": 64}}]}), "invalid_input"),
-        (json!({"motions": [{"type": "lin", "target": {"x": 200, "s": 2}}]}), "invalid_input"),
-        (json!({"motions": [{"type": "jump", "target": {}}]}), "invalid_input"),
-        (json!({"motions": [{"type": "lin", "target": {"x": 1e9}}]}), "invalid_input"),
-        (json!({"motions": [{"type": "lin", "target": {"x": 200}, "velocity_m_s": 5}]}), "speed_limit"),
-        (json!({"motions": [{"type": "ptp", "target": {"x": 200}, "velocity_pct": 0}]}), "invalid_input"),
-        (json!({"motions": [{"type": "lin", "target": {"x": 200}, "acceleration_pct": 101}]}), "invalid_input"),
-        (json!({"motions": [{"type": "lin", "target": {"x": 200}, "approx_mm": -1}]}), "invalid_input"),
-        (json!({"motions": [{"type": "lin", "target": {"x": 200, "z": 10}}]}), "workspace_violation"),
-        (json!({"motions": [{"type": "ptp", "target": {"x": 390, "y": 290, "z": 680}}]}), "unreachable"),
-        (json!({"motions": [pen_down(), {"type": "lin", "target": {"x": 390, "y": 290, "z": 680}}]}), "unreachable"),
-        (json!({"motions": [{"type": "ptp_axes", "axes": {"a5": 130}}]}), "software_limit"),
-        (json!({"motions": [{"type": "lin", "target": {"y": 100}}]}), "singularity"),
-        (json!({"motions": [{"type": "circ", "aux": {"x": 305, "y": 0, "z": 525}, "target": {"x": 255, "y": 0, "z": 425}}]}), "invalid_input"),
-        (json!({"motions": [{"type": "lin", "target": {"x": 200}}], "timeout_ms": 0}), "invalid_input"),
-        (json!({"motions": [{"type": "lin", "target": {"x": 200}}], "extra": 1}), "invalid_input"),
+        (
+            json!({"motions": [{"type": "ptp", "target": {"x": 200}, "s": 1}]}),
+            "invalid_input",
+        ),
+        (
+            json!({"motions": [{"type": "ptp", "target": {"x": 200, "s": 8}}]}),
+            "invalid_input",
+        ),
+        (
+            json!({"motions": [{"type": "ptp", "target": {"x": 200, "t": 64}}]}),
+            "invalid_input",
+        ),
+        (
+            json!({"motions": [{"type": "lin", "target": {"x": 200, "s": 2}}]}),
+            "invalid_input",
+        ),
+        (
+            json!({"motions": [{"type": "jump", "target": {}}]}),
+            "invalid_input",
+        ),
+        (
+            json!({"motions": [{"type": "lin", "target": {"x": 1e9}}]}),
+            "invalid_input",
+        ),
+        (
+            json!({"motions": [{"type": "lin", "target": {"x": 200}, "velocity_m_s": 5}]}),
+            "speed_limit",
+        ),
+        (
+            json!({"motions": [{"type": "ptp", "target": {"x": 200}, "velocity_pct": 0}]}),
+            "invalid_input",
+        ),
+        (
+            json!({"motions": [{"type": "lin", "target": {"x": 200}, "acceleration_pct": 101}]}),
+            "invalid_input",
+        ),
+        (
+            json!({"motions": [{"type": "lin", "target": {"x": 200}, "approx_mm": -1}]}),
+            "invalid_input",
+        ),
+        (
+            json!({"motions": [{"type": "lin", "target": {"x": 200, "z": 10}}]}),
+            "workspace_violation",
+        ),
+        (
+            json!({"motions": [{"type": "ptp", "target": {"x": 390, "y": 290, "z": 680}}]}),
+            "unreachable",
+        ),
+        (
+            json!({"motions": [pen_down(), {"type": "lin", "target": {"x": 390, "y": 290, "z": 680}}]}),
+            "unreachable",
+        ),
+        (
+            json!({"motions": [{"type": "ptp_axes", "axes": {"a5": 130}}]}),
+            "software_limit",
+        ),
+        (
+            json!({"motions": [{"type": "lin", "target": {"y": 100}}]}),
+            "singularity",
+        ),
+        (
+            json!({"motions": [{"type": "circ", "aux": {"x": 305, "y": 0, "z": 525}, "target": {"x": 255, "y": 0, "z": 425}}]}),
+            "invalid_input",
+        ),
+        (
+            json!({"motions": [{"type": "lin", "target": {"x": 200}}], "timeout_ms": 0}),
+            "invalid_input",
+        ),
+        (
+            json!({"motions": [{"type": "lin", "target": {"x": 200}}], "extra": 1}),
+            "invalid_input",
+        ),
     ];
     for (body, code) in cases {
         let (s, v) = t.post_json("/api/v1/motions", &body).await;
         assert_eq!(v["code"], code, "{body} → {v}");
         assert!(s == 422, "{body} → {s}");
-        assert!(v["detail"].as_str().is_some_and(|d| !d.is_empty()), "human sentence: {v}");
+        assert!(
+            v["detail"].as_str().is_some_and(|d| !d.is_empty()),
+            "human sentence: {v}"
+        );
         if code == "software_limit" {
             assert_eq!(v["axis"], 5, "{v}");
         }
     }
     // Malformed JSON.
-    let r = t.http.post(t.url("/api/v1/motions")).header("content-type", "application/json").body("{").send().await.expect("send");
+    let r = t
+        .http
+        .post(t.url("/api/v1/motions"))
+        .header("content-type", "application/json")
+        .body("{")
+        .send()
+        .await
+        .expect("send");
     let (s, v) = kuka_bridge_tests::decode(r).await;
     assert_eq!((s, v["code"].as_str()), (422, Some("invalid_input")), "{v}");
-    let (s, v) = t.put_json("/api/v1/tool", &json!({"x": 0, "y": 0, "z": "high", "a": 0, "b": 0, "c": 0})).await;
+    let (s, v) = t
+        .put_json(
+            "/api/v1/tool",
+            &json!({"x": 0, "y": 0, "z": "high", "a": 0, "b": 0, "c": 0}),
+        )
+        .await;
     assert_eq!((s, v["code"].as_str()), (422, Some("invalid_input")), "{v}");
-    let (s, v) = t.put_json("/api/v1/speed", &json!({"cp_velocity_m_s": 3})).await;
+    let (s, v) = t
+        .put_json("/api/v1/speed", &json!({"cp_velocity_m_s": 3}))
+        .await;
     assert_eq!((s, v["code"].as_str()), (422, Some("speed_limit")), "{v}");
-    let (s, v) = t.put_json("/api/v1/speed", &json!({"override_pct": 0})).await;
+    let (s, v) = t
+        .put_json("/api/v1/speed", &json!({"override_pct": 0}))
+        .await;
     assert_eq!((s, v["code"].as_str()), (422, Some("invalid_input")), "{v}");
-    assert_eq!(std::fs::read_to_string(&cmd).expect("command file"), before, "no rejected request reached the channel");
+    assert_eq!(
+        std::fs::read_to_string(&cmd).expect("command file"),
+        before,
+        "no rejected request reached the channel"
+    );
     let (s, v) = t.get("/api/v1/jobs/999999").await;
     assert_eq!((s, v["code"].as_str()), (404, Some("not_found")));
     let (s, v) = t.get("/api/v1/jobs/abc").await;
@@ -152,22 +277,47 @@ async fn validation_errors_write_nothing() {
 #[tokio::test]
 async fn controller_side_errors_are_structured() {
     // Without a model in the service, the controller itself rejects.
-    let t = TestService::start(Options { tweak: Box::new(|c| c.robot.model = "none".into()), ..Options::default() }).await;
-    let (s, v) = t.motions(json!([{"type": "ptp", "target": {"x": 2000}}])).await;
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| c.robot.model = "none".into()),
+        ..Options::default()
+    })
+    .await;
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 2000}}]))
+        .await;
     assert_eq!((s, v["code"].as_str()), (422, Some("unreachable")), "{v}");
     assert!(v["job_id"].is_u64(), "{v}");
-    let (s, v) = t.motions(json!([{"type": "ptp_axes", "axes": {"a3": 170}}])).await;
-    assert_eq!((s, v["code"].as_str(), v["axis"].as_u64()), (422, Some("software_limit"), Some(3)), "{v}");
-    let (s, v) = t.motions(json!([{"type": "lin", "target": {"y": 100}}])).await;
+    let (s, v) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a3": 170}}]))
+        .await;
+    assert_eq!(
+        (s, v["code"].as_str(), v["axis"].as_u64()),
+        (422, Some("software_limit"), Some(3)),
+        "{v}"
+    );
+    let (s, v) = t
+        .motions(json!([{"type": "lin", "target": {"y": 100}}]))
+        .await;
     assert_eq!((s, v["code"].as_str()), (422, Some("singularity")), "{v}");
     // An error state on the controller: commands fail until reset.
-    t.service.sim.as_ref().expect("sim").inject_error(kuka_protocol::ResultCode::RuntimeError, 0);
+    t.service
+        .sim
+        .as_ref()
+        .expect("sim")
+        .inject_error(kuka_protocol::ResultCode::RuntimeError, 0);
     tokio::time::sleep(Duration::from_millis(50)).await;
     let (_, st) = t.get("/api/v1/state").await;
     assert_eq!(st["controller"]["status"], "error", "{st}");
-    assert_eq!(st["controller"]["error"]["code"], "controller_error", "{st}");
+    assert_eq!(
+        st["controller"]["error"]["code"], "controller_error",
+        "{st}"
+    );
     let (s, v) = t.post("/api/v1/home").await;
-    assert_eq!((s, v["code"].as_str()), (409, Some("controller_error")), "{v}");
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (409, Some("controller_error")),
+        "{v}"
+    );
     let (s, v) = t.post("/api/v1/reset").await;
     assert_eq!(s, 200, "{v}");
     let (s, v) = t.post("/api/v1/home").await;
@@ -190,31 +340,62 @@ async fn frames_and_speeds() {
     assert_eq!((s, &v), (200, &base));
     let (_, st) = t.get("/api/v1/state").await;
     assert_eq!(st["tool"], tool);
-    let (s, v) = t.put_json("/api/v1/speed", &json!({"override_pct": 50, "cp_velocity_m_s": 0.1})).await;
+    let (s, v) = t
+        .put_json(
+            "/api/v1/speed",
+            &json!({"override_pct": 50, "cp_velocity_m_s": 0.1}),
+        )
+        .await;
     assert_eq!(s, 200, "{v}");
     assert_eq!(v["override_pct"], 50.0);
     assert_eq!(v["cp_velocity_m_s"], 0.1);
     let (_, v) = t.get("/api/v1/speed").await;
     assert_eq!(v["override_pct"], 50.0);
     let (_, st) = t.get("/api/v1/state").await;
-    assert_eq!(st["controller"]["override_pct"], 50.0, "the controller applied the override");
+    assert_eq!(
+        st["controller"]["override_pct"], 50.0,
+        "the controller applied the override"
+    );
     t.service.shutdown().await.expect("shutdown");
 }
 
 #[tokio::test]
 async fn async_jobs_cancel_stop_and_events() {
     // Real-time simulation so a motion takes a while.
-    let t = TestService::start(Options { time_scale: 1.0, ..Options::default() }).await;
-    let events = t.http.get(t.url("/api/v1/events?types=job")).send().await.expect("events");
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    let events = t
+        .http
+        .get(t.url("/api/v1/events?types=job"))
+        .send()
+        .await
+        .expect("events");
     assert_eq!(events.status(), 200);
-    assert!(events.headers()["content-type"].to_str().expect("ct").starts_with("text/event-stream"));
+    assert!(
+        events.headers()["content-type"]
+            .to_str()
+            .expect("ct")
+            .starts_with("text/event-stream")
+    );
     let mut stream = events.bytes_stream();
 
     // A slow motion (several seconds) without waiting.
     let slow = json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 160}, "velocity_pct": 5}], "wait": false});
-    let r = t.http.post(t.url("/api/v1/motions")).json(&slow).send().await.expect("send");
+    let r = t
+        .http
+        .post(t.url("/api/v1/motions"))
+        .json(&slow)
+        .send()
+        .await
+        .expect("send");
     assert_eq!(r.status(), 202);
-    let location = r.headers()["location"].to_str().expect("location").to_string();
+    let location = r.headers()["location"]
+        .to_str()
+        .expect("location")
+        .to_string();
     let job: Value = r.json().await.expect("job");
     let id = job["id"].as_u64().expect("id");
     assert_eq!(location, format!("/api/v1/jobs/{id}"));
@@ -249,7 +430,10 @@ async fn async_jobs_cancel_stop_and_events() {
     let deadline = tokio::time::Instant::now() + Duration::from_secs(5);
     let mut buf = String::new();
     while tokio::time::Instant::now() < deadline && !seen.contains(&"cancelled".to_string()) {
-        let Ok(Some(Ok(chunk))) = tokio::time::timeout(Duration::from_secs(2), stream.next()).await else { break };
+        let Ok(Some(Ok(chunk))) = tokio::time::timeout(Duration::from_secs(2), stream.next()).await
+        else {
+            break;
+        };
         buf.push_str(&String::from_utf8_lossy(&chunk));
         while let Some(end) = buf.find("\n\n") {
             let msg: String = buf.drain(..end + 2).collect();
@@ -291,7 +475,15 @@ async fn concurrent_requests_run_in_arrival_order() {
         assert_eq!(job["state"], "done", "{job}");
         cids.push(job["cid"].as_i64().expect("cid"));
     }
-    assert!(cids.windows(2).all(|w| w[0] < w[1]), "command ids follow arrival order: {cids:?}");
+    assert!(
+        cids.windows(2).all(|w| w[0] < w[1]),
+        "command ids follow arrival order: {cids:?}"
+    );
     let (_, p) = t.get("/api/v1/position").await;
-    assert_close(p["position"]["x"].as_f64().expect("x"), 270.0, 0.01, "last request ran last");
+    assert_close(
+        p["position"]["x"].as_f64().expect("x"),
+        270.0,
+        0.01,
+        "last request ran last",
+    );
 }

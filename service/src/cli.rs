@@ -7,9 +7,9 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use crate::config::Config;
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use crate::config::Config;
 
 /// A REST API for KUKA robots over a file protocol.
 #[derive(Debug, Parser)]
@@ -157,10 +157,7 @@ fn real_main(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Cmd::Openapi => {
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&crate::api::openapi())?
-            );
+            println!("{}", serde_json::to_string_pretty(&crate::api::openapi())?);
             Ok(())
         }
     }

@@ -566,11 +566,21 @@ impl Actor {
             let e = BridgeError::new(
                 ErrorCode::Timeout,
                 format!(
-                    "no heartbeat from the controller for {secs:.1} s while command {} was running; its outcome is unknown",
+                    "no heartbeat from the controller for {secs:.1} s while command {} was running; it was stopped",
                     f.cid
                 ),
             );
             self.fail_inflight(e);
+            // A controller that comes back reads the newest command first:
+            // the motion its client was told had failed must not run on.
+            if self.stop.is_none() {
+                match self.send_stop() {
+                    Ok(cid) => tracing::warn!(cid, "stop written for when the controller returns"),
+                    Err(e) => {
+                        tracing::error!(code = e.code.as_str(), detail = %e.detail, "cannot write stop")
+                    }
+                }
+            }
         }
         let e = BridgeError::new(
             ErrorCode::ControllerOffline,

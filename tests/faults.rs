@@ -1,0 +1,462 @@
+//! Faults on the controller side: a killed, hung or silent controller, a
+//! locked command file, half-written results, a restarted service. Nothing
+//! may hang, nothing may be executed twice, the service keeps answering.
+
+use std::io::Write;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use kuka_bridge_tests::{Options, TestService, assert_close, test_config};
+use kuka_protocol::{
+    COMMAND_FILE, CommandFile, ControllerStatus, Frame, OperatingMode, RESULT_FILE, ResultCode,
+    ResultFile, ResultRecord, STATE_FILE, StateFile,
+};
+use serde_json::{Value, json};
+
+/// The CLI binary built in this crate.
+fn cli() -> &'static str {
+    env!("CARGO_BIN_EXE_kuka-bridge-cli")
+}
+
+/// A simulated controller in its own process (`kuka-bridge simulate`).
+struct SimProcess(Child);
+
+impl SimProcess {
+    fn spawn(dir: &Path, time_scale: f64) -> SimProcess {
+        let child = Command::new(cli())
+            .args(["simulate", "--channel-dir"])
+            .arg(dir)
+            .args([
+                "--time-scale",
+                &time_scale.to_string(),
+                "--heartbeat-ms",
+                "10",
+            ])
+            .env("KUKA_BRIDGE_LOG", "warn")
+            .stdout(Stdio::null())
+            .spawn()
+            .expect("spawn simulator");
+        SimProcess(child)
+    }
+
+    fn kill(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+impl Drop for SimProcess {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
+async fn service_without_sim(root: &tempfile::TempDir) -> TestService {
+    let mut c = test_config(root.path());
+    c.simulator.enabled = false;
+    let dirs = tempfile::tempdir_in(root.path()).expect("tempdir");
+    // Share the channel and data directories of `root`.
+    c.channel.dir = Some(root.path().join("channel"));
+    c.data_dir = root.path().join("data");
+    TestService::start_with(c, dirs).await
+}
+
+fn slow_motion() -> Value {
+    json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 160}, "velocity_pct": 5}], "wait": false})
+}
+
+async fn wait_job_state(
+    t: &TestService,
+    id: u64,
+    terminal: bool,
+    want: &str,
+    within: Duration,
+) -> Value {
+    let deadline = Instant::now() + within;
+    loop {
+        let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
+        let state = j["state"].as_str().unwrap_or("").to_string();
+        let done = ["done", "failed", "cancelled"].contains(&state.as_str());
+        if state == want || (terminal && done) || Instant::now() > deadline {
+            return j;
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+}
+
+#[tokio::test]
+async fn killed_controller_gives_timeout_and_service_recovers() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let mut sim = SimProcess::spawn(&root.path().join("channel"), 1.0);
+    let t = service_without_sim(&root).await;
+    t.wait_connection("online").await;
+    let (s, job) = t.post_json("/api/v1/motions", &slow_motion()).await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    let j = wait_job_state(&t, id, false, "executing", Duration::from_secs(5)).await;
+    assert_eq!(j["state"], "executing", "{j}");
+    let killed_at = Instant::now();
+    sim.kill();
+    let j = wait_job_state(&t, id, true, "failed", Duration::from_secs(5)).await;
+    let waited = killed_at.elapsed();
+    assert_eq!(j["state"], "failed", "{j}");
+    assert_eq!(j["error"]["code"], "timeout", "{j}");
+    assert!(
+        waited < Duration::from_secs(2),
+        "failed within the offline threshold: {waited:?}"
+    );
+    // The service keeps serving and reports the controller offline.
+    let (s, h) = t.get("/health").await;
+    assert_eq!((s, &h["connection"]), (200, &json!("offline")));
+    let (s, v) = t.post("/krl/getpos").await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (503, Some("controller_offline")),
+        "{v}"
+    );
+    assert_eq!(v["statuscode"], 50);
+    // A restarted controller is picked up again and commands work.
+    let _sim2 = SimProcess::spawn(&root.path().join("channel"), 0.0);
+    t.wait_connection("online").await;
+    let (s, v) = t.post("/krl/getpos").await;
+    assert_eq!(s, 200, "{v}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+#[cfg(unix)]
+#[tokio::test]
+async fn hung_controller_process_gives_timeout() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let sim = SimProcess::spawn(&root.path().join("channel"), 1.0);
+    let t = service_without_sim(&root).await;
+    t.wait_connection("online").await;
+    let (_, job) = t.post_json("/api/v1/motions", &slow_motion()).await;
+    let id = job["id"].as_u64().expect("id");
+    wait_job_state(&t, id, false, "executing", Duration::from_secs(5)).await;
+    let pid = sim.0.id().to_string();
+    assert!(
+        Command::new("kill")
+            .args(["-STOP", &pid])
+            .status()
+            .expect("kill")
+            .success()
+    );
+    let j = wait_job_state(&t, id, true, "failed", Duration::from_secs(5)).await;
+    assert_eq!(j["error"]["code"], "timeout", "{j}");
+    let (s, _) = t.get("/api/v1/state").await;
+    assert_eq!(s, 200, "service still answers");
+    assert!(
+        Command::new("kill")
+            .args(["-CONT", &pid])
+            .status()
+            .expect("kill")
+            .success()
+    );
+    t.wait_connection("online").await;
+    // After the timeout the service sent STOP: the resumed controller brakes.
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let (_, st) = t.get("/api/v1/state").await;
+    let cmd =
+        std::fs::read_to_string(root.path().join("channel").join(COMMAND_FILE)).unwrap_or_default();
+    assert_eq!(
+        st["controller"]["status"], "idle",
+        "{st}\njob: {j}\ncommand file: {cmd}"
+    );
+    let (s, v) = t.post("/krl/getpos").await;
+    assert_eq!(s, 200, "{v}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+#[tokio::test]
+async fn paused_embedded_controller_times_out_then_recovers() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    let sim = t.service.sim.clone().expect("sim");
+    let (_, job) = t.post_json("/api/v1/motions", &slow_motion()).await;
+    let id = job["id"].as_u64().expect("id");
+    wait_job_state(&t, id, false, "executing", Duration::from_secs(5)).await;
+    sim.pause();
+    let started = Instant::now();
+    // A synchronous request queued behind it fails too, and does not hang.
+    let (s, v) = t.post("/krl/getpos").await;
+    assert!(started.elapsed() < Duration::from_secs(3), "no hang");
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (503, Some("controller_offline")),
+        "{v}"
+    );
+    let j = wait_job_state(&t, id, true, "failed", Duration::from_secs(5)).await;
+    assert_eq!(j["error"]["code"], "timeout", "{j}");
+    sim.resume();
+    t.wait_connection("online").await;
+    let (s, _) = t.post("/krl/getpos").await;
+    assert_eq!(s, 200);
+    t.service.shutdown().await.expect("shutdown");
+}
+
+#[tokio::test]
+async fn locked_command_file_reports_channel_locked_and_recovers() {
+    let t = TestService::start(Options::default()).await;
+    let (s, _) = t.post("/krl/getpos").await;
+    assert_eq!(s, 200);
+    let path = t.channel_dir().join(COMMAND_FILE);
+    let before = std::fs::read_to_string(&path).expect("command");
+    let holder = std::fs::File::open(&path).expect("open");
+    holder.lock().expect("lock");
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 300}}]))
+        .await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (503, Some("channel_locked")),
+        "{v}"
+    );
+    assert!(
+        v["detail"].as_str().expect("detail").contains("locked"),
+        "{v}"
+    );
+    let (_, st) = t.get("/api/v1/state").await;
+    assert_eq!(st["connection"], "locked", "{st}");
+    assert_eq!(
+        std::fs::read_to_string(&path).expect("command"),
+        before,
+        "nothing written"
+    );
+    drop(holder);
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 300}}]))
+        .await;
+    assert_eq!(s, 200, "{v}");
+    let (_, st) = t.get("/api/v1/state").await;
+    assert_eq!(st["connection"], "online", "{st}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// A hand-written controller: heartbeats, and answers each command with a
+/// half-written result file first, the complete one 300 ms later.
+fn scripted_controller(
+    dir: &Path,
+    stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    answer: bool,
+) {
+    let mut seq = 0;
+    let mut last_cid = 0;
+    let mut results: Vec<ResultRecord> = Vec::new();
+    let mut pending: Option<(Instant, i32)> = None;
+    while !stop.load(std::sync::atomic::Ordering::SeqCst) {
+        seq += 1;
+        let state = StateFile {
+            seq,
+            status: ControllerStatus::Idle,
+            mode: OperatingMode::Ext,
+            busy_cid: 0,
+            busy_index: 0,
+            last_cid: if answer { last_cid } else { 0 },
+            error: None,
+            error_axis: 0,
+            override_pct: 100.0,
+            simulated: true,
+            position: Frame {
+                x: 1.0,
+                y: 2.0,
+                z: 3.0,
+                a: 0.0,
+                b: 90.0,
+                c: 0.0,
+            },
+            s: 2,
+            t: 0,
+            axes: [0.0, -90.0, 90.0, 0.0, 0.0, 0.0],
+            tool: Frame::default(),
+            base: Frame::default(),
+        };
+        let text = state.encode().expect("state");
+        kuka_protocol::files::atomic_write(dir, STATE_FILE, "fake", &text).expect("write state");
+        if answer && let Ok(Some(cmd)) = kuka_protocol::files::read(dir, COMMAND_FILE) {
+            if let Ok(cmd) = CommandFile::decode(&cmd)
+                && cmd.cid > last_cid
+            {
+                last_cid = cmd.cid;
+                results.push(ResultRecord {
+                    cid: cmd.cid,
+                    code: ResultCode::Ok,
+                    completed: 0,
+                    axis: 0,
+                    position: Frame {
+                        x: 123.456,
+                        y: -7.5,
+                        z: 42.0,
+                        a: 0.0,
+                        b: 90.0,
+                        c: 0.0,
+                    },
+                    s: 2,
+                    t: 0,
+                    axes: [0.0; 6],
+                });
+                let full = ResultFile {
+                    results: results.clone(),
+                }
+                .encode()
+                .expect("encode");
+                // Half-written, in place (not atomic): cut in the middle of a number.
+                let cut = full.len() - 20;
+                let mut f = std::fs::File::create(dir.join(RESULT_FILE)).expect("create");
+                f.write_all(&full.as_bytes()[..cut]).expect("write");
+                pending = Some((Instant::now() + Duration::from_millis(300), cmd.cid));
+            }
+            if let Some((at, _)) = pending
+                && Instant::now() >= at
+            {
+                let full = ResultFile {
+                    results: results.clone(),
+                }
+                .encode()
+                .expect("encode");
+                std::fs::write(dir.join(RESULT_FILE), full).expect("write");
+                pending = None;
+            }
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[tokio::test]
+async fn half_written_result_is_never_misparsed() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let dir = root.path().join("channel");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let (d, s) = (dir.clone(), stop.clone());
+    let fake = std::thread::spawn(move || scripted_controller(&d, s, true));
+    let t = service_without_sim(&root).await;
+    t.wait_connection("online").await;
+    let started = Instant::now();
+    let (status, v) = t.post("/krl/getpos").await;
+    assert_eq!(status, 200, "{v}");
+    assert!(
+        started.elapsed() >= Duration::from_millis(250),
+        "answered only after the complete file"
+    );
+    assert_eq!(v["position"], json!([123.456, -7.5, 42.0, 0.0, 90.0, 0.0]));
+    stop.store(true, std::sync::atomic::Ordering::SeqCst);
+    fake.join().expect("fake controller");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+#[tokio::test]
+async fn command_never_picked_up_times_out_and_is_superseded() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let dir = root.path().join("channel");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let (d, s) = (dir.clone(), stop.clone());
+    // Heartbeats, but never reads commands (a KRL program stuck elsewhere).
+    let fake = std::thread::spawn(move || scripted_controller(&d, s, false));
+    let t = service_without_sim(&root).await;
+    t.wait_connection("online").await;
+    let started = Instant::now();
+    let (s, v) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a1": 30}}]))
+        .await;
+    assert_eq!((s, v["code"].as_str()), (504, Some("timeout")), "{v}");
+    assert!(
+        started.elapsed() < Duration::from_secs(3),
+        "bounded by the ack timeout"
+    );
+    // The service superseded the unread command with a STOP.
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    let cmd = CommandFile::decode(&std::fs::read_to_string(dir.join(COMMAND_FILE)).expect("cmd"))
+        .expect("decode");
+    assert_eq!(cmd.command, kuka_protocol::Command::Stop);
+    stop.store(true, std::sync::atomic::Ordering::SeqCst);
+    fake.join().expect("fake controller");
+    // A real controller that now starts never executes the timed-out motion.
+    let sim = kuka_sim::SimController::start({
+        let mut c = kuka_sim::SimConfig::new(&dir);
+        c.time_scale = 0.0;
+        c.heartbeat = Duration::from_millis(10);
+        c
+    })
+    .expect("sim");
+    t.wait_connection("online").await;
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    assert_close(sim.snapshot().axes[0], 0.0, 1e-9, "A1 never moved");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+#[tokio::test]
+async fn offline_controller_rejects_at_once() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let t = service_without_sim(&root).await;
+    let started = Instant::now();
+    let (s, v) = t.post("/krl/ptp?x=300").await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (503, Some("controller_offline")),
+        "{v}"
+    );
+    assert!(started.elapsed() < Duration::from_secs(1));
+    assert!(
+        !root.path().join("channel").join(COMMAND_FILE).exists(),
+        "nothing written"
+    );
+    t.service.shutdown().await.expect("shutdown");
+}
+
+#[tokio::test]
+async fn restarted_service_never_reuses_a_command_id() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let sim = kuka_sim::SimController::start({
+        let mut c = kuka_sim::SimConfig::new(root.path().join("channel"));
+        c.time_scale = 0.0;
+        c.heartbeat = Duration::from_millis(10);
+        c
+    })
+    .expect("sim");
+    let mut last = 0;
+    for round in 0..3 {
+        let t = service_without_sim(&root).await;
+        t.wait_connection("online").await;
+        for _ in 0..3 {
+            let (s, v) = t
+                .motions(json!([{"type": "ptp", "target": {"x": 300 + round * 10}}]))
+                .await;
+            assert_eq!(s, 200, "{v}");
+            let cid = v["cid"].as_i64().expect("cid");
+            assert!(cid > last, "round {round}: cid {cid} after {last}");
+            last = cid;
+        }
+        t.service.shutdown().await.expect("shutdown");
+    }
+    // Losing the counter file is survivable: the controller's ids are the floor.
+    std::fs::remove_file(root.path().join("data").join("next_cid")).expect("counter exists");
+    let t = service_without_sim(&root).await;
+    t.wait_connection("online").await;
+    let (s, v) = t.post("/krl/getpos").await;
+    assert_eq!(s, 200, "{v}");
+    let (_, j) = t.get("/api/v1/jobs?limit=1").await;
+    assert!(j[0]["cid"].as_i64().expect("cid") > last, "{j}");
+    assert_eq!(
+        sim.snapshot().last_cid as i64,
+        j[0]["cid"].as_i64().expect("cid"),
+        "the controller executed it"
+    );
+    t.service.shutdown().await.expect("shutdown");
+}
+
+#[tokio::test]
+async fn second_service_on_the_same_channel_is_refused() {
+    let t = TestService::start(Options::default()).await;
+    let mut c = test_config(t.dirs.path());
+    c.simulator.enabled = false;
+    match kuka_bridge::app::start(c).await {
+        Err(e) => assert!(e.to_string().contains("already serves"), "{e}"),
+        Ok(_) => panic!("two services on one channel"),
+    }
+    t.service.shutdown().await.expect("shutdown");
+}
