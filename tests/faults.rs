@@ -405,6 +405,19 @@ async fn offline_controller_rejects_at_once() {
         !root.path().join("channel").join(COMMAND_FILE).exists(),
         "nothing written"
     );
+    // Stop still leaves a STOP on the channel for a controller that comes back.
+    let (s, v) = t.post("/api/v1/stop").await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (503, Some("controller_offline")),
+        "{v}"
+    );
+    let cmd = std::fs::read_to_string(root.path().join("channel").join(COMMAND_FILE))
+        .expect("stop written");
+    assert_eq!(
+        CommandFile::decode(&cmd).expect("decode").command,
+        kuka_protocol::Command::Stop
+    );
     t.service.shutdown().await.expect("shutdown");
 }
 

@@ -62,6 +62,12 @@ async fn state_health_and_docs() {
     assert_eq!(r.status(), 200, "Swagger UI assets are embedded (offline)");
     let (s, v) = t.get("/api/v1/nothing").await;
     assert_eq!((s, v["code"].as_str()), (404, Some("not_found")));
+    let (s, v) = t.delete("/api/v1/stop").await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (405, Some("method_not_allowed")),
+        "{v}"
+    );
     t.service.shutdown().await.expect("shutdown");
 }
 

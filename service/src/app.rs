@@ -37,6 +37,9 @@ pub enum AppError {
         #[source]
         source: std::io::Error,
     },
+    /// The engine thread could not start.
+    #[error("cannot start the engine: {0}")]
+    Engine(#[source] std::io::Error),
     /// The HTTP server failed.
     #[error("HTTP server: {0}")]
     Serve(#[source] std::io::Error),
@@ -83,7 +86,8 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
             cids,
             safety,
         },
-    );
+    )
+    .map_err(AppError::Engine)?;
     let listener = tokio::net::TcpListener::bind(config.server.listen)
         .await
         .map_err(|source| AppError::Bind {
@@ -102,6 +106,14 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         closing_rx,
     );
     let (stop_http, stop_rx) = oneshot::channel::<()>();
+    // Small request/response pairs: send at once instead of waiting for
+    // delayed ACKs (Nagle), which costs milliseconds per round trip.
+    use axum::serve::ListenerExt;
+    let listener = listener.tap_io(|tcp| {
+        if let Err(e) = tcp.set_nodelay(true) {
+            tracing::debug!(error = %e, "cannot set TCP_NODELAY");
+        }
+    });
     let server = tokio::spawn(async move {
         axum::serve(listener, router)
             .with_graceful_shutdown(async move {

@@ -35,6 +35,8 @@ pub enum ErrorCode {
     Cancelled,
     /// No such resource.
     NotFound,
+    /// The endpoint exists but not with this HTTP method.
+    MethodNotAllowed,
     /// Too many jobs waiting.
     QueueFull,
     /// The controller answered something this service does not understand.
@@ -57,6 +59,7 @@ impl ErrorCode {
             ErrorCode::Timeout => 504,
             ErrorCode::ControllerError | ErrorCode::ControllerBusy | ErrorCode::Cancelled => 409,
             ErrorCode::NotFound => 404,
+            ErrorCode::MethodNotAllowed => 405,
             ErrorCode::ProtocolError => 502,
             ErrorCode::Internal => 500,
         }
@@ -78,6 +81,7 @@ impl ErrorCode {
             ErrorCode::ControllerBusy => "Controller busy",
             ErrorCode::Cancelled => "Cancelled",
             ErrorCode::NotFound => "Not found",
+            ErrorCode::MethodNotAllowed => "Method not allowed",
             ErrorCode::QueueFull => "Queue full",
             ErrorCode::ProtocolError => "Protocol error",
             ErrorCode::Internal => "Internal error",
@@ -100,6 +104,7 @@ impl ErrorCode {
             ErrorCode::ControllerBusy => "controller_busy",
             ErrorCode::Cancelled => "cancelled",
             ErrorCode::NotFound => "not_found",
+            ErrorCode::MethodNotAllowed => "method_not_allowed",
             ErrorCode::QueueFull => "queue_full",
             ErrorCode::ProtocolError => "protocol_error",
             ErrorCode::Internal => "internal",

@@ -102,7 +102,7 @@ impl Safety {
             )));
         }
         for (i, r) in requests.iter().enumerate() {
-            let (vel, acc, apo) = match r {
+            let (acc, apo) = match r {
                 MotionRequest::Ptp {
                     target,
                     velocity_pct,
@@ -114,7 +114,7 @@ impl Safety {
                     if let Some(v) = velocity_pct {
                         self.cap(i, "velocity_pct", *v, self.motion.max_ptp_velocity_pct, "%")?;
                     }
-                    (*velocity_pct, *acceleration_pct, *approx_mm)
+                    (*acceleration_pct, *approx_mm)
                 }
                 MotionRequest::PtpAxes {
                     axes,
@@ -136,7 +136,7 @@ impl Safety {
                     if let Some(v) = velocity_pct {
                         self.cap(i, "velocity_pct", *v, self.motion.max_ptp_velocity_pct, "%")?;
                     }
-                    (*velocity_pct, *acceleration_pct, *approx_mm)
+                    (*acceleration_pct, *approx_mm)
                 }
                 MotionRequest::Lin {
                     target,
@@ -149,7 +149,7 @@ impl Safety {
                     if let Some(v) = velocity_m_s {
                         self.cap(i, "velocity_m_s", *v, self.motion.max_cp_velocity, " m/s")?;
                     }
-                    (*velocity_m_s, *acceleration_pct, *approx_mm)
+                    (*acceleration_pct, *approx_mm)
                 }
                 MotionRequest::Circ {
                     aux,
@@ -166,15 +166,14 @@ impl Safety {
                     if let Some(v) = velocity_m_s {
                         self.cap(i, "velocity_m_s", *v, self.motion.max_cp_velocity, " m/s")?;
                     }
-                    (*velocity_m_s, *acceleration_pct, *approx_mm)
+                    (*acceleration_pct, *approx_mm)
                 }
             };
-            let _ = vel;
             if let Some(a) = acc
-                && !(a.is_finite() && a > 0.0 && a <= 100.0)
+                && !(a.is_finite() && (1.0..=100.0).contains(&a))
             {
                 return Err(BridgeError::invalid(format!(
-                    "motion {i}: acceleration_pct = {a} is not in (0, 100]"
+                    "motion {i}: acceleration_pct = {a} is not in [1, 100]"
                 ))
                 .at_motion(i));
             }

@@ -56,8 +56,10 @@ pub enum ReadError {
 fn is_lock_error(e: &io::Error) -> bool {
     // Windows: ERROR_SHARING_VIOLATION (32), ERROR_LOCK_VIOLATION (33),
     // ERROR_ACCESS_DENIED (5, also returned when the target is open).
-    matches!(e.raw_os_error(), Some(32 | 33))
-        || (cfg!(windows) && e.kind() == ErrorKind::PermissionDenied)
+    // Only Windows reports locks as errors; elsewhere these numbers mean other things.
+    cfg!(windows)
+        && (matches!(e.raw_os_error(), Some(5 | 32 | 33))
+            || e.kind() == ErrorKind::PermissionDenied)
 }
 
 /// Atomically replaces `dir/name` with `text`: writes `dir/name.<tag>.tmp`,

@@ -305,5 +305,7 @@ fn checksum_matches_the_documented_example() {
     .expect("ok");
     let first = text.lines().next().expect("line");
     assert_eq!(first, format!("CMD 1 17 3 0 {}", checksum([1, 17, 3, 0])));
-    assert_eq!(checksum([1, 17, 3, 0]), ((31 + 17) * 31 + 3) * 31 % 65521);
+    assert_eq!(checksum([1, 17, 3, 0]), 46221);
+    // Negative values and values beyond the modulus, as KRL computes them.
+    assert_eq!(checksum([-1000, 2_147_483_647, 359_999]), 24905);
 }

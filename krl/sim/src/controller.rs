@@ -412,11 +412,7 @@ impl Controller {
 
     /// The heartbeat record (increments the sequence number).
     pub(crate) fn state_record(&mut self) -> StateFile {
-        self.seq = if self.seq >= i32::MAX {
-            1
-        } else {
-            self.seq + 1
-        };
+        self.seq = self.seq.checked_add(1).unwrap_or(1);
         let (pose, s, t) = self.position();
         let (status, busy_cid, busy_index) = match (&self.active, &self.error) {
             (_, Some(_)) => (ControllerStatus::Error, 0, 0),

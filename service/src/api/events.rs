@@ -29,7 +29,7 @@ pub struct EventsQuery {
 /// Live events (Server-Sent Events).
 ///
 /// Each SSE message has `event:` = `job`, `state` or `alarm` and `data:` = the JSON
-/// of the job, the robot state or the problem. A state event follows each heartbeat
+/// of the job, the robot state or the error (`code`, `detail`, `axis`, `motion`). A state event follows each heartbeat
 /// that changed something. A `lagged` event says the client was too slow and missed
 /// some. The stream starts with the current state.
 #[utoipa::path(get, path = "/api/v1/events", tag = "events", params(EventsQuery),

@@ -13,7 +13,7 @@ use std::time::Duration;
 
 use axum::Router;
 use axum::extract::State;
-use axum::http::{StatusCode, Uri};
+use axum::http::Uri;
 use axum::response::Response;
 use serde::Serialize;
 use tower_http::trace::TraceLayer;
@@ -111,16 +111,12 @@ async fn not_found(uri: Uri) -> Problem {
     .into()
 }
 
-async fn method_not_allowed() -> Response {
-    let body = problem::ProblemDetails::from_error(&BridgeError::invalid(
-        "method not allowed on this endpoint; see /docs",
-    ));
-    let mut body = body;
-    body.status = 405;
-    body.title = "Method not allowed".into();
-    let mut r = problem::json_response(405, problem::PROBLEM_JSON, &body);
-    *r.status_mut() = StatusCode::METHOD_NOT_ALLOWED;
-    r
+async fn method_not_allowed() -> Problem {
+    BridgeError::new(
+        ErrorCode::MethodNotAllowed,
+        "this endpoint does not accept that HTTP method; see /docs",
+    )
+    .into()
 }
 
 /// The documented routes and their OpenAPI description.

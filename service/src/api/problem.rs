@@ -22,7 +22,7 @@ pub const PROBLEM_JSON: &str = "application/problem+json";
     "type": "https://github.com/kuka-bridge/kuka-bridge/blob/main/docs/errors.md#software_limit",
     "title": "Software limit switch",
     "status": 422,
-    "detail": "motion 0: axis A5 would be at 128.000° outside its software limits [-120.0°, 120.0°]",
+    "detail": "axis A5 would be at 128.000° outside its software limits [-120.0°, 120.0°]",
     "code": "software_limit",
     "axis": 5,
     "motion": 0

@@ -101,8 +101,8 @@ pub struct ThesisProblem {
     pub problem: ProblemDetails,
 }
 
-/// The thesis `statuscode` for an error (1 is success; controller errors
-/// keep the controller's result code).
+/// The thesis `statuscode` for an error (1 is success). Motion errors use
+/// the numbers of the matching controller result codes; see docs/errors.md.
 pub fn statuscode(code: ErrorCode) -> i32 {
     match code {
         ErrorCode::Cancelled => 2,
@@ -120,6 +120,7 @@ pub fn statuscode(code: ErrorCode) -> i32 {
         ErrorCode::Timeout => 52,
         ErrorCode::QueueFull => 53,
         ErrorCode::NotFound => 54,
+        ErrorCode::MethodNotAllowed => 55,
         ErrorCode::Internal => 99,
     }
 }
@@ -162,12 +163,9 @@ fn job_position(job: &Job, frame_result: bool) -> [f64; 6] {
     }
 }
 
-fn query<T>(
-    app: &AppState,
-    q: Result<axum::extract::Query<T>, QueryRejection>,
-) -> Result<T, Response> {
+fn query<T>(q: Result<axum::extract::Query<T>, QueryRejection>) -> Result<T, BridgeError> {
     q.map(|axum::extract::Query(v)| v)
-        .map_err(|e| fail(app, &query_rejection(&e)))
+        .map_err(|e| query_rejection(&e))
 }
 
 /// PTP to a Cartesian target (thesis method 1).
@@ -180,9 +178,9 @@ async fn ptp(
     State(app): State<AppState>,
     q: Result<axum::extract::Query<PointQuery>, QueryRejection>,
 ) -> Response {
-    let q = match query(&app, q) {
+    let q = match query(q) {
         Ok(q) => q,
-        Err(r) => return r,
+        Err(e) => return fail(&app, &e),
     };
     let m = MotionRequest::Ptp {
         target: q.target(),
@@ -201,9 +199,9 @@ async fn linmov(
     State(app): State<AppState>,
     q: Result<axum::extract::Query<PointQuery>, QueryRejection>,
 ) -> Response {
-    let q = match query(&app, q) {
+    let q = match query(q) {
         Ok(q) => q,
-        Err(r) => return r,
+        Err(e) => return fail(&app, &e),
     };
     let m = MotionRequest::Lin {
         target: q.target(),
@@ -222,9 +220,9 @@ async fn circ(
     State(app): State<AppState>,
     q: Result<axum::extract::Query<CircQuery>, QueryRejection>,
 ) -> Response {
-    let q = match query(&app, q) {
+    let q = match query(q) {
         Ok(q) => q,
-        Err(r) => return r,
+        Err(e) => return fail(&app, &e),
     };
     let m = MotionRequest::Circ {
         aux: AuxPoint {
@@ -271,9 +269,9 @@ async fn tcp(
     State(app): State<AppState>,
     q: Result<axum::extract::Query<PointQuery>, QueryRejection>,
 ) -> Response {
-    let q = match query(&app, q) {
+    let q = match query(q) {
         Ok(q) => q,
-        Err(r) => return r,
+        Err(e) => return fail(&app, &e),
     };
     let cur = app.engine.state().tool.unwrap_or_default();
     let frame = CartesianFrame {

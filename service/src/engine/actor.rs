@@ -313,6 +313,19 @@ impl Actor {
 
     fn stop(&mut self, reply: oneshot::Sender<Result<()>>) {
         self.cancel_queue("cancelled by stop");
+        if !self.ctl.online {
+            // Still leave a STOP on the channel: a controller that comes back
+            // reads the newest command first.
+            let written = self.send_stop();
+            let detail = match written {
+                Ok(_) => {
+                    "the controller is offline: a stop command was written to the channel, but nothing confirms it"
+                }
+                Err(_) => "the controller is offline and the stop command could not be written",
+            };
+            let _ = reply.send(Err(BridgeError::new(ErrorCode::ControllerOffline, detail)));
+            return;
+        }
         if let Some(stop) = &mut self.stop {
             stop.waiters.push(reply);
             return;
@@ -518,7 +531,12 @@ impl Actor {
             op if !is_frame_op(op) => self.ctl.pose = Some((r.position, r.s, r.t)),
             _ => {}
         }
-        let error = result_error(&r);
+        let mut error = result_error(&r);
+        if !matches!(f.op, Operation::Move(_))
+            && let Some(e) = &mut error
+        {
+            e.motion = None;
+        }
         let elapsed_ms = f.sent_at.elapsed().as_secs_f64() * 1000.0;
         match &error {
             None => tracing::debug!(job = f.id, cid = r.cid, elapsed_ms, "job done"),

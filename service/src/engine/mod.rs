@@ -59,7 +59,7 @@ impl Shared {
             tx.send_modify(f);
             tx.borrow().clone()
         };
-        let _ = self.events.send(Event::Job(job.clone()));
+        let _ = self.events.send(Event::Job(Box::new(job.clone())));
         Some(job)
     }
 
@@ -95,8 +95,8 @@ pub struct EngineParts {
 }
 
 impl Engine {
-    /// Starts the actor on the current tokio runtime.
-    pub fn start(config: &Config, parts: EngineParts) -> Engine {
+    /// Starts the actor on a thread of its own.
+    pub fn start(config: &Config, parts: EngineParts) -> std::io::Result<Engine> {
         let speeds = SpeedSettings::from_config(&config.motion);
         let initial = RobotState {
             connection: Connection::Offline,
@@ -143,8 +143,16 @@ impl Engine {
             rx,
             speeds,
         );
-        tokio::spawn(actor.run());
-        Engine { shared, tx }
+        // The actor owns the channel and does small blocking file I/O: it gets
+        // a thread of its own, so file events reach it without waiting for a
+        // busy async worker, and HTTP work never waits behind file I/O.
+        let rt = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()?;
+        std::thread::Builder::new()
+            .name("kuka-engine".into())
+            .spawn(move || rt.block_on(actor.run()))?;
+        Ok(Engine { shared, tx })
     }
 
     /// The safety gate (also used by plugins and handlers for early checks).
@@ -231,7 +239,7 @@ impl Engine {
             }
         }
         self.shared.queued.fetch_add(1, Ordering::SeqCst);
-        self.shared.publish(Event::Job(job.clone()));
+        self.shared.publish(Event::Job(Box::new(job.clone())));
         let queued = actor::QueuedJob { id, op, timeout };
         if self.tx.send(Msg::Submit(queued)).await.is_err() {
             return Err(BridgeError::new(

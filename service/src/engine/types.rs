@@ -292,7 +292,7 @@ pub struct RobotState {
 #[serde(tag = "type", content = "data", rename_all = "snake_case")]
 pub enum Event {
     /// A job changed state or progressed.
-    Job(Job),
+    Job(Box<Job>),
     /// The robot state changed (at most at the heartbeat rate).
     State(Box<RobotState>),
     /// Something went wrong outside a job (channel locked, controller offline...).

@@ -1,0 +1,176 @@
+//! Benchmark of the whole bridge (results in docs/BENCHMARKS.md):
+//!
+//! 1. command round trip through HTTP with the instant simulator: the
+//!    thesis `POST /krl/getpos` (HTTP → engine → command file → simulated
+//!    controller → result file → engine → HTTP) and a small `POST
+//!    /api/v1/motions`; p50/p90/p99/max over many sequential requests.
+//! 2. a 200-segment polyline (a 100 mm-radius circle, 0.2 m/s): one
+//!    blended batch versus one request per segment, in simulated seconds
+//!    against the ideal path time (length / speed).
+//!
+//! Run: `cargo bench -p kuka-bridge-tests --bench bridge` (optionally
+//! `-- N` for the number of round trips, default 5000). The channel
+//! directory lives in the system temp directory; set `KB_BENCH_DIR` to put
+//! it elsewhere (e.g. `/dev/shm` to take the disk out of the measurement).
+
+use std::time::{Duration, Instant};
+
+use kuka_bridge_tests::{Options, TestService};
+use serde_json::{Value, json};
+
+fn percentile(sorted: &[Duration], p: f64) -> Duration {
+    let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;
+    sorted[i.min(sorted.len() - 1)]
+}
+
+fn report(name: &str, mut samples: Vec<Duration>) {
+    samples.sort();
+    let us = |d: Duration| d.as_secs_f64() * 1e6;
+    println!(
+        "{name:<34} n={:<6} p50={:>7.1} µs  p90={:>7.1} µs  p99={:>7.1} µs  max={:>8.1} µs",
+        samples.len(),
+        us(percentile(&samples, 0.50)),
+        us(percentile(&samples, 0.90)),
+        us(percentile(&samples, 0.99)),
+        us(*samples.last().unwrap_or(&Duration::ZERO)),
+    );
+}
+
+async fn round_trips(
+    t: &TestService,
+    n: usize,
+    request: impl Fn() -> reqwest::RequestBuilder,
+) -> Vec<Duration> {
+    // Warm up connections and caches.
+    for _ in 0..200 {
+        let r = request().send().await.expect("request");
+        assert!(
+            r.status().is_success(),
+            "{}",
+            r.text().await.unwrap_or_default()
+        );
+    }
+    let _ = t;
+    let mut out = Vec::with_capacity(n);
+    for _ in 0..n {
+        let start = Instant::now();
+        let r = request().send().await.expect("request");
+        let ok = r.status().is_success();
+        let _ = r.bytes().await;
+        out.push(start.elapsed());
+        assert!(ok);
+    }
+    out
+}
+
+fn circle_polyline(segments: usize, radius: f64) -> Vec<[f64; 2]> {
+    (0..=segments)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / segments as f64;
+            [250.0 + radius * a.cos(), radius * a.sin()]
+        })
+        .collect()
+}
+
+async fn sim_time(t: &TestService) -> f64 {
+    let (_, v) = t.get("/api/v1/sim").await;
+    v["sim_time_s"].as_f64().expect("sim time")
+}
+
+fn main() {
+    let n: usize = std::env::args()
+        .skip(1)
+        .find_map(|a| a.parse().ok())
+        .unwrap_or(5000);
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .expect("runtime");
+    rt.block_on(async move {
+        let t = TestService::start(Options {
+            time_scale: 0.0,
+            tweak: Box::new(|c| {
+                if let Some(dir) = std::env::var_os("KB_BENCH_DIR") {
+                    let dir = tempfile::tempdir_in(dir).expect("bench dir").keep();
+                    c.channel.dir = Some(dir);
+                }
+                c.channel.poll_interval_ms = 50;
+                c.simulator.heartbeat_ms = 50;
+                c.channel.offline_after_ms = 2000;
+            }),
+            ..Options::default()
+        })
+        .await;
+        println!("kuka-bridge benchmark ({} CPUs)", std::thread::available_parallelism().map_or(0, |n| n.get()));
+        println!("channel directory: {}", t.service.sim.as_ref().expect("sim").channel_dir().display());
+        println!("-- command round trip without HTTP (engine API), instant simulator");
+        let engine = t.service.engine.clone();
+        let mut samples = Vec::with_capacity(n);
+        for i in 0..n + 200 {
+            let start = Instant::now();
+            engine
+                .execute(kuka_bridge::engine::Operation::GetPosition, None, Duration::from_secs(5))
+                .await
+                .expect("get position");
+            if i >= 200 {
+                samples.push(start.elapsed());
+            }
+        }
+        report("engine.execute(GetPosition)", samples);
+        println!("-- command round trip through HTTP, instant simulator, sequential requests");
+        let url = t.url("/krl/getpos");
+        let http = t.http.clone();
+        report("POST /krl/getpos", round_trips(&t, n, || http.post(&url)).await);
+        let url = t.url("/api/v1/motions");
+        let http = t.http.clone();
+        let small = json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 1}, "relative": true}]});
+        let back = json!({"motions": [{"type": "ptp_axes", "axes": {"a1": -1}, "relative": true}]});
+        let flip = std::sync::atomic::AtomicBool::new(false);
+        let samples = round_trips(&t, n, || {
+            let b = if flip.fetch_xor(true, std::sync::atomic::Ordering::Relaxed) { &back } else { &small };
+            http.post(&url).json(b)
+        })
+        .await;
+        report("POST /api/v1/motions (1 axis PTP)", samples);
+
+        println!("-- 200-segment polyline (circle r = 100 mm, 0.2 m/s), simulated seconds");
+        let segments = 200;
+        let radius = 100.0;
+        let speed = 0.2;
+        let pts = circle_polyline(segments, radius);
+        let length_mm: f64 = pts.windows(2).map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2)).sqrt()).sum();
+        let ideal = length_mm / 1000.0 / speed;
+        let start = json!({"motions": [{"type": "ptp", "target": {"x": pts[0][0], "y": pts[0][1], "z": 100, "a": 0, "b": 180, "c": 0}}]});
+        let (s, v) = t.post_json("/api/v1/motions", &start).await;
+        assert_eq!(s, 200, "{v}");
+        let lin = |p: &[f64; 2]| json!({"type": "lin", "target": {"x": p[0], "y": p[1]}, "velocity_m_s": speed, "approx_mm": 2});
+        let batch: Vec<Value> = pts[1..].iter().map(lin).collect();
+        let t0 = sim_time(&t).await;
+        let wall = Instant::now();
+        let (s, v) = t.post_json("/api/v1/motions", &json!({ "motions": batch })).await;
+        let batch_wall = wall.elapsed();
+        assert_eq!(s, 200, "{v}");
+        let batch_time = sim_time(&t).await - t0;
+        let t1 = sim_time(&t).await;
+        let wall = Instant::now();
+        for p in &pts[1..] {
+            let (s, v) = t.post_json("/api/v1/motions", &json!({ "motions": [lin(p)] })).await;
+            assert_eq!(s, 200, "{v}");
+        }
+        let single_wall = wall.elapsed();
+        let single_time = sim_time(&t).await - t1;
+        println!("path length {length_mm:.1} mm, ideal time (length / speed) {ideal:.3} s");
+        println!(
+            "one batch of {segments}:        {batch_time:>7.3} s simulated = {:.3}× ideal   (HTTP wall time {:.1} ms)",
+            batch_time / ideal,
+            batch_wall.as_secs_f64() * 1e3
+        );
+        println!(
+            "{segments} requests of one:  {single_time:>7.3} s simulated = {:.3}× ideal   (HTTP wall time {:.1} ms)",
+            single_time / ideal,
+            single_wall.as_secs_f64() * 1e3
+        );
+        t.service.shutdown().await.expect("shutdown");
+    });
+}
