@@ -493,3 +493,65 @@ async fn concurrent_requests_run_in_arrival_order() {
         "last request ran last",
     );
 }
+
+/// The README's walk-through: the thesis's smiley as one continuous batch
+/// (docs/smiley.json), checked against the simulator's executed trace.
+#[tokio::test]
+async fn readme_smiley_is_drawn() {
+    let t = TestService::start(Options::default()).await;
+    let body: Value = serde_json::from_str(include_str!("../docs/smiley.json"))
+        .expect("docs/smiley.json is JSON");
+    let n = body["motions"].as_array().expect("motions").len();
+    let (s, v) = t.post_json("/api/v1/motions", &body).await;
+    assert_eq!(s, 200, "{v}");
+    assert_eq!(v["completed"], n);
+    let trace = t.service.sim.as_ref().expect("sim").trace();
+    let drawn: Vec<_> = trace
+        .iter()
+        .filter(|s| (s.pose[2] - 70.0).abs() < 0.01)
+        .collect();
+    assert!(
+        drawn.len() > 100,
+        "pen on paper for {} samples",
+        drawn.len()
+    );
+    let dist = |s: &&kuka_sim::TraceSample, cx: f64, cy: f64| {
+        ((s.pose[0] - cx).powi(2) + (s.pose[1] - cy).powi(2)).sqrt()
+    };
+    // Every drawn point belongs to the face, an eye or the mouth.
+    for s in &drawn {
+        let face = (dist(s, 250.0, 0.0) - 60.0).abs() < 0.6;
+        let eye =
+            (dist(s, 270.0, 22.0) - 8.0).abs() < 0.6 || (dist(s, 270.0, -22.0) - 8.0).abs() < 0.6;
+        let mouth = dist(s, 250.0, 0.0) < 40.0 && s.pose[0] < 233.0;
+        assert!(face || eye || mouth, "stray ink at {:?}", s.pose);
+    }
+    // Each part was drawn.
+    assert!(
+        drawn
+            .iter()
+            .filter(|s| (dist(s, 250.0, 0.0) - 60.0).abs() < 0.6)
+            .count()
+            > 50,
+        "face"
+    );
+    assert!(
+        drawn
+            .iter()
+            .any(|s| (dist(s, 270.0, 22.0) - 8.0).abs() < 0.6),
+        "left eye"
+    );
+    assert!(
+        drawn
+            .iter()
+            .any(|s| (dist(s, 270.0, -22.0) - 8.0).abs() < 0.6),
+        "right eye"
+    );
+    assert!(
+        drawn
+            .iter()
+            .any(|s| (s.pose[0] - 215.0).abs() < 1.0 && s.pose[1].abs() < 2.0),
+        "mouth through (215, 0)"
+    );
+    t.service.shutdown().await.expect("shutdown");
+}

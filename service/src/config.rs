@@ -480,3 +480,20 @@ mod tests {
         );
     }
 }
+
+#[cfg(test)]
+mod readme_tests {
+    use super::*;
+
+    /// The configuration example in README.md parses and validates.
+    #[test]
+    fn readme_config_example_is_valid() {
+        let readme = include_str!("../../README.md");
+        let start = readme.find("```toml\n").expect("README has a TOML example") + 8;
+        let len = readme[start..].find("```").expect("closed");
+        let config: Config =
+            toml::from_str(&readme[start..start + len]).expect("README TOML parses");
+        config.validate().expect("README TOML is valid");
+        assert!(config.workspace.is_some());
+    }
+}
