@@ -236,12 +236,14 @@ async fn locked_command_file_reports_channel_locked_and_recovers() {
     t.service.shutdown().await.expect("shutdown");
 }
 
-/// A hand-written controller: heartbeats, and answers each command with a
-/// half-written result file first, the complete one 300 ms later.
+/// A hand-written controller: heartbeats, and (with `answer`) answers each
+/// command with `code`, writing a half-written result file first and the
+/// complete one 300 ms later.
 fn scripted_controller(
     dir: &Path,
     stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
     answer: bool,
+    code: ResultCode,
 ) {
     let mut seq = 0;
     let mut last_cid = 0;
@@ -283,7 +285,7 @@ fn scripted_controller(
                 last_cid = cmd.cid;
                 results.push(ResultRecord {
                     cid: cmd.cid,
-                    code: ResultCode::Ok,
+                    code,
                     completed: 0,
                     axis: 0,
                     position: Frame {
@@ -332,7 +334,7 @@ async fn half_written_result_is_never_misparsed() {
     std::fs::create_dir_all(&dir).expect("dir");
     let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     let (d, s) = (dir.clone(), stop.clone());
-    let fake = std::thread::spawn(move || scripted_controller(&d, s, true));
+    let fake = std::thread::spawn(move || scripted_controller(&d, s, true, ResultCode::Ok));
     let t = service_without_sim(&root).await;
     t.wait_connection("online").await;
     let started = Instant::now();
@@ -356,7 +358,7 @@ async fn command_never_picked_up_times_out_and_is_superseded() {
     let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     let (d, s) = (dir.clone(), stop.clone());
     // Heartbeats, but never reads commands (a KRL program stuck elsewhere).
-    let fake = std::thread::spawn(move || scripted_controller(&d, s, false));
+    let fake = std::thread::spawn(move || scripted_controller(&d, s, false, ResultCode::Ok));
     let t = service_without_sim(&root).await;
     t.wait_connection("online").await;
     let started = Instant::now();
@@ -471,5 +473,61 @@ async fn second_service_on_the_same_channel_is_refused() {
         Err(e) => assert!(e.to_string().contains("already serves"), "{e}"),
         Ok(_) => panic!("two services on one channel"),
     }
+    t.service.shutdown().await.expect("shutdown");
+}
+
+#[tokio::test]
+async fn unexpected_controller_answers_are_reported() {
+    for (code, http, api) in [
+        (ResultCode::Busy, 409, "controller_busy"),
+        (ResultCode::Other(77), 502, "protocol_error"),
+        (ResultCode::Unsupported, 502, "protocol_error"),
+        (ResultCode::NotReady, 409, "controller_error"),
+    ] {
+        let root = tempfile::tempdir().expect("tempdir");
+        let dir = root.path().join("channel");
+        std::fs::create_dir_all(&dir).expect("dir");
+        let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let (d, s) = (dir.clone(), stop.clone());
+        let fake = std::thread::spawn(move || scripted_controller(&d, s, true, code));
+        let t = service_without_sim(&root).await;
+        t.wait_connection("online").await;
+        let (s, v) = t.post("/api/v1/home").await;
+        assert_eq!((s, v["code"].as_str()), (http, Some(api)), "{code:?}: {v}");
+        assert!(
+            v["motion"].is_null(),
+            "no motion index for a non-motion job: {v}"
+        );
+        stop.store(true, std::sync::atomic::Ordering::SeqCst);
+        fake.join().expect("fake controller");
+        t.service.shutdown().await.expect("shutdown");
+    }
+}
+
+#[tokio::test]
+async fn full_queue_is_refused() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(|c| c.motion.max_queue = 2),
+        ..Options::default()
+    })
+    .await;
+    let (s, first) = t.post_json("/api/v1/motions", &slow_motion()).await;
+    assert_eq!(s, 202);
+    let id = first["id"].as_u64().expect("id");
+    wait_job_state(&t, id, false, "executing", Duration::from_secs(5)).await;
+    let mut codes = vec![(s, None)];
+    for _ in 0..3 {
+        let (s, v) = t.post_json("/api/v1/motions", &slow_motion()).await;
+        codes.push((s, v["code"].as_str().map(str::to_string)));
+    }
+    // One runs, two wait, the fourth is refused.
+    assert_eq!(codes[3], (503, Some("queue_full".to_string())), "{codes:?}");
+    assert!(codes[..3].iter().all(|c| c.0 == 202), "{codes:?}");
+    // Stop is always accepted and empties the queue.
+    let (s, _) = t.post("/api/v1/stop").await;
+    assert_eq!(s, 200);
+    let (s, _) = t.post_json("/api/v1/motions", &slow_motion()).await;
+    assert_eq!(s, 202);
     t.service.shutdown().await.expect("shutdown");
 }

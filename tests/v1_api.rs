@@ -357,11 +357,17 @@ async fn frames_and_speeds() {
     assert_eq!(v["cp_velocity_m_s"], 0.1);
     let (_, v) = t.get("/api/v1/speed").await;
     assert_eq!(v["override_pct"], 50.0);
-    let (_, st) = t.get("/api/v1/state").await;
-    assert_eq!(
-        st["controller"]["override_pct"], 50.0,
-        "the controller applied the override"
-    );
+    // The controller reports the override in its next heartbeat.
+    let mut applied = false;
+    for _ in 0..100 {
+        let (_, st) = t.get("/api/v1/state").await;
+        if st["controller"]["override_pct"] == 50.0 {
+            applied = true;
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    assert!(applied, "the controller applied the override");
     t.service.shutdown().await.expect("shutdown");
 }
 

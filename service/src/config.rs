@@ -497,3 +497,31 @@ mod readme_tests {
         assert!(config.workspace.is_some());
     }
 }
+
+#[cfg(test)]
+mod custom_model_tests {
+    use super::*;
+
+    /// A custom robot given by OPW parameters in the config file is used.
+    #[test]
+    fn custom_opw_model_from_config() {
+        let text = r#"
+            [robot.custom]
+            name = "lab_arm"
+            opw_mm = [25.0, -35.0, 0.0, 400.0, 315.0, 365.0, 80.0]
+            limits_deg = [[-170.0, 170.0], [-190.0, 45.0], [-120.0, 156.0], [-185.0, 185.0], [-120.0, 120.0], [-350.0, 350.0]]
+            max_speed_deg_s = [360.0, 300.0, 360.0, 381.0, 388.0, 615.0]
+            home = [0.0, -90.0, 90.0, 0.0, 0.0, 0.0]
+        "#;
+        let config: Config = toml::from_str(text).expect("parses");
+        config.validate().expect("valid");
+        let model = config.robot_model().expect("model").expect("some");
+        assert_eq!(model.name, "lab_arm");
+        // The same geometry as the KR 6 R700 sixx: flange at X 470, Z 750 at home.
+        let p = model.flange(&model.home);
+        assert!(
+            (p.x - 470.0).abs() < 1e-6 && (p.z - 750.0).abs() < 1e-6,
+            "{p:?}"
+        );
+    }
+}

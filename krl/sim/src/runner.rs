@@ -134,7 +134,13 @@ impl SimController {
             paused: AtomicBool::new(false),
             wake: tx.clone(),
         });
+        let runner = Arc::new(Mutex::new(Runner::new(config, shared.clone())));
+        lock(&runner).recover_last_cid();
         // notify is a hint only: a failing watcher leaves the poll in charge.
+        // A new command is handled right in the watcher's callback (one
+        // thread hand-off less per round trip); the thread then re-plans
+        // its wake-up.
+        let (cb_runner, cb_shared) = (runner.clone(), shared.clone());
         let watcher = notify::recommended_watcher(move |ev: notify::Result<notify::Event>| {
             if let Ok(ev) = ev
                 && ev
@@ -142,6 +148,11 @@ impl SimController {
                     .iter()
                     .any(|p| p.file_name().is_some_and(|n| n == COMMAND_FILE))
             {
+                if !cb_shared.paused.load(Ordering::SeqCst)
+                    && !cb_shared.shutdown.load(Ordering::SeqCst)
+                {
+                    lock(&cb_runner).step(Instant::now());
+                }
                 let _ = tx.send(());
             }
         })
@@ -158,7 +169,7 @@ impl SimController {
             .name("kuka-sim".into())
             .spawn(move || {
                 let _watcher = watcher;
-                Runner::new(config, thread_shared, rx).run();
+                run(&runner, &thread_shared, &rx);
             })
             .map_err(SimError::Thread)?;
         Ok(SimController {
@@ -244,10 +255,39 @@ impl Drop for SimController {
     }
 }
 
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+/// The controller thread: steps on wake-ups, sample times, heartbeats and polls.
+fn run(runner: &Mutex<Runner>, shared: &Shared, rx: &mpsc::Receiver<()>) {
+    let (poll, dir, model) = {
+        let r = lock(runner);
+        (
+            r.config.poll,
+            r.config.channel_dir.clone(),
+            r.config.model.name.clone(),
+        )
+    };
+    tracing::info!(dir = %dir.display(), %model, "simulated controller running");
+    while !shared.shutdown.load(Ordering::SeqCst) {
+        if shared.paused.load(Ordering::SeqCst) {
+            let _ = rx.recv_timeout(poll);
+            continue;
+        }
+        let wait = lock(runner).step_and_plan_wait(Instant::now());
+        match rx.recv_timeout(wait) {
+            Ok(()) => while rx.try_recv().is_ok() {},
+            Err(RecvTimeoutError::Timeout) => {}
+            Err(RecvTimeoutError::Disconnected) => break,
+        }
+    }
+    tracing::info!("simulated controller stopped");
+}
+
 struct Runner {
     config: SimConfig,
     shared: Arc<Shared>,
-    rx: mpsc::Receiver<()>,
     tag: String,
     last_text: String,
     pending_results: bool,
@@ -256,11 +296,10 @@ struct Runner {
 }
 
 impl Runner {
-    fn new(config: SimConfig, shared: Arc<Shared>, rx: mpsc::Receiver<()>) -> Self {
+    fn new(config: SimConfig, shared: Arc<Shared>) -> Self {
         Runner {
             config,
             shared,
-            rx,
             tag: format!("sim{}", std::process::id()),
             last_text: String::new(),
             pending_results: false,
@@ -269,36 +308,16 @@ impl Runner {
         }
     }
 
-    fn run(mut self) {
-        tracing::info!(dir = %self.config.channel_dir.display(), model = %self.config.model.name, "simulated controller running");
-        self.recover_last_cid();
-        while !self.shared.shutdown.load(Ordering::SeqCst) {
-            if self.shared.paused.load(Ordering::SeqCst) {
-                let _ = self.rx.recv_timeout(self.config.poll);
-                continue;
-            }
-            let now = Instant::now();
-            self.step(now);
-            let due = {
-                let c = self
-                    .shared
-                    .controller
-                    .lock()
-                    .unwrap_or_else(|p| p.into_inner());
-                c.next_sample_due(self.config.time_scale)
-            };
-            let mut wait_until = self.next_heartbeat.min(now + self.config.poll);
-            if let Some(d) = due {
-                wait_until = wait_until.min(d);
-            }
-            let wait = wait_until.saturating_duration_since(Instant::now());
-            match self.rx.recv_timeout(wait) {
-                Ok(()) => while self.rx.try_recv().is_ok() {},
-                Err(RecvTimeoutError::Timeout) => {}
-                Err(RecvTimeoutError::Disconnected) => break,
-            }
+    /// Steps, then returns how long the thread may sleep: until the next
+    /// heartbeat, poll or trajectory sample, whichever comes first.
+    fn step_and_plan_wait(&mut self, now: Instant) -> Duration {
+        self.step(now);
+        let due = lock(&self.shared.controller).next_sample_due(self.config.time_scale);
+        let mut wait_until = self.next_heartbeat.min(now + self.config.poll);
+        if let Some(d) = due {
+            wait_until = wait_until.min(d);
         }
-        tracing::info!("simulated controller stopped");
+        wait_until.saturating_duration_since(Instant::now())
     }
 
     /// A restarted simulator must not execute an old command again: it

@@ -545,6 +545,9 @@ impl Actor {
             }
         }
         let frame_op = is_frame_op(&f.op);
+        // Publish what the result changed (pose, frames, speeds) before the
+        // job completes, so a client woken by the job reads the new state.
+        self.publish_state();
         self.shared.update(f.id, |j| {
             j.finished_ms = Some(now_ms());
             j.completed = if matches!(f.op, Operation::Move(_)) {
