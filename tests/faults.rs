@@ -531,3 +531,31 @@ async fn full_queue_is_refused() {
     assert_eq!(s, 202);
     t.service.shutdown().await.expect("shutdown");
 }
+
+/// CPU seconds (user + system) this process has used so far.
+#[cfg(target_os = "linux")]
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").expect("proc stat");
+    // Fields after the command name (which ends with ')'): utime is the 12th, stime the 13th.
+    let rest = &stat[stat.rfind(')').expect("comm") + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f[11].parse::<f64>().expect("utime") + f[12].parse::<f64>().expect("stime");
+    ticks / 100.0
+}
+
+/// Reading the channel files must not wake the readers again (inotify
+/// reports reads as access events): an idle service and simulator stay idle.
+#[cfg(target_os = "linux")]
+#[tokio::test]
+async fn idle_service_does_not_spin() {
+    let t = TestService::start(Options::default()).await;
+    let (s, _) = t.post("/krl/getpos").await;
+    assert_eq!(s, 200);
+    let before = cpu_seconds();
+    tokio::time::sleep(Duration::from_secs(2)).await;
+    let used = cpu_seconds() - before;
+    // Heartbeats every 10 ms and a 10 ms poll cost a few percent; a read
+    // loop costs a whole core.
+    assert!(used < 0.5, "idle service used {used:.2} CPU seconds in 2 s");
+    t.service.shutdown().await.expect("shutdown");
+}

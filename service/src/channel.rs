@@ -120,6 +120,9 @@ impl Channel {
     pub fn watch(&self, tx: mpsc::Sender<()>) -> Option<notify::RecommendedWatcher> {
         let result = notify::recommended_watcher(move |ev: notify::Result<notify::Event>| {
             let relevant = match &ev {
+                // Our own reads raise access events; reacting to them would
+                // make every read trigger the next one.
+                Ok(ev) if matches!(ev.kind, notify::EventKind::Access(_)) => false,
                 Ok(ev) => ev.paths.iter().any(|p| {
                     p.file_name()
                         .is_some_and(|n| n == RESULT_FILE || n == STATE_FILE)

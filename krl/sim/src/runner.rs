@@ -142,7 +142,10 @@ impl SimController {
         // its wake-up.
         let (cb_runner, cb_shared) = (runner.clone(), shared.clone());
         let watcher = notify::recommended_watcher(move |ev: notify::Result<notify::Event>| {
+            // Reading a file raises access events: reacting to those would
+            // make every read trigger the next one.
             if let Ok(ev) = ev
+                && !matches!(ev.kind, notify::EventKind::Access(_))
                 && ev
                     .paths
                     .iter()
