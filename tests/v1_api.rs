@@ -311,8 +311,14 @@ async fn controller_side_errors_are_structured() {
         .as_ref()
         .expect("sim")
         .inject_error(kuka_protocol::ResultCode::RuntimeError, 0);
-    tokio::time::sleep(Duration::from_millis(50)).await;
-    let (_, st) = t.get("/api/v1/state").await;
+    let mut st = Value::Null;
+    for _ in 0..200 {
+        st = t.get("/api/v1/state").await.1;
+        if st["controller"]["status"] == "error" {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
     assert_eq!(st["controller"]["status"], "error", "{st}");
     assert_eq!(
         st["controller"]["error"]["code"], "controller_error",

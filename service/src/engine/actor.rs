@@ -11,6 +11,7 @@ use kuka_protocol::{
     SpeedRecord, StateFile,
 };
 use tokio::sync::{mpsc, oneshot};
+use tokio::time::sleep_until;
 
 use super::{Msg, Shared};
 use crate::channel::{Channel, ChannelError, CidStore, ReadOutcome};
@@ -24,6 +25,7 @@ pub(crate) struct QueuedJob {
     pub(crate) id: JobId,
     pub(crate) op: Operation,
     pub(crate) timeout: Option<Duration>,
+    pub(crate) queued_at: Instant,
 }
 
 struct InFlight {
@@ -37,8 +39,20 @@ struct InFlight {
 
 struct StopInFlight {
     cid: Cid,
-    deadline: Instant,
+    /// Confirmation deadline, set once the STOP is on the channel.
+    deadline: Option<Instant>,
     waiters: Vec<oneshot::Sender<Result<()>>>,
+}
+
+/// A command waiting for a locked command file to be released. The actor
+/// keeps serving (state, stop, cancel) while it retries with backoff.
+struct PendingWrite {
+    cmd: CommandFile,
+    /// The job it belongs to; None for a STOP.
+    job: Option<(QueuedJob, Duration)>,
+    give_up_at: Instant,
+    next_try: Instant,
+    backoff: Duration,
 }
 
 /// What the service knows about the controller.
@@ -65,6 +79,7 @@ pub(crate) struct Actor {
     queue: VecDeque<QueuedJob>,
     inflight: Option<InFlight>,
     stop: Option<StopInFlight>,
+    pending: Option<PendingWrite>,
     ctl: ControllerView,
     speeds: SpeedSettings,
     shutting_down: Option<oneshot::Sender<()>>,
@@ -186,6 +201,7 @@ impl Actor {
             queue: VecDeque::new(),
             inflight: None,
             stop: None,
+            pending: None,
             ctl: ControllerView::default(),
             speeds,
             shutting_down: None,
@@ -203,6 +219,10 @@ impl Actor {
         tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
         tracing::info!(dir = %self.channel.dir().display(), "engine running");
         loop {
+            let retry_at = self
+                .pending
+                .as_ref()
+                .map_or_else(Instant::now, |p| p.next_try);
             tokio::select! {
                 msg = self.rx.recv() => match msg {
                     Some(msg) => self.handle(msg),
@@ -213,10 +233,12 @@ impl Actor {
                     self.refresh();
                     self.check_timeouts();
                 }
+                () = sleep_until(retry_at.into()), if self.pending.is_some() => {}
             }
+            self.retry_pending();
             self.dispatch().await;
             self.publish_state();
-            if self.shutting_down.is_some() && self.inflight.is_none() {
+            if self.shutting_down.is_some() && self.inflight.is_none() && self.pending.is_none() {
                 break;
             }
         }
@@ -251,6 +273,10 @@ impl Actor {
                     "engine shutting down"
                 );
                 self.cancel_queue("the service is shutting down");
+                self.drop_pending_job(
+                    JobState::Cancelled,
+                    BridgeError::new(ErrorCode::Cancelled, "the service is shutting down"),
+                );
                 self.shutting_down = Some(done);
             }
         }
@@ -282,22 +308,20 @@ impl Actor {
     }
 
     fn cancel(&mut self, id: JobId) -> Result<Job> {
+        let why = || BridgeError::new(ErrorCode::Cancelled, "cancelled by request");
         if let Some(pos) = self.queue.iter().position(|j| j.id == id) {
             if let Some(job) = self.queue.remove(pos) {
-                self.finish_queued(
-                    job.id,
-                    JobState::Cancelled,
-                    BridgeError::new(ErrorCode::Cancelled, "cancelled by request"),
-                );
+                self.finish_queued(job.id, JobState::Cancelled, why());
             }
-        } else if self.inflight.as_ref().is_some_and(|f| f.id == id) && self.stop.is_none() {
+        } else if self
+            .pending
+            .as_ref()
+            .is_some_and(|p| p.job.as_ref().is_some_and(|(j, _)| j.id == id))
+        {
+            self.drop_pending_job(JobState::Cancelled, why());
+        } else if self.inflight.as_ref().is_some_and(|f| f.id == id) {
             // The controller answers the running command with CANCELLED.
-            let cid = self.send_stop()?;
-            self.stop = Some(StopInFlight {
-                cid,
-                deadline: Instant::now() + self.cfg.ack_timeout(),
-                waiters: Vec::new(),
-            });
+            self.request_stop(None);
         }
         self.shared_job(id)
     }
@@ -316,43 +340,64 @@ impl Actor {
         if !self.ctl.online {
             // Still leave a STOP on the channel: a controller that comes back
             // reads the newest command first.
-            let written = self.send_stop();
-            let detail = match written {
-                Ok(_) => {
-                    "the controller is offline: a stop command was written to the channel, but nothing confirms it"
-                }
-                Err(_) => "the controller is offline and the stop command could not be written",
-            };
-            let _ = reply.send(Err(BridgeError::new(ErrorCode::ControllerOffline, detail)));
+            self.request_stop(None);
+            let _ = reply.send(Err(BridgeError::new(
+                ErrorCode::ControllerOffline,
+                "the controller is offline: a stop command was left on the channel, but nothing confirms it",
+            )));
             return;
         }
-        if let Some(stop) = &mut self.stop {
-            stop.waiters.push(reply);
-            return;
-        }
-        match self.send_stop() {
-            Ok(cid) => {
-                self.stop = Some(StopInFlight {
-                    cid,
-                    deadline: Instant::now() + self.cfg.ack_timeout(),
-                    waiters: vec![reply],
-                });
-            }
-            Err(e) => {
-                let _ = reply.send(Err(e));
-            }
-        }
+        self.request_stop(Some(reply));
     }
 
-    /// Writes a STOP command (retrying a locked file within the lock budget).
-    fn send_stop(&mut self) -> Result<Cid> {
-        let cid = self.next_cid()?;
-        self.write_blocking(&CommandFile {
+    /// Brakes: a STOP supersedes any command still waiting for the lock and
+    /// goes out at once (or as soon as the file is free).
+    fn request_stop(&mut self, waiter: Option<oneshot::Sender<Result<()>>>) {
+        if let Some(stop) = &mut self.stop {
+            stop.waiters.extend(waiter);
+            return;
+        }
+        self.drop_pending_job(
+            JobState::Cancelled,
+            BridgeError::new(ErrorCode::Cancelled, "stopped before it was sent"),
+        );
+        let cid = match self.next_cid() {
+            Ok(cid) => cid,
+            Err(e) => {
+                if let Some(w) = waiter {
+                    let _ = w.send(Err(e));
+                }
+                return;
+            }
+        };
+        self.stop = Some(StopInFlight {
             cid,
-            command: Command::Stop,
-        })?;
-        tracing::warn!(cid, "stop sent");
-        Ok(cid)
+            deadline: None,
+            waiters: waiter.into_iter().collect(),
+        });
+        tracing::warn!(cid, "stop requested");
+        self.write(
+            CommandFile {
+                cid,
+                command: Command::Stop,
+            },
+            None,
+        );
+    }
+
+    /// Ends a job whose command was still waiting for the lock.
+    fn drop_pending_job(&mut self, state: JobState, error: BridgeError) {
+        if let Some(PendingWrite {
+            job: Some((job, _)),
+            ..
+        }) = self.pending.take_if(|p| p.job.is_some())
+        {
+            self.shared.update(job.id, |j| {
+                j.state = state;
+                j.finished_ms = Some(now_ms());
+                j.error = Some(error);
+            });
+        }
     }
 
     fn next_cid(&mut self) -> Result<Cid> {
@@ -367,46 +412,124 @@ impl Actor {
             .map_err(|e| BridgeError::new(ErrorCode::Internal, e.to_string()))
     }
 
-    /// Writes a command, retrying with backoff while the file is locked,
-    /// at most `lock_timeout`; reports `channel_locked` after that.
-    fn write_blocking(&mut self, cmd: &CommandFile) -> Result<()> {
-        let deadline = Instant::now() + self.cfg.lock_timeout();
-        let mut backoff = Duration::from_micros(200);
-        loop {
-            match self.channel.write_command(cmd) {
-                Ok(()) => {
-                    if self.ctl.locked {
-                        tracing::warn!(dir = %self.channel.dir().display(), "channel unlocked");
-                        self.ctl.locked = false;
-                    }
-                    return Ok(());
+    /// Writes a command now, or keeps it pending while the file is locked.
+    fn write(&mut self, cmd: CommandFile, job: Option<(QueuedJob, Duration)>) {
+        let now = Instant::now();
+        self.pending = Some(PendingWrite {
+            cmd,
+            job,
+            give_up_at: now + self.cfg.lock_timeout(),
+            next_try: now,
+            backoff: Duration::from_micros(500),
+        });
+        self.retry_pending();
+    }
+
+    /// One attempt at the pending write (when due). Never sleeps: while the
+    /// file stays locked the actor keeps answering, and after `lock_timeout`
+    /// the command fails with `channel_locked`.
+    fn retry_pending(&mut self) {
+        let now = Instant::now();
+        let Some(p) = self.pending.as_mut() else {
+            return;
+        };
+        if now < p.next_try {
+            return;
+        }
+        match self.channel.write_command(&p.cmd) {
+            Ok(()) => {
+                if self.ctl.locked {
+                    tracing::warn!(dir = %self.channel.dir().display(), "channel unlocked");
+                    self.ctl.locked = false;
                 }
-                Err(ChannelError::Write(kuka_protocol::files::WriteError::Locked { path })) => {
-                    if !self.ctl.locked {
-                        tracing::warn!(%path, "command file locked by another process; retrying");
-                        self.ctl.locked = true;
-                        self.publish_state();
-                        self.shared.publish(Event::Alarm(BridgeError::new(
-                            ErrorCode::ChannelLocked,
-                            format!("{path} is locked by another process"),
-                        )));
-                    }
-                    if Instant::now() + backoff > deadline {
-                        return Err(BridgeError::new(
-                            ErrorCode::ChannelLocked,
-                            format!(
-                                "{path} stayed locked by another process for {} ms; nothing was sent. Close the program holding it (on a KRC: the KRL program's open file handle)",
-                                self.cfg.lock_timeout_ms
-                            ),
-                        ));
-                    }
-                    // Blocking the actor is bounded by lock_timeout; nothing
-                    // else can be written meanwhile anyway.
-                    std::thread::sleep(backoff);
-                    backoff = (backoff * 2).min(Duration::from_millis(50));
+                if let Some(p) = self.pending.take() {
+                    self.written(p.cmd, p.job, now);
                 }
-                Err(ChannelError::Encode(e)) => return Err(BridgeError::invalid(e.to_string())),
-                Err(e) => return Err(BridgeError::new(ErrorCode::Internal, e.to_string())),
+            }
+            Err(ChannelError::Write(kuka_protocol::files::WriteError::Locked { path })) => {
+                if now >= p.give_up_at {
+                    let e = BridgeError::new(
+                        ErrorCode::ChannelLocked,
+                        format!(
+                            "{path} stayed locked by another process for {} ms; nothing was sent. Close the program holding it (on a KRC: the KRL program's open file handle)",
+                            self.cfg.lock_timeout_ms
+                        ),
+                    );
+                    self.write_failed(e);
+                    return;
+                }
+                p.next_try = now + p.backoff;
+                p.backoff = (p.backoff * 2).min(Duration::from_millis(50));
+                if !self.ctl.locked {
+                    tracing::warn!(%path, "command file locked by another process; retrying");
+                    self.ctl.locked = true;
+                    self.shared.publish(Event::Alarm(BridgeError::new(
+                        ErrorCode::ChannelLocked,
+                        format!("{path} is locked by another process"),
+                    )));
+                }
+            }
+            Err(ChannelError::Encode(e)) => self.write_failed(BridgeError::invalid(e.to_string())),
+            Err(e) => self.write_failed(BridgeError::new(ErrorCode::Internal, e.to_string())),
+        }
+    }
+
+    /// The pending command could not be written: its job fails (and, for a
+    /// lock, so do the queued jobs: the lock would hold them too), or the
+    /// STOP's waiters hear why.
+    fn write_failed(&mut self, e: BridgeError) {
+        let Some(p) = self.pending.take() else { return };
+        tracing::error!(cid = p.cmd.cid, code = e.code.as_str(), detail = %e.detail, "command not written");
+        match p.job {
+            Some((job, _)) => {
+                self.shared.update(job.id, |j| {
+                    j.state = JobState::Failed;
+                    j.finished_ms = Some(now_ms());
+                    j.error = Some(e.clone());
+                });
+                if e.code == ErrorCode::ChannelLocked {
+                    self.fail_queue(&e);
+                }
+            }
+            None => {
+                if let Some(stop) = self.stop.take() {
+                    for w in stop.waiters {
+                        let _ = w.send(Err(e.clone()));
+                    }
+                }
+            }
+        }
+    }
+
+    /// A command reached the channel.
+    fn written(&mut self, cmd: CommandFile, job: Option<(QueuedJob, Duration)>, now: Instant) {
+        match job {
+            Some((job, timeout)) => {
+                tracing::debug!(
+                    job = job.id,
+                    cid = cmd.cid,
+                    op = job.op.name(),
+                    "command sent"
+                );
+                self.shared.update(job.id, |j| {
+                    j.state = JobState::Sent;
+                    j.cid = Some(cmd.cid);
+                    j.sent_ms = Some(now_ms());
+                });
+                self.inflight = Some(InFlight {
+                    id: job.id,
+                    op: job.op,
+                    cid: cmd.cid,
+                    sent_at: now,
+                    deadline: now + timeout,
+                    acked: false,
+                });
+            }
+            None => {
+                tracing::warn!(cid = cmd.cid, "stop sent");
+                if let Some(stop) = &mut self.stop {
+                    stop.deadline = Some(now + self.cfg.ack_timeout());
+                }
             }
         }
     }
@@ -509,6 +632,24 @@ impl Actor {
             }
             self.ctl.pose = Some((r.position, r.s, r.t));
             self.ctl.axes = Some(r.axes);
+            // Results come in command-id order: a command older than the STOP
+            // without a result of its own was superseded before the controller
+            // read it, so it never ran.
+            if let Some(f) = self.inflight.take_if(|f| f.cid < r.cid) {
+                tracing::info!(
+                    job = f.id,
+                    cid = f.cid,
+                    "command superseded by stop before it ran"
+                );
+                self.shared.update(f.id, |j| {
+                    j.state = JobState::Cancelled;
+                    j.finished_ms = Some(now_ms());
+                    j.error = Some(BridgeError::new(
+                        ErrorCode::Cancelled,
+                        "stopped before the controller started it; nothing moved",
+                    ));
+                });
+            }
             return;
         }
         let Some(f) = self.inflight.take_if(|f| f.cid == r.cid) else {
@@ -587,29 +728,23 @@ impl Actor {
             let e = BridgeError::new(
                 ErrorCode::Timeout,
                 format!(
-                    "no heartbeat from the controller for {secs:.1} s while command {} was running; it was stopped",
+                    "no heartbeat from the controller for {secs:.1} s while command {} was running; its outcome is unknown. A stop was left on the channel, so the controller brakes first if it comes back",
                     f.cid
                 ),
             );
             self.fail_inflight(e);
             // A controller that comes back reads the newest command first:
             // the motion its client was told had failed must not run on.
-            if self.stop.is_none() {
-                match self.send_stop() {
-                    Ok(cid) => tracing::warn!(cid, "stop written for when the controller returns"),
-                    Err(e) => {
-                        tracing::error!(code = e.code.as_str(), detail = %e.detail, "cannot write stop")
-                    }
-                }
-            }
+            self.request_stop(None);
         }
         let e = BridgeError::new(
             ErrorCode::ControllerOffline,
             format!("the controller went offline (no heartbeat for {secs:.1} s)"),
         );
         self.fail_queue(&e);
-        if let Some(stop) = self.stop.take() {
-            for w in stop.waiters {
+        self.drop_pending_job(JobState::Failed, e.clone());
+        if let Some(stop) = &mut self.stop {
+            for w in stop.waiters.drain(..) {
                 let _ = w.send(Err(e.clone()));
             }
         }
@@ -643,25 +778,31 @@ impl Actor {
                 supersede = true;
             }
         }
-        if supersede && self.ctl.online && self.stop.is_none() {
+        if supersede {
             // A newer command supersedes one the controller has not read yet,
             // and brakes one it is executing: a timed-out motion never runs
             // on unobserved.
-            match self.send_stop() {
-                Ok(cid) => {
-                    self.stop = Some(StopInFlight {
-                        cid,
-                        deadline: now + self.cfg.ack_timeout(),
-                        waiters: Vec::new(),
-                    })
-                }
-                Err(e) => {
-                    tracing::error!(code = e.code.as_str(), detail = %e.detail, "cannot stop after a timeout")
-                }
-            }
+            self.request_stop(None);
+        }
+        // Queued jobs wait at most their own timeout (e.g. behind a command
+        // the controller keeps running after its job failed).
+        let default_timeout = self.cfg.command_timeout();
+        let expired: Vec<JobId> = self
+            .queue
+            .iter()
+            .filter(|j| now.duration_since(j.queued_at) > j.timeout.unwrap_or(default_timeout))
+            .map(|j| j.id)
+            .collect();
+        for id in expired {
+            self.queue.retain(|j| j.id != id);
+            let waited = BridgeError::new(
+                ErrorCode::Timeout,
+                "the job waited in the queue longer than its timeout without being sent (the controller stayed busy)",
+            );
+            self.finish_queued(id, JobState::Failed, waited);
         }
         if let Some(stop) = &self.stop
-            && now > stop.deadline
+            && stop.deadline.is_some_and(|d| now > d)
             && let Some(stop) = self.stop.take()
         {
             let e = BridgeError::new(
@@ -677,7 +818,7 @@ impl Actor {
 
     /// Sends the next queued job when the controller is free.
     async fn dispatch(&mut self) {
-        while self.inflight.is_none() && self.stop.is_none() {
+        while self.inflight.is_none() && self.stop.is_none() && self.pending.is_none() {
             if !self.ctl.online {
                 if !self.queue.is_empty() {
                     let e = BridgeError::new(
@@ -700,9 +841,10 @@ impl Actor {
                 return;
             };
             self.shared.dequeued();
-            if let Err(e) = self.send(&job) {
-                tracing::warn!(job = job.id, code = e.code.as_str(), detail = %e.detail, "job not sent");
-                self.shared.update(job.id, |j| {
+            let id = job.id;
+            if let Err(e) = self.send(job) {
+                tracing::warn!(job = id, code = e.code.as_str(), detail = %e.detail, "job not sent");
+                self.shared.update(id, |j| {
                     j.state = JobState::Failed;
                     j.finished_ms = Some(now_ms());
                     j.error = Some(e);
@@ -726,7 +868,9 @@ impl Actor {
         }
     }
 
-    fn send(&mut self, job: &QueuedJob) -> Result<()> {
+    /// Resolves and checks the job, then writes it (or leaves it pending
+    /// while the file is locked).
+    fn send(&mut self, job: QueuedJob) -> Result<()> {
         let command = match &job.op {
             Operation::Move(requests) => {
                 let (start, tool, base) = self.start_point()?;
@@ -752,23 +896,8 @@ impl Actor {
             Operation::Reset => Command::Reset,
         };
         let cid = self.next_cid()?;
-        self.write_blocking(&CommandFile { cid, command })?;
-        let now = Instant::now();
         let timeout = job.timeout.unwrap_or(self.cfg.command_timeout());
-        self.inflight = Some(InFlight {
-            id: job.id,
-            op: job.op.clone(),
-            cid,
-            sent_at: now,
-            deadline: now + timeout,
-            acked: false,
-        });
-        tracing::debug!(job = job.id, cid, op = job.op.name(), "command sent");
-        self.shared.update(job.id, |j| {
-            j.state = JobState::Sent;
-            j.cid = Some(cid);
-            j.sent_ms = Some(now_ms());
-        });
+        self.write(CommandFile { cid, command }, Some((job, timeout)));
         Ok(())
     }
 

@@ -240,7 +240,12 @@ impl Engine {
         }
         self.shared.queued.fetch_add(1, Ordering::SeqCst);
         self.shared.publish(Event::Job(Box::new(job.clone())));
-        let queued = actor::QueuedJob { id, op, timeout };
+        let queued = actor::QueuedJob {
+            id,
+            op,
+            timeout,
+            queued_at: std::time::Instant::now(),
+        };
         if self.tx.send(Msg::Submit(queued)).await.is_err() {
             return Err(BridgeError::new(
                 ErrorCode::Internal,
