@@ -110,6 +110,39 @@ async fn thesis_failures_keep_statuscode_and_position() {
     assert_eq!(status, 422, "{v}");
     assert_eq!(v["code"], "invalid_input");
     assert_eq!(v["statuscode"], 10);
+    // Unknown parameters are refused, never ignored; KUKA's upper-case names work.
+    let (status, v) = t.post("/krl/ptp?x=300&foo=1").await;
+    assert_eq!(
+        (status, v["code"].as_str()),
+        (422, Some("invalid_input")),
+        "{v}"
+    );
+    let (status, v) = t.post("/krl/ptp?X=300&Y=0&Z=300&A=0&B=90&C=0").await;
+    assert_eq!(status, 200, "{v}");
+    assert_close(thesis_position(&v)[0], 300.0, 0.01, "upper-case X");
+    // Routing errors keep the thesis format.
+    let (status, v) = t.post("/krl/nothing").await;
+    assert_eq!((status, v["statuscode"].as_i64()), (404, Some(54)), "{v}");
+    let (status, v) = t.get("/krl/ptp").await;
+    assert_eq!(
+        (status, v["statuscode"].as_i64(), v["code"].as_str()),
+        (405, Some(55), Some("method_not_allowed")),
+        "{v}"
+    );
+    assert!(v["position"].is_array(), "{v}");
+    // A CIRC back to its own start is refused before anything is sent.
+    let (status, _) = t.post("/krl/linmov?x=300&y=20&z=300").await;
+    assert_eq!(status, 200);
+    let (status, v) = t.post("/krl/circ?ax=330&ay=20&x=300&y=20").await;
+    assert_eq!(
+        (status, v["code"].as_str()),
+        (422, Some("invalid_input")),
+        "{v}"
+    );
+    assert!(
+        v["detail"].as_str().unwrap_or("").contains("coincides"),
+        "{v}"
+    );
     // Status out of range.
     let (status, v) = t.post("/krl/ptp?x=300&s=9").await;
     assert_eq!(status, 422, "{v}");

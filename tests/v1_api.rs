@@ -62,6 +62,13 @@ async fn state_health_and_docs() {
     assert_eq!(r.status(), 200, "Swagger UI assets are embedded (offline)");
     let (s, v) = t.get("/api/v1/nothing").await;
     assert_eq!((s, v["code"].as_str()), (404, Some("not_found")));
+    let (s, v) = t.get("/api/v1/events?types=job,bogus").await;
+    assert_eq!((s, v["code"].as_str()), (422, Some("invalid_input")), "{v}");
+    // One simulated controller per channel.
+    match kuka_sim::SimController::start(kuka_sim::SimConfig::new(t.channel_dir())) {
+        Err(e) => assert!(e.to_string().contains("already serves"), "{e}"),
+        Ok(_) => panic!("two simulated controllers on one channel"),
+    }
     let (s, v) = t.delete("/api/v1/stop").await;
     assert_eq!(
         (s, v["code"].as_str()),
@@ -506,64 +513,85 @@ async fn concurrent_requests_run_in_arrival_order() {
     );
 }
 
-/// The README's walk-through: the thesis's smiley as one continuous batch
-/// (docs/smiley.json), checked against the simulator's executed trace.
+/// The README's walk-through, step by step: the thesis endpoints, then the
+/// smiley (docs/smiley.json) as one continuous batch — twice, since a
+/// drawing must not depend on where the arm was — checked against the
+/// simulator's executed trace.
 #[tokio::test]
-async fn readme_smiley_is_drawn() {
+async fn readme_walk_through_draws_the_smiley() {
     let t = TestService::start(Options::default()).await;
+    for step in [
+        "/krl/getpos",
+        "/krl/ptp?x=200&y=0&z=70&a=0&b=180&c=0",
+        "/krl/linmov?x=250&y=100",
+    ] {
+        let (s, v) = t.post(step).await;
+        assert_eq!((s, &v["statuscode"]), (200, &json!(1)), "{step}: {v}");
+    }
     let body: Value = serde_json::from_str(include_str!("../docs/smiley.json"))
         .expect("docs/smiley.json is JSON");
     let n = body["motions"].as_array().expect("motions").len();
-    let (s, v) = t.post_json("/api/v1/motions", &body).await;
-    assert_eq!(s, 200, "{v}");
-    assert_eq!(v["completed"], n);
-    let trace = t.service.sim.as_ref().expect("sim").trace();
-    let drawn: Vec<_> = trace
-        .iter()
-        .filter(|s| (s.pose[2] - 70.0).abs() < 0.01)
-        .collect();
-    assert!(
-        drawn.len() > 100,
-        "pen on paper for {} samples",
-        drawn.len()
-    );
-    let dist = |s: &&kuka_sim::TraceSample, cx: f64, cy: f64| {
-        ((s.pose[0] - cx).powi(2) + (s.pose[1] - cy).powi(2)).sqrt()
-    };
-    // Every drawn point belongs to the face, an eye or the mouth.
-    for s in &drawn {
-        let face = (dist(s, 250.0, 0.0) - 60.0).abs() < 0.6;
-        let eye =
-            (dist(s, 270.0, 22.0) - 8.0).abs() < 0.6 || (dist(s, 270.0, -22.0) - 8.0).abs() < 0.6;
-        let mouth = dist(s, 250.0, 0.0) < 40.0 && s.pose[0] < 233.0;
-        assert!(face || eye || mouth, "stray ink at {:?}", s.pose);
+    for round in 0..2 {
+        let sim = t.service.sim.as_ref().expect("sim");
+        sim.clear_trace();
+        let (s, v) = t.post_json("/api/v1/motions", &body).await;
+        assert_eq!(s, 200, "round {round}: {v}");
+        assert_eq!(v["completed"], n);
+        let trace = sim.trace();
+        let drawn: Vec<_> = trace
+            .iter()
+            .filter(|s| s.motion > 0 && (s.pose[2] - 70.0).abs() < 0.01) // motion 0 lifts the pen from wherever the arm was
+            .collect();
+        assert!(
+            drawn.len() > 100,
+            "pen on paper for {} samples",
+            drawn.len()
+        );
+        let dist = |s: &&kuka_sim::TraceSample, cx: f64, cy: f64| {
+            ((s.pose[0] - cx).powi(2) + (s.pose[1] - cy).powi(2)).sqrt()
+        };
+        // Every drawn point belongs to the face, an eye or the mouth.
+        for s in &drawn {
+            let face = (dist(s, 250.0, 0.0) - 60.0).abs() < 0.6;
+            let eye = (dist(s, 270.0, 22.0) - 8.0).abs() < 0.6
+                || (dist(s, 270.0, -22.0) - 8.0).abs() < 0.6;
+            let mouth = dist(s, 250.0, 0.0) < 40.0 && s.pose[0] < 233.0;
+            assert!(face || eye || mouth, "stray ink at {:?}", s.pose);
+        }
+        assert!(
+            drawn
+                .iter()
+                .filter(|s| (dist(s, 250.0, 0.0) - 60.0).abs() < 0.6)
+                .count()
+                > 50,
+            "face"
+        );
+        assert!(
+            drawn
+                .iter()
+                .any(|s| (dist(s, 270.0, 22.0) - 8.0).abs() < 0.6),
+            "left eye"
+        );
+        assert!(
+            drawn
+                .iter()
+                .any(|s| (dist(s, 270.0, -22.0) - 8.0).abs() < 0.6),
+            "right eye"
+        );
+        assert!(
+            drawn
+                .iter()
+                .any(|s| (s.pose[0] - 215.0).abs() < 1.0 && s.pose[1].abs() < 2.0),
+            "mouth through (215, 0)"
+        );
     }
-    // Each part was drawn.
-    assert!(
-        drawn
-            .iter()
-            .filter(|s| (dist(s, 250.0, 0.0) - 60.0).abs() < 0.6)
-            .count()
-            > 50,
-        "face"
-    );
-    assert!(
-        drawn
-            .iter()
-            .any(|s| (dist(s, 270.0, 22.0) - 8.0).abs() < 0.6),
-        "left eye"
-    );
-    assert!(
-        drawn
-            .iter()
-            .any(|s| (dist(s, 270.0, -22.0) - 8.0).abs() < 0.6),
-        "right eye"
-    );
-    assert!(
-        drawn
-            .iter()
-            .any(|s| (s.pose[0] - 215.0).abs() < 1.0 && s.pose[1].abs() < 2.0),
-        "mouth through (215, 0)"
-    );
+    // A flange-down PTP that would need another arm configuration says how to get it.
+    let (s, v) = t.post("/krl/ptp?x=300&y=0&z=300&a=0&b=180&c=0").await;
+    if s != 200 {
+        assert!(
+            v["detail"].as_str().unwrap_or("").contains("give `s`"),
+            "{v}"
+        );
+    }
     t.service.shutdown().await.expect("shutdown");
 }

@@ -26,10 +26,10 @@ pub enum AppError {
     #[error(transparent)]
     Channel(#[from] ChannelError),
     /// The simulator could not start.
-    #[error("simulated controller: {0}")]
+    #[error("simulated controller")]
     Sim(#[from] kuka_sim::SimError),
     /// The listen address is unavailable.
-    #[error("cannot listen on {addr}: {source}")]
+    #[error("cannot listen on {addr}")]
     Bind {
         /// Address.
         addr: SocketAddr,
@@ -38,10 +38,10 @@ pub enum AppError {
         source: std::io::Error,
     },
     /// The engine thread could not start.
-    #[error("cannot start the engine: {0}")]
+    #[error("cannot start the engine")]
     Engine(#[source] std::io::Error),
     /// The HTTP server failed.
-    #[error("HTTP server: {0}")]
+    #[error("HTTP server")]
     Serve(#[source] std::io::Error),
 }
 

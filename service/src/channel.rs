@@ -19,10 +19,10 @@ pub enum ChannelError {
     #[error(transparent)]
     Write(#[from] WriteError),
     /// The command could not be encoded.
-    #[error("cannot encode command: {0}")]
+    #[error("cannot encode command")]
     Encode(#[from] kuka_protocol::EncodeError),
     /// Directory or counter I/O failed.
-    #[error("{what} {path}: {source}")]
+    #[error("{what} {path}")]
     Io {
         /// What was attempted.
         what: &'static str,

@@ -80,6 +80,7 @@ fn init_logging() {
     tracing_subscriber::fmt()
         .with_env_filter(filter)
         .with_target(false)
+        .with_writer(std::io::stderr)
         .init();
 }
 
@@ -91,7 +92,6 @@ pub fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             tracing::error!("{e:#}");
-            eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }
     }
@@ -125,7 +125,7 @@ fn real_main(cli: Cli) -> anyhow::Result<()> {
                 }
                 let _ = listen;
                 println!("Press Ctrl-C to stop.");
-                let _ = tokio::signal::ctrl_c().await;
+                shutdown_signal().await;
                 service.shutdown().await?;
                 anyhow::Ok(())
             })
@@ -163,11 +163,42 @@ fn real_main(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
+/// Ctrl-C, or SIGTERM on Unix (systemd, `kill`).
+async fn shutdown_signal() {
+    #[cfg(unix)]
+    {
+        use tokio::signal::unix::{SignalKind, signal};
+        match signal(SignalKind::terminate()) {
+            Ok(mut term) => {
+                tokio::select! {
+                    _ = tokio::signal::ctrl_c() => {}
+                    _ = term.recv() => {}
+                }
+                return;
+            }
+            Err(e) => tracing::warn!(error = %e, "cannot listen for SIGTERM"),
+        }
+    }
+    let _ = tokio::signal::ctrl_c().await;
+}
+
 fn build_config(args: RunArgs) -> anyhow::Result<Config> {
     let mut config = match &args.config {
         Some(path) => Config::load(path)?,
         None => Config::default(),
     };
+    let from_flags = args.simulate
+        || args.listen.is_some()
+        || args.channel_dir.is_some()
+        || args.data_dir.is_some()
+        || args.robot.is_some()
+        || args.time_scale.is_some();
+    if from_flags {
+        config.source_name = match &args.config {
+            Some(_) => format!("{} with command-line options", config.source_name),
+            None => "command-line options".into(),
+        };
+    }
     if args.simulate {
         config.simulator.enabled = true;
     }

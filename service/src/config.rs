@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
     /// The file cannot be read.
-    #[error("cannot read config file {path}: {source}")]
+    #[error("cannot read config file {path}")]
     Read {
         /// The file.
         path: String,
@@ -439,7 +439,64 @@ impl Config {
                 format!("{} is not ≥ 0", self.simulator.time_scale),
             ));
         }
+        if self.server.request_timeout_ms < 100 {
+            return Err(self.invalid(
+                "server.request_timeout_ms",
+                format!(
+                    "{} is below the minimum 100",
+                    self.server.request_timeout_ms
+                ),
+            ));
+        }
+        if let Some(m) = &self.robot.custom {
+            self.check_custom_model(m)?;
+        }
         self.robot_model()?;
+        Ok(())
+    }
+
+    fn check_custom_model(&self, m: &RobotModel) -> Result<(), ConfigError> {
+        if m.opw_mm.iter().any(|v| !v.is_finite())
+            || m.opw_mm[3] <= 0.0
+            || m.opw_mm[4] <= 0.0
+            || m.opw_mm[5] <= 0.0
+        {
+            return Err(self.invalid(
+                "robot.custom.opw_mm",
+                "needs finite values [a1, a2, b, c1, c2, c3, c4] with c1, c2, c3 > 0 (mm)".into(),
+            ));
+        }
+        for (i, (lo, hi)) in m.limits_deg.iter().enumerate() {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return Err(self.invalid(
+                    "robot.custom.limits_deg",
+                    format!(
+                        "axis A{}: [{lo}, {hi}] is not [min, max] with min < max",
+                        i + 1
+                    ),
+                ));
+            }
+            if !(m.max_speed_deg_s[i].is_finite() && m.max_speed_deg_s[i] > 0.0) {
+                return Err(self.invalid(
+                    "robot.custom.max_speed_deg_s",
+                    format!(
+                        "axis A{}: {} is not a positive speed",
+                        i + 1,
+                        m.max_speed_deg_s[i]
+                    ),
+                ));
+            }
+            if !(*lo..=*hi).contains(&m.home[i]) {
+                return Err(self.invalid(
+                    "robot.custom.home",
+                    format!(
+                        "A{} = {} lies outside its limits [{lo}, {hi}]",
+                        i + 1,
+                        m.home[i]
+                    ),
+                ));
+            }
+        }
         Ok(())
     }
 }
@@ -517,6 +574,21 @@ mod custom_model_tests {
         config.validate().expect("valid");
         let model = config.robot_model().expect("model").expect("some");
         assert_eq!(model.name, "lab_arm");
+        let bad = text.replace("[-170.0, 170.0]", "[50.0, -170.0]");
+        let err = toml::from_str::<Config>(&bad)
+            .expect("parses")
+            .validate()
+            .expect_err("inverted limits");
+        assert!(err.to_string().contains("robot.custom.limits_deg"), "{err}");
+        let bad = text.replace("[360.0, 300.0", "[0.0, 300.0");
+        let err = toml::from_str::<Config>(&bad)
+            .expect("parses")
+            .validate()
+            .expect_err("zero speed");
+        assert!(
+            err.to_string().contains("robot.custom.max_speed_deg_s"),
+            "{err}"
+        );
         // The same geometry as the KR 6 R700 sixx: flange at X 470, Z 750 at home.
         let p = model.flange(&model.home);
         assert!(

@@ -161,3 +161,16 @@ impl BridgeError {
 
 /// Result alias for the service library.
 pub type Result<T, E = BridgeError> = std::result::Result<T, E>;
+
+/// An error and its causes as one sentence ("a: b: c"), for places that
+/// must turn an error chain into a `detail`.
+pub fn chain(e: &dyn std::error::Error) -> String {
+    let mut out = e.to_string();
+    let mut cur = e.source();
+    while let Some(s) = cur {
+        out.push_str(": ");
+        out.push_str(&s.to_string());
+        cur = s.source();
+    }
+    out
+}

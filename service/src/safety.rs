@@ -246,7 +246,8 @@ impl Safety {
         let Some(model) = &self.model else {
             return Ok(());
         };
-        let motions: Vec<_> = motions.iter().map(kuka_sim::to_motion).collect();
+        let records = motions;
+        let motions: Vec<_> = records.iter().map(kuka_sim::to_motion).collect();
         let to_pose = |f: &Frame| kuka_sim::frame_to_pose(f);
         let execution = plan::plan(
             model,
@@ -258,7 +259,19 @@ impl Safety {
         );
         match execution.error {
             None => Ok(()),
-            Some((i, e)) => Err(motion_error(&e).at_motion(i)),
+            Some((i, e)) => {
+                let mut err = motion_error(&e).at_motion(i);
+                // KUKA keeps the Status of a PTP without S: say how to change it.
+                if let Some(MotionRecord::Ptp { s: None, .. }) = records.get(i)
+                    && matches!(err.code, ErrorCode::SoftwareLimit | ErrorCode::Unreachable)
+                {
+                    err.detail.push_str(&format!(
+                        " (a PTP without `s` keeps the current Status {}; give `s`, 0..7, to choose another arm configuration)",
+                        model.status(&start.axes)
+                    ));
+                }
+                Err(err)
+            }
         }
     }
 }

@@ -467,8 +467,23 @@ fn circle(p0: DVec3, p1: DVec3, p2: DVec3) -> Result<(Geom, f64, DVec3, DVec3), 
     let a = p1 - p0;
     let b = p2 - p0;
     let scale = a.length().max(b.length()).max((p2 - p1).length());
-    if a.length() < 1e-6 || b.length() < 1e-6 || (p2 - p1).length() < 1e-6 {
-        return Err(MotionError::Geometry("CIRC points coincide"));
+    // Positions are in mm and travel with 3 decimals: closer than 0.01 mm
+    // counts as the same point (a full circle needs two CIRCs, as in KRL).
+    const SAME_POINT_MM: f64 = 0.01;
+    if a.length() < SAME_POINT_MM {
+        return Err(MotionError::Geometry(
+            "CIRC auxiliary point coincides with the start",
+        ));
+    }
+    if b.length() < SAME_POINT_MM {
+        return Err(MotionError::Geometry(
+            "CIRC end point coincides with the start (a full circle needs two CIRCs)",
+        ));
+    }
+    if (p2 - p1).length() < SAME_POINT_MM {
+        return Err(MotionError::Geometry(
+            "CIRC auxiliary point coincides with the end point",
+        ));
     }
     let n = a.cross(b);
     // |a × b| = |a||b| sin(angle): reject nearly collinear points.

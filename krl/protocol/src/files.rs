@@ -23,7 +23,7 @@ pub enum WriteError {
         path: String,
     },
     /// Any other I/O failure.
-    #[error("cannot write {path}: {source}")]
+    #[error("cannot write {path}")]
     Io {
         /// The file.
         path: String,
@@ -43,7 +43,7 @@ pub enum ReadError {
         path: String,
     },
     /// Any other I/O failure.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {path}")]
     Io {
         /// The file.
         path: String,

@@ -23,7 +23,7 @@ use crate::controller::{Changes, Controller, TraceSample};
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
     /// The channel directory cannot be created or watched.
-    #[error("channel directory {path}: {source}")]
+    #[error("channel directory {path}")]
     Channel {
         /// The directory.
         path: String,
@@ -31,8 +31,11 @@ pub enum SimError {
         #[source]
         source: std::io::Error,
     },
+    /// Another simulated controller already serves this channel.
+    #[error("another simulated controller already serves {0} (its lock file kb_sim.lock is held)")]
+    InUse(String),
     /// The thread could not be spawned.
-    #[error("cannot start the simulator thread: {0}")]
+    #[error("cannot start the simulator thread")]
     Thread(#[source] std::io::Error),
 }
 
@@ -109,6 +112,7 @@ pub struct SimController {
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
     channel_dir: PathBuf,
+    _lock: std::fs::File,
 }
 
 impl SimController {
@@ -119,6 +123,20 @@ impl SimController {
             path: dir.display().to_string(),
             source,
         })?;
+        // Two controllers on one channel would both execute commands.
+        let lock_path = dir.join("kb_sim.lock");
+        let lock_file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&lock_path)
+            .map_err(|source| SimError::Channel {
+                path: lock_path.display().to_string(),
+                source,
+            })?;
+        if lock_file.try_lock().is_err() {
+            return Err(SimError::InUse(dir.display().to_string()));
+        }
         let start = config.start_axes.unwrap_or(config.model.home);
         let controller = Controller::new(
             config.model.clone(),
@@ -179,6 +197,7 @@ impl SimController {
             shared,
             thread: Some(thread),
             channel_dir: dir,
+            _lock: lock_file,
         })
     }
 

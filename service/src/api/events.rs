@@ -15,8 +15,9 @@ use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
 use super::AppState;
-use super::problem::QueryParams;
+use super::problem::{Problem, QueryParams};
 use crate::engine::Event;
+use crate::error::BridgeError;
 
 /// Event filter.
 #[derive(Debug, Deserialize, IntoParams)]
@@ -33,14 +34,24 @@ pub struct EventsQuery {
 /// that changed something. A `lagged` event says the client was too slow and missed
 /// some. The stream starts with the current state.
 #[utoipa::path(get, path = "/api/v1/events", tag = "events", params(EventsQuery),
-    responses((status = 200, description = "text/event-stream of job, state and alarm events", content_type = "text/event-stream", body = String)))]
+    responses((status = 200, description = "text/event-stream of job, state and alarm events", content_type = "text/event-stream", body = String), (status = 422, description = "Unknown event type", body = super::problem::ProblemDetails, content_type = super::problem::PROBLEM_JSON)))]
 async fn events(
     State(app): State<AppState>,
     QueryParams(q): QueryParams<EventsQuery>,
-) -> Sse<impl Stream<Item = Result<SseEvent, Infallible>>> {
+) -> Result<Sse<impl Stream<Item = Result<SseEvent, Infallible>>>, Problem> {
     let wanted: Option<Vec<String>> = q
         .types
         .map(|t| t.split(',').map(|s| s.trim().to_string()).collect());
+    if let Some(bad) = wanted
+        .iter()
+        .flatten()
+        .find(|t| !["job", "state", "alarm"].contains(&t.as_str()))
+    {
+        return Err(BridgeError::invalid(format!(
+            "unknown event type {bad:?}; use job, state or alarm"
+        ))
+        .into());
+    }
     let want = move |name: &str| wanted.as_ref().is_none_or(|w| w.iter().any(|x| x == name));
     let first = Event::State(Box::new(app.engine.state()));
     let rx = app.engine.subscribe();
@@ -71,7 +82,7 @@ async fn events(
     let stream = stream.take_until(async move {
         let _ = closing.wait_for(|c| *c).await;
     });
-    Sse::new(stream).keep_alive(KeepAlive::new().interval(Duration::from_secs(15)))
+    Ok(Sse::new(stream).keep_alive(KeepAlive::new().interval(Duration::from_secs(15))))
 }
 
 pub(super) fn router() -> OpenApiRouter<AppState> {

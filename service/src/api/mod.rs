@@ -14,7 +14,7 @@ use std::time::Duration;
 use axum::Router;
 use axum::extract::State;
 use axum::http::Uri;
-use axum::response::Response;
+use axum::response::{IntoResponse, Response};
 use serde::Serialize;
 use tower_http::trace::TraceLayer;
 use utoipa::OpenApi;
@@ -103,20 +103,29 @@ async fn openapi_json(State(app): State<AppState>) -> Response {
     problem::json_response(200, "application/json", app.openapi.as_ref())
 }
 
-async fn not_found(uri: Uri) -> Problem {
-    BridgeError::new(
-        ErrorCode::NotFound,
-        format!("no endpoint at {}; see /docs", uri.path()),
-    )
-    .into()
+/// Thesis clients read `statuscode`: answer `/krl/*` errors in their format.
+fn routing_error(app: &AppState, uri: &Uri, e: BridgeError) -> Response {
+    if uri.path().starts_with("/krl/") {
+        thesis::fail(app, &e)
+    } else {
+        Problem::from(e).into_response()
+    }
 }
 
-async fn method_not_allowed() -> Problem {
-    BridgeError::new(
+async fn not_found(State(app): State<AppState>, uri: Uri) -> Response {
+    let e = BridgeError::new(
+        ErrorCode::NotFound,
+        format!("no endpoint at {}; see /docs", uri.path()),
+    );
+    routing_error(&app, &uri, e)
+}
+
+async fn method_not_allowed(State(app): State<AppState>, uri: Uri) -> Response {
+    let e = BridgeError::new(
         ErrorCode::MethodNotAllowed,
-        "this endpoint does not accept that HTTP method; see /docs",
-    )
-    .into()
+        format!("{} does not accept this HTTP method; see /docs", uri.path()),
+    );
+    routing_error(&app, &uri, e)
 }
 
 /// The documented routes and their OpenAPI description.
@@ -159,7 +168,14 @@ pub fn app(
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .with_state(state)
-        .layer(TraceLayer::new_for_http())
+        // Failed requests are logged where they fail, with their code; the
+        // HTTP layer only traces (an offline controller must not flood the
+        // error log with 503s).
+        .layer(
+            TraceLayer::new_for_http().on_failure(
+                tower_http::trace::DefaultOnFailure::new().level(tracing::Level::DEBUG),
+            ),
+        )
 }
 
 /// Converts anything into a 200 JSON response.

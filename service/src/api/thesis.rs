@@ -18,25 +18,36 @@ use crate::engine::{CartesianFrame, Job, Operation};
 use crate::error::{BridgeError, ErrorCode};
 use crate::motion::{AuxPoint, MotionRequest, TargetSpec};
 
-/// Target coordinates; omitted ones keep their current value.
+/// Target coordinates; omitted ones keep their current value. Upper-case
+/// names (KUKA's own spelling) are accepted too; unknown parameters are
+/// refused rather than ignored, so a typo never moves the robot elsewhere.
 #[derive(Debug, Default, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct PointQuery {
     /// X in mm.
+    #[serde(alias = "X")]
     x: Option<f64>,
     /// Y in mm.
+    #[serde(alias = "Y")]
     y: Option<f64>,
     /// Z in mm.
+    #[serde(alias = "Z")]
     z: Option<f64>,
     /// A (about Z) in degrees.
+    #[serde(alias = "A")]
     a: Option<f64>,
     /// B (about Y) in degrees.
+    #[serde(alias = "B")]
     b: Option<f64>,
     /// C (about X) in degrees.
+    #[serde(alias = "C")]
     c: Option<f64>,
     /// Status (0..7); PTP only.
+    #[serde(alias = "S")]
     s: Option<i64>,
     /// Turn (0..63); PTP only.
+    #[serde(alias = "T")]
     t: Option<i64>,
 }
 
@@ -57,26 +68,61 @@ impl PointQuery {
 
 /// CIRC: end point `x y z a b c` and auxiliary point `ax ay az`.
 #[derive(Debug, Default, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct CircQuery {
     /// End X in mm.
+    #[serde(alias = "X")]
     x: Option<f64>,
     /// End Y in mm.
+    #[serde(alias = "Y")]
     y: Option<f64>,
     /// End Z in mm.
+    #[serde(alias = "Z")]
     z: Option<f64>,
     /// End A in degrees.
+    #[serde(alias = "A")]
     a: Option<f64>,
     /// End B in degrees.
+    #[serde(alias = "B")]
     b: Option<f64>,
     /// End C in degrees.
+    #[serde(alias = "C")]
     c: Option<f64>,
     /// Auxiliary point X in mm.
+    #[serde(alias = "AX")]
     ax: Option<f64>,
     /// Auxiliary point Y in mm.
+    #[serde(alias = "AY")]
     ay: Option<f64>,
     /// Auxiliary point Z in mm.
+    #[serde(alias = "AZ")]
     az: Option<f64>,
+}
+
+/// A tool frame; omitted values keep the current tool's.
+#[derive(Debug, Default, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
+#[into_params(parameter_in = Query)]
+pub struct FrameQuery {
+    /// X in mm.
+    #[serde(alias = "X")]
+    x: Option<f64>,
+    /// Y in mm.
+    #[serde(alias = "Y")]
+    y: Option<f64>,
+    /// Z in mm.
+    #[serde(alias = "Z")]
+    z: Option<f64>,
+    /// A (about Z) in degrees.
+    #[serde(alias = "A")]
+    a: Option<f64>,
+    /// B (about Y) in degrees.
+    #[serde(alias = "B")]
+    b: Option<f64>,
+    /// C (about X) in degrees.
+    #[serde(alias = "C")]
+    c: Option<f64>,
 }
 
 /// The thesis's response.
@@ -125,7 +171,8 @@ pub fn statuscode(code: ErrorCode) -> i32 {
     }
 }
 
-fn fail(app: &AppState, e: &BridgeError) -> Response {
+/// A thesis-format failure (for the `/krl/*` fallbacks too).
+pub(super) fn fail(app: &AppState, e: &BridgeError) -> Response {
     let position = app.engine.state().position.map_or([0.0; 6], |p| p.xyzabc());
     let problem = ProblemDetails::from_error(e);
     let body = ThesisProblem {
@@ -263,11 +310,11 @@ async fn base(State(app): State<AppState>) -> Response {
 }
 
 /// Set the tool (TCP) frame (thesis method 8); omitted values keep the current tool's.
-#[utoipa::path(post, path = "/krl/tcp", tag = "thesis", params(PointQuery),
+#[utoipa::path(post, path = "/krl/tcp", tag = "thesis", params(FrameQuery),
     responses((status = 200, description = "`position` is the new tool frame", body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
 async fn tcp(
     State(app): State<AppState>,
-    q: Result<axum::extract::Query<PointQuery>, QueryRejection>,
+    q: Result<axum::extract::Query<FrameQuery>, QueryRejection>,
 ) -> Response {
     let q = match query(q) {
         Ok(q) => q,

@@ -125,7 +125,8 @@ fn result_error(r: &ResultRecord) -> Option<BridgeError> {
         ),
         ResultCode::Geometry => (
             ErrorCode::InvalidInput,
-            "the controller rejected the motion geometry".into(),
+            "the controller rejected the motion geometry (CIRC points coincide or are collinear)"
+                .into(),
         ),
         ResultCode::ControllerError => (
             ErrorCode::ControllerError,
@@ -409,7 +410,7 @@ impl Actor {
             .max(self.ctl.max_result_cid);
         self.cids
             .next(floor)
-            .map_err(|e| BridgeError::new(ErrorCode::Internal, e.to_string()))
+            .map_err(|e| BridgeError::new(ErrorCode::Internal, crate::error::chain(&e)))
     }
 
     /// Writes a command now, or keeps it pending while the file is locked.
@@ -469,8 +470,13 @@ impl Actor {
                     )));
                 }
             }
-            Err(ChannelError::Encode(e)) => self.write_failed(BridgeError::invalid(e.to_string())),
-            Err(e) => self.write_failed(BridgeError::new(ErrorCode::Internal, e.to_string())),
+            Err(ChannelError::Encode(e)) => {
+                self.write_failed(BridgeError::invalid(crate::error::chain(&e)))
+            }
+            Err(e) => self.write_failed(BridgeError::new(
+                ErrorCode::Internal,
+                crate::error::chain(&e),
+            )),
         }
     }
 

@@ -189,7 +189,15 @@ impl Engine {
                 "the controller is offline (no heartbeat); nothing was sent",
             ));
         }
-        if self.shared.queued.load(Ordering::SeqCst) >= self.shared.max_queue as u64 {
+        // Reserve a queue place atomically (concurrent requests cannot overshoot).
+        let max = self.shared.max_queue as u64;
+        let reserved = self
+            .shared
+            .queued
+            .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |q| {
+                (q < max).then_some(q + 1)
+            });
+        if reserved.is_err() {
             return Err(BridgeError::new(
                 ErrorCode::QueueFull,
                 format!(
@@ -238,7 +246,6 @@ impl Engine {
                 table.jobs.remove(&old);
             }
         }
-        self.shared.queued.fetch_add(1, Ordering::SeqCst);
         self.shared.publish(Event::Job(Box::new(job.clone())));
         let queued = actor::QueuedJob {
             id,
@@ -289,9 +296,9 @@ impl Engine {
             (state, None) if !state.is_terminal() => Err(BridgeError::new(
                 ErrorCode::Timeout,
                 format!(
-                    "job {} is still {:?} after {} ms; poll /api/v1/jobs/{}",
+                    "job {} is still {} after {} ms; poll /api/v1/jobs/{}",
                     job.id,
-                    state,
+                    state.as_str(),
                     max_wait.as_millis(),
                     job.id
                 ),

@@ -187,6 +187,18 @@ pub enum JobState {
 }
 
 impl JobState {
+    /// The state as it appears in JSON.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            JobState::Queued => "queued",
+            JobState::Sent => "sent",
+            JobState::Executing => "executing",
+            JobState::Done => "done",
+            JobState::Failed => "failed",
+            JobState::Cancelled => "cancelled",
+        }
+    }
+
     /// Done, failed or cancelled.
     pub fn is_terminal(self) -> bool {
         matches!(
