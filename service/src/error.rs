@@ -114,6 +114,7 @@ impl ErrorCode {
 
 /// An error with its code, sentence and context.
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema, thiserror::Error)]
+#[schema(example = json!({"code": "timeout", "detail": "the controller did not pick up command 12 within 2000 ms"}))]
 #[error("{code:?}: {detail}")]
 pub struct BridgeError {
     /// Stable code.

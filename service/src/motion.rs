@@ -41,6 +41,7 @@ impl TargetSpec {
 
 /// Auxiliary point of a CIRC (position only, as in KRL).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, Serialize, ToSchema)]
+#[schema(example = json!({"x": 250.0, "y": 0.0}))]
 #[serde(deny_unknown_fields)]
 pub struct AuxPoint {
     /// X in mm.
@@ -53,6 +54,7 @@ pub struct AuxPoint {
 
 /// Axis angles; omitted axes keep their value.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, Serialize, ToSchema)]
+#[schema(example = json!({"a1": 30.0, "a5": 45.0}))]
 #[serde(deny_unknown_fields)]
 pub struct AxesSpec {
     /// A1 in degrees.
@@ -189,6 +191,8 @@ pub struct StartPoint {
 
 /// The current default speeds (settable through the API).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, ToSchema)]
+#[schema(example = json!({"override_pct": 100.0, "ptp_velocity_pct": 20.0, "ptp_acceleration_pct": 100.0,
+                          "cp_velocity_m_s": 0.25, "cp_acceleration_pct": 100.0}))]
 pub struct SpeedSettings {
     /// Program override in % ($OV_PRO).
     pub override_pct: f64,

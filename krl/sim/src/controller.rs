@@ -15,6 +15,7 @@ use serde::Serialize;
 
 /// One executed point of the TCP trace.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct TraceSample {
     /// Simulated time in seconds since the controller started.
     pub t: f64,
@@ -23,8 +24,10 @@ pub struct TraceSample {
     /// Motion index within that command's batch.
     pub motion: usize,
     /// TCP pose in the base frame `[x, y, z, a, b, c]`.
+    #[cfg_attr(feature = "openapi", schema(value_type = Vec<f64>))]
     pub pose: [f64; 6],
     /// Axis angles A1..A6.
+    #[cfg_attr(feature = "openapi", schema(value_type = Vec<f64>))]
     pub axes: Axes,
 }
 

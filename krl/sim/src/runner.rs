@@ -83,14 +83,17 @@ impl SimConfig {
 
 /// A snapshot of the simulated controller for tests and the API.
 #[derive(Debug, Clone, serde::Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct SimSnapshot {
     /// Robot model id.
     pub model: String,
     /// Simulated seconds spent moving since start.
     pub sim_time_s: f64,
     /// Current axis angles.
+    #[cfg_attr(feature = "openapi", schema(value_type = Vec<f64>))]
     pub axes: Axes,
     /// Current TCP `[x, y, z, a, b, c]`.
+    #[cfg_attr(feature = "openapi", schema(value_type = Vec<f64>))]
     pub pose: [f64; 6],
     /// Highest accepted CID.
     pub last_cid: i32,

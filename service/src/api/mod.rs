@@ -75,6 +75,7 @@ struct ApiDoc;
 
 /// Service health.
 #[derive(Debug, Serialize, ToSchema)]
+#[schema(example = json!({"status": "ok", "version": "0.1.0", "connection": "online", "simulated": true}))]
 pub struct Health {
     /// Always `ok` when the service answers.
     pub status: &'static str,

@@ -32,14 +32,14 @@ fn sim(app: &AppState) -> Result<&kuka_sim::SimController, Problem> {
 
 /// The simulated controller: model, simulated clock, axes, last command id.
 #[utoipa::path(get, path = "/api/v1/sim", tag = "simulator",
-    responses((status = 200, description = "Simulator snapshot (`sim_time_s` is simulated seconds spent moving)"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+    responses((status = 200, description = "Simulator snapshot (`sim_time_s` is simulated seconds spent moving)", body = kuka_sim::SimSnapshot), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn snapshot(State(app): State<AppState>) -> Result<Response, Problem> {
     Ok(ok_json(&sim(&app)?.snapshot()))
 }
 
 /// The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per IPO sample (12 ms).
 #[utoipa::path(get, path = "/api/v1/sim/trace", tag = "simulator", params(TraceQuery),
-    responses((status = 200, description = "Trace samples, oldest first"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+    responses((status = 200, description = "Trace samples, oldest first", body = [kuka_sim::TraceSample]), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn trace(
     State(app): State<AppState>,
     QueryParams(q): QueryParams<TraceQuery>,

@@ -45,6 +45,10 @@ pub struct MotionBatch {
 
 /// Position with axis angles.
 #[derive(Debug, Serialize, ToSchema)]
+#[schema(example = json!({
+    "position": {"x": 355.0, "y": 0.0, "z": 625.0, "a": 0.0, "b": 90.0, "c": 0.0, "s": 2, "t": 2},
+    "axes": {"a1": 0.0, "a2": -90.0, "a3": 90.0, "a4": 0.0, "a5": 0.0, "a6": 0.0}
+}))]
 pub struct PositionReport {
     /// TCP in the base frame with Status/Turn.
     pub position: Position,
@@ -79,6 +83,7 @@ pub struct JobsQuery {
 
 /// Stop confirmation.
 #[derive(Debug, Serialize, ToSchema)]
+#[schema(example = json!({"stopped": true}))]
 pub struct Stopped {
     /// True once the controller confirmed the stop.
     pub stopped: bool,

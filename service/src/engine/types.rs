@@ -100,6 +100,7 @@ impl Position {
 
 /// Axis angles A1..A6 in degrees.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, ToSchema)]
+#[schema(example = json!({"a1": 0.0, "a2": -90.0, "a3": 90.0, "a4": 0.0, "a5": 0.0, "a6": 0.0}))]
 pub struct AxisAngles {
     /// A1.
     pub a1: f64,
@@ -210,6 +211,13 @@ impl JobState {
 
 /// A job as clients see it.
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+#[schema(example = json!({
+    "id": 7, "operation": "move", "state": "done", "motions": 2, "completed": 2, "cid": 1042,
+    "created_ms": 1795373060215_u64, "sent_ms": 1795373060221_u64, "finished_ms": 1795373060931_u64,
+    "position": {"x": 250.0, "y": 100.0, "z": 70.0, "a": 180.0, "b": 0.0, "c": 180.0, "s": 6, "t": 51},
+    "axes": {"a1": -21.801, "a2": -13.511, "a3": 108.689, "a4": 0.0, "a5": -5.178, "a6": -21.801},
+    "frame": null, "error": null
+}))]
 pub struct Job {
     /// Job id.
     pub id: JobId,
@@ -274,6 +282,19 @@ pub struct ControllerInfo {
 
 /// The robot's state as the service knows it.
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+#[schema(example = json!({
+    "connection": "online",
+    "controller": {"status": "idle", "mode": "EXT", "error": null, "simulated": true, "override_pct": 100.0,
+                   "heartbeat_seq": 184, "heartbeat_age_ms": 28, "last_cid": 3},
+    "busy": false, "current_job": null, "queue_length": 0,
+    "position": {"x": 355.0, "y": 0.0, "z": 625.0, "a": 0.0, "b": 90.0, "c": 0.0, "s": 2, "t": 2},
+    "axes": {"a1": 0.0, "a2": -90.0, "a3": 90.0, "a4": 0.0, "a5": 0.0, "a6": 0.0},
+    "tool": {"x": 0.0, "y": 0.0, "z": 0.0, "a": 0.0, "b": 0.0, "c": 0.0},
+    "base": {"x": 0.0, "y": 0.0, "z": 0.0, "a": 0.0, "b": 0.0, "c": 0.0},
+    "speed": {"override_pct": 100.0, "ptp_velocity_pct": 20.0, "ptp_acceleration_pct": 100.0,
+              "cp_velocity_m_s": 0.25, "cp_acceleration_pct": 100.0},
+    "model": "kr3_r540"
+}))]
 pub struct RobotState {
     /// Connection to the controller.
     pub connection: Connection,
