@@ -150,7 +150,16 @@ impl MotionRequest {
         }
     }
 
-    fn speed(&self) -> (Option<f64>, Option<f64>, Option<f64>) {
+    /// PTP or axis PTP (speed in %), as opposed to LIN/CIRC (speed in m/s).
+    pub fn is_ptp(&self) -> bool {
+        matches!(
+            self,
+            MotionRequest::Ptp { .. } | MotionRequest::PtpAxes { .. }
+        )
+    }
+
+    /// `(velocity, acceleration_pct, approx_mm)` as given.
+    pub fn speed(&self) -> (Option<f64>, Option<f64>, Option<f64>) {
         match self {
             MotionRequest::Ptp {
                 velocity_pct,
@@ -243,10 +252,7 @@ pub fn resolve(
     let mut out = Vec::with_capacity(requests.len());
     for (i, req) in requests.iter().enumerate() {
         let (vel, acc, apo) = req.speed();
-        let is_ptp = matches!(
-            req,
-            MotionRequest::Ptp { .. } | MotionRequest::PtpAxes { .. }
-        );
+        let is_ptp = req.is_ptp();
         let params = MotionParams {
             velocity: vel.unwrap_or(if is_ptp {
                 speeds.ptp_velocity_pct

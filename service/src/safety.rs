@@ -102,73 +102,39 @@ impl Safety {
             )));
         }
         for (i, r) in requests.iter().enumerate() {
-            let (acc, apo) = match r {
-                MotionRequest::Ptp {
-                    target,
-                    velocity_pct,
-                    acceleration_pct,
-                    approx_mm,
-                    ..
-                } => {
-                    check_target(target, i, true)?;
-                    if let Some(v) = velocity_pct {
-                        self.cap(i, "velocity_pct", *v, self.motion.max_ptp_velocity_pct, "%")?;
+            match r {
+                MotionRequest::Ptp { target, .. } => check_target(target, i, true)?,
+                MotionRequest::Lin { target, .. } => check_target(target, i, false)?,
+                MotionRequest::Circ { aux, target, .. } => {
+                    check_target(target, i, false)?;
+                    for (name, v) in [("aux.x", aux.x), ("aux.y", aux.y), ("aux.z", aux.z)] {
+                        finite(name, v, i)?;
                     }
-                    (*acceleration_pct, *approx_mm)
                 }
-                MotionRequest::PtpAxes {
-                    axes,
-                    velocity_pct,
-                    acceleration_pct,
-                    approx_mm,
-                    ..
-                } => {
-                    for (name, v) in [
+                MotionRequest::PtpAxes { axes, .. } => {
+                    let named = [
                         ("a1", axes.a1),
                         ("a2", axes.a2),
                         ("a3", axes.a3),
                         ("a4", axes.a4),
                         ("a5", axes.a5),
                         ("a6", axes.a6),
-                    ] {
+                    ];
+                    for (name, v) in named {
                         finite(name, v, i)?;
                     }
-                    if let Some(v) = velocity_pct {
-                        self.cap(i, "velocity_pct", *v, self.motion.max_ptp_velocity_pct, "%")?;
-                    }
-                    (*acceleration_pct, *approx_mm)
                 }
-                MotionRequest::Lin {
-                    target,
-                    velocity_m_s,
-                    acceleration_pct,
-                    approx_mm,
-                    ..
-                } => {
-                    check_target(target, i, false)?;
-                    if let Some(v) = velocity_m_s {
-                        self.cap(i, "velocity_m_s", *v, self.motion.max_cp_velocity, " m/s")?;
-                    }
-                    (*acceleration_pct, *approx_mm)
+            }
+            let (vel, acc, apo) = r.speed();
+            match (vel, r.is_ptp()) {
+                (Some(v), true) => {
+                    self.cap(i, "velocity_pct", v, self.motion.max_ptp_velocity_pct, "%")?
                 }
-                MotionRequest::Circ {
-                    aux,
-                    target,
-                    velocity_m_s,
-                    acceleration_pct,
-                    approx_mm,
-                    ..
-                } => {
-                    check_target(target, i, false)?;
-                    for (name, v) in [("aux.x", aux.x), ("aux.y", aux.y), ("aux.z", aux.z)] {
-                        finite(name, v, i)?;
-                    }
-                    if let Some(v) = velocity_m_s {
-                        self.cap(i, "velocity_m_s", *v, self.motion.max_cp_velocity, " m/s")?;
-                    }
-                    (*acceleration_pct, *approx_mm)
+                (Some(v), false) => {
+                    self.cap(i, "velocity_m_s", v, self.motion.max_cp_velocity, " m/s")?
                 }
-            };
+                (None, _) => {}
+            }
             if let Some(a) = acc
                 && !(a.is_finite() && (1.0..=100.0).contains(&a))
             {

@@ -4,8 +4,9 @@
 //! Failures answer an HTTP error whose JSON still carries `statuscode`
 //! (never 1) and `position`, plus the problem details.
 
+use axum::extract::FromRequestParts;
 use axum::extract::State;
-use axum::extract::rejection::QueryRejection;
+use axum::http::request::Parts;
 use axum::response::Response;
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
@@ -216,9 +217,21 @@ fn job_position(job: &Job, frame_result: bool) -> [f64; 6] {
     }
 }
 
-fn query<T>(q: Result<axum::extract::Query<T>, QueryRejection>) -> Result<T, BridgeError> {
-    q.map(|axum::extract::Query(v)| v)
-        .map_err(|e| query_rejection(&e))
+/// Query parameters whose rejection is a thesis-format failure.
+pub(super) struct ThesisQuery<T>(T);
+
+impl<T: serde::de::DeserializeOwned> FromRequestParts<AppState> for ThesisQuery<T> {
+    type Rejection = Response;
+
+    async fn from_request_parts(
+        parts: &mut Parts,
+        app: &AppState,
+    ) -> Result<Self, Self::Rejection> {
+        match axum::extract::Query::<T>::from_request_parts(parts, app).await {
+            Ok(axum::extract::Query(v)) => Ok(ThesisQuery(v)),
+            Err(e) => Err(fail(app, &query_rejection(&e))),
+        }
+    }
 }
 
 /// PTP to a Cartesian target (thesis method 1).
@@ -227,14 +240,7 @@ fn query<T>(q: Result<axum::extract::Query<T>, QueryRejection>) -> Result<T, Bri
 /// (`/krl/ptp?x=30` moves only X). Waits until the motion is done.
 #[utoipa::path(post, path = "/krl/ptp", tag = "thesis", params(PointQuery),
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn ptp(
-    State(app): State<AppState>,
-    q: Result<axum::extract::Query<PointQuery>, QueryRejection>,
-) -> Response {
-    let q = match query(q) {
-        Ok(q) => q,
-        Err(e) => return fail(&app, &e),
-    };
+async fn ptp(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<PointQuery>) -> Response {
     let m = MotionRequest::Ptp {
         target: q.target(),
         relative: false,
@@ -248,14 +254,7 @@ async fn ptp(
 /// Straight line to a Cartesian target (thesis method 2).
 #[utoipa::path(post, path = "/krl/linmov", tag = "thesis", params(PointQuery),
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn linmov(
-    State(app): State<AppState>,
-    q: Result<axum::extract::Query<PointQuery>, QueryRejection>,
-) -> Response {
-    let q = match query(q) {
-        Ok(q) => q,
-        Err(e) => return fail(&app, &e),
-    };
+async fn linmov(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<PointQuery>) -> Response {
     let m = MotionRequest::Lin {
         target: q.target(),
         relative: false,
@@ -269,14 +268,7 @@ async fn linmov(
 /// Circular motion through `ax ay az` to `x y z a b c` (thesis method 7).
 #[utoipa::path(post, path = "/krl/circ", tag = "thesis", params(CircQuery),
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn circ(
-    State(app): State<AppState>,
-    q: Result<axum::extract::Query<CircQuery>, QueryRejection>,
-) -> Response {
-    let q = match query(q) {
-        Ok(q) => q,
-        Err(e) => return fail(&app, &e),
-    };
+async fn circ(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<CircQuery>) -> Response {
     let m = MotionRequest::Circ {
         aux: AuxPoint {
             x: q.ax,
@@ -318,14 +310,7 @@ async fn base(State(app): State<AppState>) -> Response {
 /// Set the tool (TCP) frame (thesis method 8); omitted values keep the current tool's.
 #[utoipa::path(post, path = "/krl/tcp", tag = "thesis", params(FrameQuery),
     responses((status = 200, description = "`position` is the new tool frame", body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn tcp(
-    State(app): State<AppState>,
-    q: Result<axum::extract::Query<FrameQuery>, QueryRejection>,
-) -> Response {
-    let q = match query(q) {
-        Ok(q) => q,
-        Err(e) => return fail(&app, &e),
-    };
+async fn tcp(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<FrameQuery>) -> Response {
     let cur = app.engine.state().tool.unwrap_or_default();
     let frame = CartesianFrame {
         x: q.x.unwrap_or(cur.x),
