@@ -77,19 +77,17 @@ pub(crate) struct Controller {
     active: Option<Active>,
 }
 
-/// What handling a command changed, so the runner knows which files to write.
+/// What handling a command changed, so the runner knows whether to write
+/// the result file. (The state file follows the heartbeat, and at once when
+/// [`Controller::status_key`] changes.)
 #[derive(Debug, Default, PartialEq, Eq)]
 pub(crate) struct Changes {
     pub(crate) results: bool,
-    pub(crate) state: bool,
 }
 
 impl Changes {
-    fn both() -> Self {
-        Changes {
-            results: true,
-            state: true,
-        }
+    fn results() -> Self {
+        Changes { results: true }
     }
 }
 
@@ -243,11 +241,11 @@ impl Controller {
         tracing::debug!(cid, op = command.name(), "command accepted");
         if self.error.is_some() && !matches!(command, Command::Stop | Command::Reset) {
             self.push_result(cid, ResultCode::ControllerError, 0, 0, None);
-            return Changes::both();
+            return Changes::results();
         }
         if self.active.is_some() && !matches!(command, Command::Stop) {
             self.push_result(cid, ResultCode::Busy, 0, 0, None);
-            return Changes::both();
+            return Changes::results();
         }
         match command {
             Command::Stop => {
@@ -324,7 +322,7 @@ impl Controller {
                 self.start(cid, motions, now);
             }
         }
-        Changes::both()
+        Changes::results()
     }
 
     fn start(&mut self, cid: Cid, motions: Vec<Motion>, now: Instant) {
@@ -368,7 +366,6 @@ impl Controller {
                 .as_secs_f64()
                 * time_scale
         };
-        let mut moved = false;
         while let Some(s) = active.execution.samples.get(active.next_sample) {
             if s.t > elapsed {
                 break;
@@ -376,7 +373,6 @@ impl Controller {
             self.axes = s.axes;
             active.current_motion = s.motion;
             active.next_sample += 1;
-            moved = true;
             if self.trace_capacity > 0 {
                 if self.trace.len() >= self.trace_capacity {
                     self.trace.pop_front();
@@ -391,10 +387,7 @@ impl Controller {
             }
         }
         if active.next_sample < active.execution.samples.len() {
-            return Changes {
-                results: false,
-                state: moved,
-            };
+            return Changes::default();
         }
         // Batch finished (or stopped at an error point).
         let Some(active) = self.active.take() else {
@@ -410,7 +403,16 @@ impl Controller {
                 self.push_result(active.cid, code, *index as u32, axis, None);
             }
         }
-        Changes::both()
+        Changes::results()
+    }
+
+    /// What the service must learn at once rather than at the next
+    /// heartbeat: idle/busy/error and the command being executed.
+    pub(crate) fn status_key(&self) -> (Cid, bool) {
+        (
+            self.active.as_ref().map_or(0, |a| a.cid),
+            self.error.is_some(),
+        )
     }
 
     /// The heartbeat record (increments the sequence number).

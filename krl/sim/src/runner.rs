@@ -318,6 +318,7 @@ struct Runner {
     pending_results: bool,
     pending_state: bool,
     next_heartbeat: Instant,
+    status_key: (kuka_protocol::Cid, bool),
 }
 
 impl Runner {
@@ -330,6 +331,7 @@ impl Runner {
             pending_results: false,
             pending_state: true,
             next_heartbeat: Instant::now(),
+            status_key: (0, false),
         }
     }
 
@@ -384,10 +386,15 @@ impl Runner {
                 .unwrap_or_else(|p| p.into_inner());
             let ch = c.advance(now, self.config.time_scale);
             changes.results |= ch.results;
-            changes.state |= ch.state;
+            let key = c.status_key();
+            if key != self.status_key {
+                // Busy/idle/error changed: the service hears it now; the
+                // pose follows at the heartbeat rate.
+                self.status_key = key;
+                self.pending_state = true;
+            }
         }
         self.pending_results |= changes.results;
-        self.pending_state |= changes.state;
         if self.pending_results {
             self.write_results();
         }
@@ -419,7 +426,6 @@ impl Runner {
                 if cmd.cid > c.last_cid {
                     let ch = c.accept(cmd.cid, cmd.command, now);
                     changes.results |= ch.results;
-                    changes.state |= ch.state;
                 } else {
                     tracing::debug!(cid = cmd.cid, last = c.last_cid, "stale command ignored");
                 }
@@ -435,7 +441,6 @@ impl Runner {
                     tracing::warn!(cid, error = %e, "malformed command");
                     c.reject_malformed(cid);
                     changes.results = true;
-                    changes.state = true;
                 } else {
                     tracing::warn!(error = %e, "unreadable command file ignored");
                 }
