@@ -227,6 +227,8 @@ async fn locked_command_file_reports_channel_locked_and_recovers() {
         "nothing written"
     );
     drop(holder);
+    // The locked state ends when the holder lets go, before anything is sent.
+    t.wait_connection("online").await;
     let (s, v) = t
         .motions(json!([{"type": "ptp", "target": {"x": 300}}]))
         .await;

@@ -120,6 +120,14 @@ async fn thesis_failures_keep_statuscode_and_position() {
     let (status, v) = t.post("/krl/ptp?X=300&Y=0&Z=300&A=0&B=90&C=0").await;
     assert_eq!(status, 200, "{v}");
     assert_close(thesis_position(&v)[0], 300.0, 0.01, "upper-case X");
+    for path in ["/krl/getpos?foo=1", "/krl/base?x=1", "/krl/gettcp?bogus=1"] {
+        let (status, v) = t.post(path).await;
+        assert_eq!(
+            (status, v["code"].as_str()),
+            (422, Some("invalid_input")),
+            "{path}: {v}"
+        );
+    }
     // Routing errors keep the thesis format.
     let (status, v) = t.post("/krl/nothing").await;
     assert_eq!((status, v["statuscode"].as_i64()), (404, Some(54)), "{v}");

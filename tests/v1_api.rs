@@ -62,8 +62,18 @@ async fn state_health_and_docs() {
     assert_eq!(r.status(), 200, "Swagger UI assets are embedded (offline)");
     let (s, v) = t.get("/api/v1/nothing").await;
     assert_eq!((s, v["code"].as_str()), (404, Some("not_found")));
-    let (s, v) = t.get("/api/v1/events?types=job,bogus").await;
-    assert_eq!((s, v["code"].as_str()), (422, Some("invalid_input")), "{v}");
+    for path in [
+        "/api/v1/events?types=job,bogus",
+        "/api/v1/events?type=job",
+        "/api/v1/jobs?limt=3",
+    ] {
+        let (s, v) = t.get(path).await;
+        assert_eq!(
+            (s, v["code"].as_str()),
+            (422, Some("invalid_input")),
+            "{path}: {v}"
+        );
+    }
     // One simulated controller per channel.
     match kuka_sim::SimController::start(kuka_sim::SimConfig::new(t.channel_dir())) {
         Err(e) => assert!(e.to_string().contains("already serves"), "{e}"),
@@ -552,16 +562,16 @@ async fn readme_walk_through_draws_the_smiley() {
         };
         // Every drawn point belongs to the face, an eye or the mouth.
         for s in &drawn {
-            let face = (dist(s, 250.0, 0.0) - 60.0).abs() < 0.6;
-            let eye = (dist(s, 270.0, 22.0) - 8.0).abs() < 0.6
-                || (dist(s, 270.0, -22.0) - 8.0).abs() < 0.6;
-            let mouth = dist(s, 250.0, 0.0) < 40.0 && s.pose[0] < 233.0;
+            let face = (dist(s, 220.0, 0.0) - 55.0).abs() < 0.6;
+            let eye = (dist(s, 238.0, 20.0) - 7.0).abs() < 0.6
+                || (dist(s, 238.0, -20.0) - 7.0).abs() < 0.6;
+            let mouth = dist(s, 220.0, 0.0) < 40.0 && s.pose[0] < 203.0;
             assert!(face || eye || mouth, "stray ink at {:?}", s.pose);
         }
         assert!(
             drawn
                 .iter()
-                .filter(|s| (dist(s, 250.0, 0.0) - 60.0).abs() < 0.6)
+                .filter(|s| (dist(s, 220.0, 0.0) - 55.0).abs() < 0.6)
                 .count()
                 > 50,
             "face"
@@ -569,20 +579,20 @@ async fn readme_walk_through_draws_the_smiley() {
         assert!(
             drawn
                 .iter()
-                .any(|s| (dist(s, 270.0, 22.0) - 8.0).abs() < 0.6),
+                .any(|s| (dist(s, 238.0, 20.0) - 7.0).abs() < 0.6),
             "left eye"
         );
         assert!(
             drawn
                 .iter()
-                .any(|s| (dist(s, 270.0, -22.0) - 8.0).abs() < 0.6),
+                .any(|s| (dist(s, 238.0, -20.0) - 7.0).abs() < 0.6),
             "right eye"
         );
         assert!(
             drawn
                 .iter()
-                .any(|s| (s.pose[0] - 215.0).abs() < 1.0 && s.pose[1].abs() < 2.0),
-            "mouth through (215, 0)"
+                .any(|s| (s.pose[0] - 185.0).abs() < 1.0 && s.pose[1].abs() < 2.0),
+            "mouth through (185, 0)"
         );
     }
     // A flange-down PTP that would need another arm configuration says how to get it.

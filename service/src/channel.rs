@@ -104,6 +104,11 @@ impl Channel {
         }
     }
 
+    /// True while another process holds the command file locked.
+    pub fn command_locked(&self) -> bool {
+        files::is_locked(&self.dir, COMMAND_FILE)
+    }
+
     /// Reads the result file.
     pub fn read_results(&self) -> ReadOutcome<ResultFile> {
         self.read(RESULT_FILE, ResultFile::decode)

@@ -456,34 +456,33 @@ impl Config {
     }
 
     fn check_custom_model(&self, m: &RobotModel) -> Result<(), ConfigError> {
-        if m.opw_mm.iter().any(|v| !v.is_finite())
-            || m.opw_mm[3] <= 0.0
-            || m.opw_mm[4] <= 0.0
-            || m.opw_mm[5] <= 0.0
+        // Plausible for a 6-axis industrial arm, and within what the file
+        // protocol can carry (±9999.999 mm).
+        let [_, _, _, c1, c2, c3, c4] = m.opw_mm;
+        if m.opw_mm.iter().any(|v| !v.is_finite() || v.abs() > 3000.0)
+            || [c1, c2, c3].iter().any(|v| *v < 1.0)
+            || c4 < 0.0
         {
             return Err(self.invalid(
                 "robot.custom.opw_mm",
-                "needs finite values [a1, a2, b, c1, c2, c3, c4] with c1, c2, c3 > 0 (mm)".into(),
+                "needs [a1, a2, b, c1, c2, c3, c4] in mm, each within ±3000, with c1, c2, c3 ≥ 1 and c4 ≥ 0".into(),
             ));
         }
         for (i, (lo, hi)) in m.limits_deg.iter().enumerate() {
-            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi && *lo >= -720.0 && *hi <= 720.0) {
                 return Err(self.invalid(
                     "robot.custom.limits_deg",
                     format!(
-                        "axis A{}: [{lo}, {hi}] is not [min, max] with min < max",
+                        "axis A{}: [{lo}, {hi}] is not [min, max] with -720 ≤ min < max ≤ 720",
                         i + 1
                     ),
                 ));
             }
-            if !(m.max_speed_deg_s[i].is_finite() && m.max_speed_deg_s[i] > 0.0) {
+            let v = m.max_speed_deg_s[i];
+            if !(v.is_finite() && v > 0.0 && v <= 3600.0) {
                 return Err(self.invalid(
                     "robot.custom.max_speed_deg_s",
-                    format!(
-                        "axis A{}: {} is not a positive speed",
-                        i + 1,
-                        m.max_speed_deg_s[i]
-                    ),
+                    format!("axis A{}: {v} is not a speed in (0, 3600] deg/s", i + 1),
                 ));
             }
             if !(*lo..=*hi).contains(&m.home[i]) {
@@ -580,6 +579,12 @@ mod custom_model_tests {
             .validate()
             .expect_err("inverted limits");
         assert!(err.to_string().contains("robot.custom.limits_deg"), "{err}");
+        let bad = text.replace("opw_mm = [25.0", "opw_mm = [1e9");
+        let err = toml::from_str::<Config>(&bad)
+            .expect("parses")
+            .validate()
+            .expect_err("huge geometry");
+        assert!(err.to_string().contains("robot.custom.opw_mm"), "{err}");
         let bad = text.replace("[360.0, 300.0", "[0.0, 300.0");
         let err = toml::from_str::<Config>(&bad)
             .expect("parses")

@@ -4,7 +4,7 @@
 //!    thesis `POST /krl/getpos` (HTTP → engine → command file → simulated
 //!    controller → result file → engine → HTTP) and a small `POST
 //!    /api/v1/motions`; p50/p90/p99/max over many sequential requests.
-//! 2. a 200-segment polyline (a 100 mm-radius circle, 0.2 m/s): one
+//! 2. a 200-segment polyline (an 80 mm-radius circle, 0.2 m/s): one
 //!    blended batch versus one request per segment, in simulated seconds
 //!    against the ideal path time (length / speed).
 //!
@@ -67,7 +67,7 @@ fn circle_polyline(segments: usize, radius: f64) -> Vec<[f64; 2]> {
     (0..=segments)
         .map(|i| {
             let a = std::f64::consts::TAU * i as f64 / segments as f64;
-            [250.0 + radius * a.cos(), radius * a.sin()]
+            [190.0 + radius * a.cos(), radius * a.sin()]
         })
         .collect()
 }
@@ -134,14 +134,16 @@ fn main() {
         .await;
         report("POST /api/v1/motions (1 axis PTP)", samples);
 
-        println!("-- 200-segment polyline (circle r = 100 mm, 0.2 m/s), simulated seconds");
+        // Pen down on the KR 3 R540: the circle stays inside the region where
+        // A5 < 0 (A5 passes 0 about 290 mm from the base), so no singularity.
+        println!("-- 200-segment polyline (circle r = 80 mm, 0.2 m/s), simulated seconds");
         let segments = 200;
-        let radius = 100.0;
+        let radius = 80.0;
         let speed = 0.2;
         let pts = circle_polyline(segments, radius);
         let length_mm: f64 = pts.windows(2).map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2)).sqrt()).sum();
         let ideal = length_mm / 1000.0 / speed;
-        let start = json!({"motions": [{"type": "ptp", "target": {"x": pts[0][0], "y": pts[0][1], "z": 100, "a": 0, "b": 180, "c": 0}}]});
+        let start = json!({"motions": [{"type": "ptp", "target": {"x": pts[0][0], "y": pts[0][1], "z": 100, "a": 0, "b": 180, "c": 0, "s": 6}}]});
         let (s, v) = t.post_json("/api/v1/motions", &start).await;
         assert_eq!(s, 200, "{v}");
         let lin = |p: &[f64; 2]| json!({"type": "lin", "target": {"x": p[0], "y": p[1]}, "velocity_m_s": speed, "approx_mm": 2});

@@ -823,6 +823,22 @@ impl<'a> Planner<'a> {
                 self.model, prev, &axes,
             )));
         }
+        // A Cartesian path cannot change Status: crossing the A1 axis with
+        // the wrist point, stretching the elbow or passing A5 = 0 means
+        // passing through a singularity (a KRC stops there). Bits that are
+        // undefined at either sample (e.g. leaving A5 = 0 at home) are free.
+        let free = self.model.singular_status_bits(prev) | self.model.singular_status_bits(&axes);
+        let changed = (self.model.status(prev) ^ self.model.status(&axes)) & !free;
+        if changed != 0 {
+            let which = if changed & 1 != 0 {
+                "overhead"
+            } else if changed & 2 != 0 {
+                "elbow"
+            } else {
+                "wrist"
+            };
+            return Err(MotionError::Singularity(which));
+        }
         Ok(axes)
     }
 }

@@ -627,13 +627,15 @@ fn mixed_batch_with_tool_and_base() {
     let m = RobotModel::kr3_r540();
     let settings = PlanSettings::default();
     let tool = Pose::new(0.0, 0.0, 60.0, 0.0, 0.0, 0.0);
-    let base = Pose::new(250.0, 0.0, 100.0, 0.0, 0.0, 0.0);
+    // Kept where A5 stays positive with this tool pointing down: a LIN or
+    // CIRC crossing A5 = 0 (about 215 mm out at this height) is a singularity.
+    let base = Pose::new(280.0, 0.0, 100.0, 0.0, 0.0, 0.0);
     let p = |x: f64, y: f64| Pose::new(x, y, 50.0, 0.0, 180.0, 0.0);
     let motions = vec![
         Motion {
             kind: MotionKind::Ptp {
                 target: p(0.0, 0.0),
-                s: None,
+                s: Some(2),
                 t: None,
             },
             velocity: 100.0,
@@ -667,5 +669,34 @@ fn mixed_batch_with_tool_and_base() {
             ex.samples.iter().any(|s| s.motion == i),
             "motion {i} has no samples"
         );
+    }
+}
+
+/// A LIN whose wrist point crosses the A1 axis would change Status bit 0
+/// (overhead): a Cartesian path cannot, so it stops with a singularity.
+#[test]
+fn lin_through_the_a1_axis_is_an_overhead_singularity() {
+    let model = RobotModel::kr3_r540();
+    let tool = Pose::IDENTITY;
+    let base = Pose::IDENTITY;
+    let motion = Motion {
+        kind: MotionKind::Lin {
+            target: Pose::new(0.0, 0.0, 625.0, 0.0, 90.0, 0.0),
+        },
+        velocity: 0.25,
+        acceleration_pct: 100.0,
+        approx_mm: 0.0,
+    };
+    let ex = plan(
+        &model,
+        &model.home,
+        &tool,
+        &base,
+        &[motion],
+        &PlanSettings::default(),
+    );
+    match ex.error {
+        Some((0, MotionError::Singularity(_))) => {}
+        other => panic!("expected a singularity, got {other:?}"),
     }
 }

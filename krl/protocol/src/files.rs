@@ -113,6 +113,19 @@ pub fn atomic_write(dir: &Path, name: &str, tag: &str, text: &str) -> Result<(),
     }
 }
 
+/// True if another process holds `dir/name` locked right now (see the
+/// module doc); a missing file is not locked.
+pub fn is_locked(dir: &Path, name: &str) -> bool {
+    match File::open(dir.join(name)) {
+        Ok(f) => match f.try_lock() {
+            Ok(()) => false,
+            Err(fs::TryLockError::WouldBlock) => true,
+            Err(fs::TryLockError::Error(e)) => is_lock_error(&e),
+        },
+        Err(e) => is_lock_error(&e),
+    }
+}
+
 /// Reads `dir/name`; `Ok(None)` when it does not exist.
 pub fn read(dir: &Path, name: &str) -> Result<Option<String>, ReadError> {
     let path = dir.join(name);

@@ -21,6 +21,7 @@ use crate::error::BridgeError;
 
 /// Event filter.
 #[derive(Debug, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct EventsQuery {
     /// Comma-separated event types to receive: `job`, `state`, `alarm` (default: all).

@@ -14,6 +14,7 @@ use crate::error::{BridgeError, ErrorCode};
 
 /// Trace filter.
 #[derive(Debug, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct TraceQuery {
     /// Only samples with simulated time `t` greater than this (seconds).

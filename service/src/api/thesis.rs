@@ -126,6 +126,11 @@ pub struct FrameQuery {
     c: Option<f64>,
 }
 
+/// Endpoints without parameters refuse any (a typo must not go unnoticed).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct NoParams {}
+
 /// The thesis's response.
 #[derive(Debug, Serialize, ToSchema)]
 #[schema(example = json!({"statuscode": 1, "position": [200.0, 0.0, 70.0, 0.0, 180.0, 0.0]}))]
@@ -296,14 +301,14 @@ async fn circ(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<CircQuery
 /// Current position (thesis method 3), read through the controller program.
 #[utoipa::path(post, path = "/krl/getpos", tag = "thesis",
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn getpos(State(app): State<AppState>) -> Response {
+async fn getpos(State(app): State<AppState>, _: ThesisQuery<NoParams>) -> Response {
     run(&app, Operation::GetPosition, false).await
 }
 
 /// Move to the home position (thesis method 6, "base").
 #[utoipa::path(post, path = "/krl/base", tag = "thesis",
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn base(State(app): State<AppState>) -> Response {
+async fn base(State(app): State<AppState>, _: ThesisQuery<NoParams>) -> Response {
     run(&app, Operation::Home, false).await
 }
 
@@ -329,7 +334,7 @@ async fn tcp(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<FrameQuery
 /// Current tool (TCP) frame (thesis method 9).
 #[utoipa::path(post, path = "/krl/gettcp", tag = "thesis",
     responses((status = 200, description = "`position` is the tool frame", body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn gettcp(State(app): State<AppState>) -> Response {
+async fn gettcp(State(app): State<AppState>, _: ThesisQuery<NoParams>) -> Response {
     run(&app, Operation::GetTool, true).await
 }
 

@@ -75,6 +75,7 @@ pub struct SpeedUpdate {
 
 /// Job list filter.
 #[derive(Debug, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct JobsQuery {
     /// Most jobs returned, newest first (default 100, at most 1000).

@@ -233,6 +233,11 @@ impl Actor {
                 _ = tick.tick() => {
                     self.refresh();
                     self.check_timeouts();
+                    // The locked state ends when the holder lets go, not only at the next write.
+                    if self.ctl.locked && self.pending.is_none() && !self.channel.command_locked() {
+                        tracing::warn!(dir = %self.channel.dir().display(), "channel unlocked");
+                        self.ctl.locked = false;
+                    }
                 }
                 () = sleep_until(retry_at.into()), if self.pending.is_some() => {}
             }
