@@ -63,6 +63,50 @@ async fn round_trips(
     out
 }
 
+/// Sequential keep-alive requests over a plain TCP socket (a minimal
+/// HTTP/1.1 client, like curl's): separates the bridge's latency from the
+/// cost of a full-featured async client.
+fn raw_round_trips(addr: std::net::SocketAddr, request: &str, n: usize) -> Vec<Duration> {
+    use std::io::{Read, Write};
+    let mut sock = std::net::TcpStream::connect(addr).expect("connect");
+    sock.set_nodelay(true).expect("nodelay");
+    let mut buf = vec![0u8; 64 * 1024];
+    let mut one = |sock: &mut std::net::TcpStream| {
+        sock.write_all(request.as_bytes()).expect("send");
+        let mut have = 0;
+        loop {
+            let got = sock.read(&mut buf[have..]).expect("read");
+            assert!(got > 0, "connection closed");
+            have += got;
+            let text = String::from_utf8_lossy(&buf[..have]);
+            if let Some(end) = text.find("\r\n\r\n") {
+                let len: usize = text[..end]
+                    .lines()
+                    .find_map(|l| {
+                        l.to_ascii_lowercase()
+                            .strip_prefix("content-length:")
+                            .map(|v| v.trim().parse().unwrap_or(0))
+                    })
+                    .unwrap_or(0);
+                if have >= end + 4 + len {
+                    assert!(text.starts_with("HTTP/1.1 200"), "{text}");
+                    return;
+                }
+            }
+        }
+    };
+    for _ in 0..200 {
+        one(&mut sock);
+    }
+    (0..n)
+        .map(|_| {
+            let start = Instant::now();
+            one(&mut sock);
+            start.elapsed()
+        })
+        .collect()
+}
+
 fn circle_polyline(segments: usize, radius: f64) -> Vec<[f64; 2]> {
     (0..=segments)
         .map(|i| {
@@ -122,6 +166,20 @@ fn main() {
         let url = t.url("/krl/getpos");
         let http = t.http.clone();
         report("POST /krl/getpos", round_trips(&t, n, || http.post(&url)).await);
+        let addr = t.service.addr;
+        let raw = tokio::task::spawn_blocking(move || {
+            raw_round_trips(addr, "POST /krl/getpos HTTP/1.1\r\nHost: bench\r\nContent-Length: 0\r\n\r\n", n)
+        })
+        .await
+        .expect("raw client");
+        report("POST /krl/getpos (plain TCP client)", raw);
+        let addr = t.service.addr;
+        let raw = tokio::task::spawn_blocking(move || {
+            raw_round_trips(addr, "GET /health HTTP/1.1\r\nHost: bench\r\n\r\n", n)
+        })
+        .await
+        .expect("raw client");
+        report("GET /health (plain TCP client)", raw);
         let url = t.url("/api/v1/motions");
         let http = t.http.clone();
         let small = json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 1}, "relative": true}]});
