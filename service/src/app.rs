@@ -174,13 +174,6 @@ impl Service {
 /// Runs until `shutdown` resolves (Ctrl-C, or the Windows service manager).
 pub async fn run(config: Config, shutdown: impl Future<Output = ()>) -> Result<(), AppError> {
     let service = start(config).await?;
-    tokio::pin!(shutdown);
-    let server_done = {
-        tokio::select! {
-            () = &mut shutdown => false,
-            _ = tokio::time::sleep(Duration::MAX) => true,
-        }
-    };
-    let _ = server_done;
+    shutdown.await;
     service.shutdown().await
 }

@@ -103,7 +103,6 @@ fn real_main(cli: Cli) -> anyhow::Result<()> {
             let config = build_config(args)?;
             let rt = tokio::runtime::Runtime::new().context("cannot start the async runtime")?;
             rt.block_on(async move {
-                let listen = config.server.listen;
                 let simulated = config.simulator.enabled;
                 let service = crate::app::start(config).await?;
                 let url = service.base_url();
@@ -123,7 +122,6 @@ fn real_main(cli: Cli) -> anyhow::Result<()> {
                             .unwrap_or_else(|| "no model".into())
                     );
                 }
-                let _ = listen;
                 println!("Press Ctrl-C to stop.");
                 shutdown_signal().await;
                 service.shutdown().await?;
