@@ -55,6 +55,23 @@ pub enum ReadOutcome<T> {
     Failed(String),
 }
 
+/// Which controller files a watcher event (or a poll) says to read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Changed {
+    /// The result file may have changed.
+    pub results: bool,
+    /// The state file may have changed.
+    pub state: bool,
+}
+
+impl Changed {
+    /// Both files (a poll, or an event the watcher could not attribute).
+    pub const BOTH: Changed = Changed {
+        results: true,
+        state: true,
+    };
+}
+
 /// The channel directory as the service sees it.
 #[derive(Debug, Clone)]
 pub struct Channel {
@@ -122,21 +139,29 @@ impl Channel {
     /// Watches the directory; a message means "result or state file may
     /// have changed". Events are a hint: the caller still polls. Returns
     /// the watcher (keep it alive) or None when watching is unavailable.
-    pub fn watch(&self, tx: mpsc::Sender<()>) -> Option<notify::RecommendedWatcher> {
+    pub fn watch(&self, tx: mpsc::Sender<Changed>) -> Option<notify::RecommendedWatcher> {
         let result = notify::recommended_watcher(move |ev: notify::Result<notify::Event>| {
-            let relevant = match &ev {
+            let changed = match &ev {
                 // Our own reads raise access events; reacting to them would
                 // make every read trigger the next one.
-                Ok(ev) if matches!(ev.kind, notify::EventKind::Access(_)) => false,
-                Ok(ev) => ev.paths.iter().any(|p| {
-                    p.file_name()
-                        .is_some_and(|n| n == RESULT_FILE || n == STATE_FILE)
-                }),
-                // Overflow and errors: let the poll look.
-                Err(_) => true,
+                Ok(ev) if matches!(ev.kind, notify::EventKind::Access(_)) => None,
+                Ok(ev) => {
+                    let named = |file: &str| {
+                        ev.paths
+                            .iter()
+                            .any(|p| p.file_name().is_some_and(|n| n == file))
+                    };
+                    let c = Changed {
+                        results: named(RESULT_FILE),
+                        state: named(STATE_FILE),
+                    };
+                    (c.results || c.state).then_some(c)
+                }
+                // Overflow and errors: look at everything.
+                Err(_) => Some(Changed::BOTH),
             };
-            if relevant {
-                let _ = tx.try_send(());
+            if let Some(c) = changed {
+                let _ = tx.try_send(c);
             }
         })
         .and_then(|mut w| w.watch(&self.dir, RecursiveMode::NonRecursive).map(|()| w));

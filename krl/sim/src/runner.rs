@@ -172,12 +172,17 @@ impl SimController {
                     .iter()
                     .any(|p| p.file_name().is_some_and(|n| n == COMMAND_FILE))
             {
-                if !cb_shared.paused.load(Ordering::SeqCst)
-                    && !cb_shared.shutdown.load(Ordering::SeqCst)
-                {
+                let handled = !cb_shared.paused.load(Ordering::SeqCst)
+                    && !cb_shared.shutdown.load(Ordering::SeqCst);
+                if handled {
                     lock(&cb_runner).step(Instant::now());
                 }
-                let _ = tx.send(());
+                // The thread only needs to re-plan its sleep when a motion now
+                // plays in real time (or nothing was handled here); an extra
+                // wake-up costs CPU on small machines.
+                if !handled || lock(&cb_shared.controller).is_busy() {
+                    let _ = tx.send(());
+                }
             }
         })
         .and_then(|mut w| w.watch(&dir, RecursiveMode::NonRecursive).map(|()| w));

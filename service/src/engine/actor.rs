@@ -14,7 +14,7 @@ use tokio::sync::{mpsc, oneshot};
 use tokio::time::sleep_until;
 
 use super::{Msg, Shared};
-use crate::channel::{Channel, ChannelError, CidStore, ReadOutcome};
+use crate::channel::{Changed, Channel, ChannelError, CidStore, ReadOutcome};
 use crate::config::{ChannelConfig, Config};
 use crate::engine::types::*;
 use crate::error::{BridgeError, ErrorCode, Result};
@@ -229,9 +229,9 @@ impl Actor {
                     Some(msg) => self.handle(msg),
                     None => break,
                 },
-                Some(()) = fs_rx.recv() => self.refresh(),
+                Some(changed) = fs_rx.recv() => self.refresh(changed),
                 _ = tick.tick() => {
-                    self.refresh();
+                    self.refresh(Changed::BOTH);
                     self.check_timeouts();
                     // The locked state ends when the holder lets go, not only at the next write.
                     if self.ctl.locked && self.pending.is_none() && !self.channel.command_locked() {
@@ -546,9 +546,14 @@ impl Actor {
     }
 
     /// Reads the state and result files and reacts to what changed.
-    fn refresh(&mut self) {
+    fn refresh(&mut self, changed: Changed) {
         let now = Instant::now();
-        match self.channel.read_state() {
+        let state = if changed.state {
+            self.channel.read_state()
+        } else {
+            ReadOutcome::Missing
+        };
+        match state {
             ReadOutcome::Record(s) => {
                 let changed = self.ctl.state.as_ref().is_none_or(|old| old.seq != s.seq);
                 if changed {
@@ -565,7 +570,12 @@ impl Actor {
             ReadOutcome::Failed(e) => tracing::debug!(error = %e, "state file unreadable"),
             ReadOutcome::Missing | ReadOutcome::Locked => {}
         }
-        match self.channel.read_results() {
+        let results = if changed.results {
+            self.channel.read_results()
+        } else {
+            ReadOutcome::Missing
+        };
+        match results {
             ReadOutcome::Record(r) => {
                 for rec in r.results {
                     if rec.cid > self.ctl.max_result_cid {
