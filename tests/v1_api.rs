@@ -259,6 +259,36 @@ async fn validation_errors_write_nothing() {
             assert_eq!(v["axis"], 5, "{v}");
         }
     }
+    // Wrong media type, and a body above the 2 MB limit.
+    let r = t
+        .http
+        .post(t.url("/api/v1/motions"))
+        .header("content-type", "text/plain")
+        .body("{}")
+        .send()
+        .await
+        .expect("send");
+    let (s, v) = kuka_bridge_tests::decode(r).await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (415, Some("unsupported_media_type")),
+        "{v}"
+    );
+    let huge = format!("{{\"motions\": [], \"pad\": \"{}\"}}", "x".repeat(3 << 20));
+    let r = t
+        .http
+        .post(t.url("/api/v1/motions"))
+        .header("content-type", "application/json")
+        .body(huge)
+        .send()
+        .await
+        .expect("send");
+    let (s, v) = kuka_bridge_tests::decode(r).await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (413, Some("payload_too_large")),
+        "{v}"
+    );
     // Malformed JSON.
     let r = t
         .http

@@ -37,6 +37,10 @@ pub enum ErrorCode {
     NotFound,
     /// The endpoint exists but not with this HTTP method.
     MethodNotAllowed,
+    /// The request body is larger than the service accepts.
+    PayloadTooLarge,
+    /// The request body is not `application/json`.
+    UnsupportedMediaType,
     /// Too many jobs waiting.
     QueueFull,
     /// The controller answered something this service does not understand.
@@ -60,6 +64,8 @@ impl ErrorCode {
             ErrorCode::ControllerError | ErrorCode::ControllerBusy | ErrorCode::Cancelled => 409,
             ErrorCode::NotFound => 404,
             ErrorCode::MethodNotAllowed => 405,
+            ErrorCode::PayloadTooLarge => 413,
+            ErrorCode::UnsupportedMediaType => 415,
             ErrorCode::ProtocolError => 502,
             ErrorCode::Internal => 500,
         }
@@ -82,6 +88,8 @@ impl ErrorCode {
             ErrorCode::Cancelled => "Cancelled",
             ErrorCode::NotFound => "Not found",
             ErrorCode::MethodNotAllowed => "Method not allowed",
+            ErrorCode::PayloadTooLarge => "Payload too large",
+            ErrorCode::UnsupportedMediaType => "Unsupported media type",
             ErrorCode::QueueFull => "Queue full",
             ErrorCode::ProtocolError => "Protocol error",
             ErrorCode::Internal => "Internal error",
@@ -105,6 +113,8 @@ impl ErrorCode {
             ErrorCode::Cancelled => "cancelled",
             ErrorCode::NotFound => "not_found",
             ErrorCode::MethodNotAllowed => "method_not_allowed",
+            ErrorCode::PayloadTooLarge => "payload_too_large",
+            ErrorCode::UnsupportedMediaType => "unsupported_media_type",
             ErrorCode::QueueFull => "queue_full",
             ErrorCode::ProtocolError => "protocol_error",
             ErrorCode::Internal => "internal",

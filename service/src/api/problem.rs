@@ -130,7 +130,12 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for JsonBody<T> {
 }
 
 fn json_rejection(e: &JsonRejection) -> BridgeError {
-    BridgeError::invalid(format!("request body: {}", e.body_text()))
+    let code = match e.status().as_u16() {
+        413 => ErrorCode::PayloadTooLarge,
+        415 => ErrorCode::UnsupportedMediaType,
+        _ => ErrorCode::InvalidInput,
+    };
+    BridgeError::new(code, format!("request body: {}", e.body_text()))
 }
 
 /// Query parameters whose rejection is a problem (`invalid_input`).

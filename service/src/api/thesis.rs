@@ -179,6 +179,8 @@ pub fn statuscode(code: ErrorCode) -> i32 {
         ErrorCode::QueueFull => 53,
         ErrorCode::NotFound => 54,
         ErrorCode::MethodNotAllowed => 55,
+        ErrorCode::PayloadTooLarge => 56,
+        ErrorCode::UnsupportedMediaType => 57,
         ErrorCode::Internal => 99,
     }
 }

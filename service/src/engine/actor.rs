@@ -702,6 +702,9 @@ impl Actor {
         let elapsed_ms = f.sent_at.elapsed().as_secs_f64() * 1000.0;
         match &error {
             None => tracing::debug!(job = f.id, cid = r.cid, elapsed_ms, "job done"),
+            Some(e) if e.code == ErrorCode::Cancelled => {
+                tracing::info!(job = f.id, cid = r.cid, detail = %e.detail, "job cancelled")
+            }
             Some(e) => {
                 tracing::warn!(job = f.id, cid = r.cid, code = e.code.as_str(), detail = %e.detail, "job failed")
             }
