@@ -10,7 +10,6 @@ use kuka_protocol::{
     COMMAND_FILE, Cid, CommandFile, DecodeError, RESULT_FILE, ResultFile, STATE_FILE, StateFile,
 };
 use notify::{RecursiveMode, Watcher};
-use tokio::sync::mpsc;
 
 /// Errors of the channel.
 #[derive(Debug, thiserror::Error)]
@@ -139,7 +138,10 @@ impl Channel {
     /// Watches the directory; a message means "result or state file may
     /// have changed". Events are a hint: the caller still polls. Returns
     /// the watcher (keep it alive) or None when watching is unavailable.
-    pub fn watch(&self, tx: mpsc::Sender<Changed>) -> Option<notify::RecommendedWatcher> {
+    pub fn watch(
+        &self,
+        on_change: impl Fn(Changed) + Send + 'static,
+    ) -> Option<notify::RecommendedWatcher> {
         let result = notify::recommended_watcher(move |ev: notify::Result<notify::Event>| {
             let changed = match &ev {
                 // Our own reads raise access events; reacting to them would
@@ -161,7 +163,7 @@ impl Channel {
                 Err(_) => Some(Changed::BOTH),
             };
             if let Some(c) = changed {
-                let _ = tx.try_send(c);
+                on_change(c);
             }
         })
         .and_then(|mut w| w.watch(&self.dir, RecursiveMode::NonRecursive).map(|()| w));

@@ -10,8 +10,9 @@ use kuka_protocol::{
     Cid, Command, CommandFile, ControllerStatus, Frame, OperatingMode, ResultCode, ResultRecord,
     SpeedRecord, StateFile,
 };
-use tokio::sync::{mpsc, oneshot};
-use tokio::time::sleep_until;
+use std::sync::mpsc::{self, RecvTimeoutError};
+
+use tokio::sync::oneshot;
 
 use super::{Msg, Shared};
 use crate::channel::{Changed, Channel, ChannelError, CidStore, ReadOutcome};
@@ -209,40 +210,50 @@ impl Actor {
         }
     }
 
-    pub(crate) async fn run(mut self) {
-        let (fs_tx, mut fs_rx) = mpsc::channel(16);
-        let _watcher = self.channel.watch(fs_tx);
+    /// The engine thread: blocks on its queue until a request, a file event,
+    /// the next poll or a pending retry is due.
+    pub(crate) fn run(mut self, events: std::sync::mpsc::Sender<Msg>) {
+        let _watcher = self.channel.watch(move |changed| {
+            let _ = events.send(Msg::Files(changed));
+        });
         // Results already in the file belong to earlier runs.
         if let ReadOutcome::Record(r) = self.channel.read_results() {
             self.ctl.max_result_cid = r.results.iter().map(|r| r.cid).max().unwrap_or(0);
         }
-        let mut tick = tokio::time::interval(self.cfg.poll_interval());
-        tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
         tracing::info!(dir = %self.channel.dir().display(), "engine running");
+        let poll = self.cfg.poll_interval();
+        let mut next_poll = Instant::now();
         loop {
-            let retry_at = self
-                .pending
-                .as_ref()
-                .map_or_else(Instant::now, |p| p.next_try);
-            tokio::select! {
-                msg = self.rx.recv() => match msg {
-                    Some(msg) => self.handle(msg),
-                    None => break,
-                },
-                Some(changed) = fs_rx.recv() => self.refresh(changed),
-                _ = tick.tick() => {
-                    self.refresh(Changed::BOTH);
-                    self.check_timeouts();
-                    // The locked state ends when the holder lets go, not only at the next write.
-                    if self.ctl.locked && self.pending.is_none() && !self.channel.command_locked() {
-                        tracing::warn!(dir = %self.channel.dir().display(), "channel unlocked");
-                        self.ctl.locked = false;
-                    }
+            let mut wake_at = next_poll;
+            if let Some(p) = &self.pending {
+                wake_at = wake_at.min(p.next_try);
+            }
+            match self
+                .rx
+                .recv_timeout(wake_at.saturating_duration_since(Instant::now()))
+            {
+                Ok(msg) => self.handle(msg),
+                Err(RecvTimeoutError::Timeout) => {}
+                Err(RecvTimeoutError::Disconnected) => break,
+            }
+            let now = Instant::now();
+            if now >= next_poll {
+                next_poll = now + poll;
+                self.refresh(Changed::BOTH);
+                self.check_timeouts();
+                // The locked state ends when the holder lets go, not only at the next write.
+                if self.ctl.locked && self.pending.is_none() && !self.channel.command_locked() {
+                    tracing::warn!(dir = %self.channel.dir().display(), "channel unlocked");
+                    self.ctl.locked = false;
                 }
-                () = sleep_until(retry_at.into()), if self.pending.is_some() => {}
+                // Every handle is gone (the service was dropped without a
+                // shutdown): nobody can ask for anything any more.
+                if Arc::strong_count(&self.shared) == 1 && self.inflight.is_none() {
+                    break;
+                }
             }
             self.retry_pending();
-            self.dispatch().await;
+            self.dispatch();
             self.publish_state();
             if self.shutting_down.is_some() && self.inflight.is_none() && self.pending.is_none() {
                 break;
@@ -256,6 +267,7 @@ impl Actor {
 
     fn handle(&mut self, msg: Msg) {
         match msg {
+            Msg::Files(changed) => self.refresh(changed),
             Msg::Submit(job) => {
                 if self.shutting_down.is_some() {
                     self.finish_queued(
@@ -841,7 +853,7 @@ impl Actor {
     }
 
     /// Sends the next queued job when the controller is free.
-    async fn dispatch(&mut self) {
+    fn dispatch(&mut self) {
         while self.inflight.is_none() && self.stop.is_none() && self.pending.is_none() {
             if !self.ctl.online {
                 if !self.queue.is_empty() {
@@ -874,7 +886,6 @@ impl Actor {
                     j.error = Some(e);
                 });
             }
-            tokio::task::yield_now().await;
         }
     }
 

@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
-use tokio::sync::{broadcast, mpsc, oneshot, watch};
+use tokio::sync::{broadcast, oneshot, watch};
 
 pub use types::*;
 
@@ -24,7 +24,10 @@ use crate::safety::Safety;
 /// How many finished jobs are kept for `GET /jobs`.
 const JOB_HISTORY: usize = 1000;
 
+/// What the engine thread reacts to: requests from handlers, and file
+/// events from the channel watcher (one queue, so one blocking wait).
 pub(crate) enum Msg {
+    Files(crate::channel::Changed),
     Submit(actor::QueuedJob),
     Cancel(JobId, oneshot::Sender<Result<Job>>),
     Stop(oneshot::Sender<Result<()>>),
@@ -81,7 +84,7 @@ impl Shared {
 #[derive(Clone)]
 pub struct Engine {
     shared: Arc<Shared>,
-    tx: mpsc::Sender<Msg>,
+    tx: std::sync::mpsc::Sender<Msg>,
 }
 
 /// What the engine needs to start.
@@ -134,7 +137,7 @@ impl Engine {
             max_queue: config.motion.max_queue,
             queued: AtomicU64::new(0),
         });
-        let (tx, rx) = mpsc::channel(256);
+        let (tx, rx) = std::sync::mpsc::channel();
         let actor = actor::Actor::new(
             shared.clone(),
             parts.channel,
@@ -144,14 +147,13 @@ impl Engine {
             speeds,
         );
         // The actor owns the channel and does small blocking file I/O: it gets
-        // a thread of its own, so file events reach it without waiting for a
-        // busy async worker, and HTTP work never waits behind file I/O.
-        let rt = tokio::runtime::Builder::new_current_thread()
-            .enable_all()
-            .build()?;
+        // a thread of its own that blocks on one queue (requests and file
+        // events), so a file event wakes it directly and HTTP work never
+        // waits behind file I/O.
+        let events = tx.clone();
         std::thread::Builder::new()
             .name("kuka-engine".into())
-            .spawn(move || rt.block_on(actor.run()))?;
+            .spawn(move || actor.run(events))?;
         Ok(Engine { shared, tx })
     }
 
@@ -253,7 +255,7 @@ impl Engine {
             timeout,
             queued_at: std::time::Instant::now(),
         };
-        if self.tx.send(Msg::Submit(queued)).await.is_err() {
+        if self.tx.send(Msg::Submit(queued)).is_err() {
             return Err(BridgeError::new(
                 ErrorCode::Internal,
                 "the engine has stopped",
@@ -336,17 +338,14 @@ impl Engine {
     pub async fn cancel(&self, id: JobId) -> Result<Job> {
         self.job(id)?;
         let (tx, rx) = oneshot::channel();
-        self.tx
-            .send(Msg::Cancel(id, tx))
-            .await
-            .map_err(|_| stopped())?;
+        self.tx.send(Msg::Cancel(id, tx)).map_err(|_| stopped())?;
         rx.await.map_err(|_| stopped())?
     }
 
     /// Stops the robot: brakes, cancels the running job and every queued one.
     pub async fn stop(&self) -> Result<()> {
         let (tx, rx) = oneshot::channel();
-        self.tx.send(Msg::Stop(tx)).await.map_err(|_| stopped())?;
+        self.tx.send(Msg::Stop(tx)).map_err(|_| stopped())?;
         rx.await.map_err(|_| stopped())?
     }
 
@@ -354,7 +353,7 @@ impl Engine {
     /// finish (bounded by its timeout), then the actor exits.
     pub async fn shutdown(&self) {
         let (tx, rx) = oneshot::channel();
-        if self.tx.send(Msg::Shutdown(tx)).await.is_ok() {
+        if self.tx.send(Msg::Shutdown(tx)).is_ok() {
             let _ = rx.await;
         }
     }
