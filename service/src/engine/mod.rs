@@ -59,7 +59,12 @@ impl Shared {
         let job = {
             let table = self.table();
             let tx = table.jobs.get(&id)?;
-            tx.send_modify(f);
+            // Waiters only care about the end: wake them only then (a wake-up
+            // per intermediate state costs CPU on small machines).
+            tx.send_if_modified(|j| {
+                f(j);
+                j.state.is_terminal()
+            });
             tx.borrow().clone()
         };
         let _ = self.events.send(Event::Job(Box::new(job.clone())));
