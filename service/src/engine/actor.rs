@@ -302,11 +302,7 @@ impl Actor {
 
     fn finish_queued(&self, id: JobId, state: JobState, error: BridgeError) {
         self.shared.dequeued();
-        self.shared.update(id, |j| {
-            j.state = state;
-            j.finished_ms = Some(now_ms());
-            j.error = Some(error);
-        });
+        self.shared.finish(id, state, error);
     }
 
     fn cancel_queue(&mut self, why: &str) {
@@ -410,11 +406,7 @@ impl Actor {
             ..
         }) = self.pending.take_if(|p| p.job.is_some())
         {
-            self.shared.update(job.id, |j| {
-                j.state = state;
-                j.finished_ms = Some(now_ms());
-                j.error = Some(error);
-            });
+            self.shared.finish(job.id, state, error);
         }
     }
 
@@ -505,11 +497,7 @@ impl Actor {
         tracing::error!(cid = p.cmd.cid, code = e.code.as_str(), detail = %e.detail, "command not written");
         match p.job {
             Some((job, _)) => {
-                self.shared.update(job.id, |j| {
-                    j.state = JobState::Failed;
-                    j.finished_ms = Some(now_ms());
-                    j.error = Some(e.clone());
-                });
+                self.shared.finish(job.id, JobState::Failed, e.clone());
                 if e.code == ErrorCode::ChannelLocked {
                     self.fail_queue(&e);
                 }
@@ -674,14 +662,11 @@ impl Actor {
                     cid = f.cid,
                     "command superseded by stop before it ran"
                 );
-                self.shared.update(f.id, |j| {
-                    j.state = JobState::Cancelled;
-                    j.finished_ms = Some(now_ms());
-                    j.error = Some(BridgeError::new(
-                        ErrorCode::Cancelled,
-                        "stopped before the controller started it; nothing moved",
-                    ));
-                });
+                let why = BridgeError::new(
+                    ErrorCode::Cancelled,
+                    "stopped before the controller started it; nothing moved",
+                );
+                self.shared.finish(f.id, JobState::Cancelled, why);
             }
             return;
         }
@@ -750,11 +735,7 @@ impl Actor {
     fn fail_inflight(&mut self, error: BridgeError) {
         if let Some(f) = self.inflight.take() {
             tracing::warn!(job = f.id, cid = f.cid, code = error.code.as_str(), detail = %error.detail, "job failed");
-            self.shared.update(f.id, |j| {
-                j.state = JobState::Failed;
-                j.finished_ms = Some(now_ms());
-                j.error = Some(error);
-            });
+            self.shared.finish(f.id, JobState::Failed, error);
         }
     }
 
@@ -880,11 +861,7 @@ impl Actor {
             let id = job.id;
             if let Err(e) = self.send(job) {
                 tracing::warn!(job = id, code = e.code.as_str(), detail = %e.detail, "job not sent");
-                self.shared.update(id, |j| {
-                    j.state = JobState::Failed;
-                    j.finished_ms = Some(now_ms());
-                    j.error = Some(e);
-                });
+                self.shared.finish(id, JobState::Failed, e);
             }
         }
     }

@@ -71,6 +71,15 @@ impl Shared {
         Some(job)
     }
 
+    /// Ends a job with this state and the reason.
+    pub(crate) fn finish(&self, id: JobId, state: JobState, error: BridgeError) {
+        self.update(id, |j| {
+            j.state = state;
+            j.finished_ms = Some(now_ms());
+            j.error = Some(error);
+        });
+    }
+
     /// A job left the queue (sent, failed or cancelled before sending).
     pub(crate) fn dequeued(&self) {
         let _ = self
