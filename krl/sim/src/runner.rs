@@ -356,28 +356,26 @@ impl Runner {
     /// remembers the highest CID from its own result and state files.
     fn recover_last_cid(&mut self) {
         let dir = &self.config.channel_dir;
-        let mut last = 0;
-        if let Ok(Some(text)) = files::read(dir, RESULT_FILE)
-            && let Ok(r) = ResultFile::decode(&text)
-        {
-            last = r.results.iter().map(|r| r.cid).max().unwrap_or(0);
-        }
-        if let Ok(Some(text)) = files::read(dir, STATE_FILE)
-            && let Ok(s) = kuka_protocol::StateFile::decode(&text)
-        {
-            last = last.max(s.last_cid);
-        }
-        let mut c = self
-            .shared
-            .controller
-            .lock()
-            .unwrap_or_else(|p| p.into_inner());
+        let results = files::read(dir, RESULT_FILE)
+            .ok()
+            .flatten()
+            .and_then(|text| ResultFile::decode(&text).ok())
+            .map(|r| r.results)
+            .unwrap_or_default();
+        let from_state = files::read(dir, STATE_FILE)
+            .ok()
+            .flatten()
+            .and_then(|text| kuka_protocol::StateFile::decode(&text).ok())
+            .map_or(0, |s| s.last_cid);
+        let last = results
+            .iter()
+            .map(|r| r.cid)
+            .max()
+            .unwrap_or(0)
+            .max(from_state);
+        let mut c = lock(&self.shared.controller);
         c.last_cid = last;
-        if let Ok(Some(text)) = files::read(dir, RESULT_FILE)
-            && let Ok(r) = ResultFile::decode(&text)
-        {
-            c.results = r.results.into_iter().collect();
-        }
+        c.results = results.into_iter().collect();
     }
 
     fn step(&mut self, now: Instant) {
