@@ -62,7 +62,11 @@ fn is_lock_error(e: &io::Error) -> bool {
             || e.kind() == ErrorKind::PermissionDenied)
 }
 
-/// Atomically replaces `dir/name` with `text`: writes `dir/name.<tag>.tmp`,
+/// Subdirectory of the channel directory that holds the temp files of
+/// atomic writes (same volume, so the rename is atomic).
+pub const TEMP_DIR: &str = ".kb-tmp";
+
+/// Atomically replaces `dir/name` with `text`: writes `dir/.kb-tmp/name.<tag>.tmp`,
 /// then renames it over the target. A reader sees the old or the new file,
 /// never a mix. `tag` keeps temp files of different writers apart.
 pub fn atomic_write(dir: &Path, name: &str, tag: &str, text: &str) -> Result<(), WriteError> {
@@ -83,13 +87,26 @@ pub fn atomic_write(dir: &Path, name: &str, tag: &str, text: &str) -> Result<(),
         Err(e) if is_lock_error(&e) => return Err(WriteError::Locked { path: display() }),
         Err(_) => {}
     }
-    let tmp = dir.join(format!("{name}.{tag}.tmp"));
+    // The temp file lives in a subdirectory: watchers of the channel
+    // directory (non-recursive) then see one rename per write instead of
+    // create/open/modify/close/rename events for the temp file as well.
+    let tmp_dir = dir.join(TEMP_DIR);
+    let tmp = tmp_dir.join(format!("{name}.{tag}.tmp"));
     let write = || -> io::Result<()> {
-        let mut f = OpenOptions::new()
-            .write(true)
-            .create(true)
-            .truncate(true)
-            .open(&tmp)?;
+        let open = || {
+            OpenOptions::new()
+                .write(true)
+                .create(true)
+                .truncate(true)
+                .open(&tmp)
+        };
+        let mut f = match open() {
+            Err(e) if e.kind() == ErrorKind::NotFound => {
+                fs::create_dir_all(&tmp_dir)?;
+                open()?
+            }
+            other => other?,
+        };
         f.write_all(text.as_bytes())?;
         Ok(())
     };
