@@ -1,0 +1,1049 @@
+//! The KRL parser: tokens to a syntax tree, refusing with a line number.
+//!
+//! It covers the language as KSS 8.x programs use it (see the crate doc for
+//! the list) and is strict where KRL is: one statement per line, block
+//! keywords matched, names at most 24 characters.
+
+use crate::ast::*;
+use crate::lexer::{Tok, Token, lex};
+use crate::{MAX_NAME_LEN, SyntaxError};
+
+/// Parses a `.src` (or `.sub`) file.
+pub fn parse_src(text: &str) -> Result<SrcFile, SyntaxError> {
+    let mut p = Parser::new(text)?;
+    let mut routines = Vec::new();
+    loop {
+        p.skip_newlines();
+        if p.at_eof() {
+            break;
+        }
+        routines.push(p.routine()?);
+    }
+    if routines.is_empty() {
+        return Err(p.error_here("no DEF or DEFFCT in the file"));
+    }
+    Ok(SrcFile { routines })
+}
+
+/// Parses a `.dat` file.
+pub fn parse_dat(text: &str) -> Result<DatFile, SyntaxError> {
+    let mut p = Parser::new(text)?;
+    p.skip_newlines();
+    let line = p.line();
+    p.expect_kw("DEFDAT")?;
+    let name = p.name()?;
+    let public = p.eat_kw("PUBLIC");
+    p.end_of_statement()?;
+    let (items, _) = p.block(&["ENDDAT"], "DEFDAT", line)?;
+    for s in &items {
+        match s.kind {
+            StmtKind::Decl { .. }
+            | StmtKind::Struc { .. }
+            | StmtKind::Enum { .. }
+            | StmtKind::Signal { .. }
+            | StmtKind::Ext { .. }
+            | StmtKind::Assign { .. } => {}
+            _ => {
+                return Err(SyntaxError {
+                    line: s.line,
+                    col: 1,
+                    message: "only declarations and initial values belong in a .dat file".into(),
+                });
+            }
+        }
+    }
+    p.bump(); // ENDDAT
+    p.end_of_statement()?;
+    p.skip_newlines();
+    if !p.at_eof() {
+        return Err(p.error_here("text after ENDDAT"));
+    }
+    Ok(DatFile {
+        name,
+        public,
+        items,
+        line,
+    })
+}
+
+struct Parser {
+    toks: Vec<Token>,
+    pos: usize,
+}
+
+fn describe(t: &Tok) -> String {
+    match t {
+        Tok::Ident(s) => format!("`{s}`"),
+        Tok::Int(v) => format!("`{v}`"),
+        Tok::Real(v) => format!("`{v}`"),
+        Tok::Str(s) => format!("\"{s}\""),
+        Tok::Bits(v) => format!("bit literal {v}"),
+        Tok::Enum(s) => format!("`#{s}`"),
+        Tok::Sym(s) => format!("`{s}`"),
+        Tok::Newline => "the end of the line".into(),
+        Tok::Eof => "the end of the file".into(),
+    }
+}
+
+const IMPLICIT_DECL_TYPES: [&str; 9] = [
+    "INT", "REAL", "BOOL", "CHAR", "FRAME", "POS", "E6POS", "AXIS", "E6AXIS",
+];
+
+/// Keywords that end a block; seeing one where a statement should start
+/// means a block is not closed properly.
+const BLOCK_ENDS: [&str; 14] = [
+    "END",
+    "ENDFCT",
+    "ENDIF",
+    "ELSE",
+    "ENDWHILE",
+    "ENDFOR",
+    "ENDLOOP",
+    "UNTIL",
+    "ENDSWITCH",
+    "CASE",
+    "DEFAULT",
+    "ENDSPLINE",
+    "ENDDAT",
+    "ENDFOLD",
+];
+
+impl Parser {
+    fn new(text: &str) -> Result<Self, SyntaxError> {
+        Ok(Parser {
+            toks: lex(text)?,
+            pos: 0,
+        })
+    }
+
+    fn peek(&self) -> &Tok {
+        &self.toks[self.pos.min(self.toks.len() - 1)].tok
+    }
+
+    fn peek_at(&self, n: usize) -> &Tok {
+        &self.toks[(self.pos + n).min(self.toks.len() - 1)].tok
+    }
+
+    fn line(&self) -> u32 {
+        self.toks[self.pos.min(self.toks.len() - 1)].line
+    }
+
+    fn bump(&mut self) -> Tok {
+        let t = self.peek().clone();
+        if self.pos < self.toks.len() - 1 {
+            self.pos += 1;
+        }
+        t
+    }
+
+    fn at_eof(&self) -> bool {
+        matches!(self.peek(), Tok::Eof)
+    }
+
+    fn error_here(&self, message: impl Into<String>) -> SyntaxError {
+        let t = &self.toks[self.pos.min(self.toks.len() - 1)];
+        SyntaxError {
+            line: t.line,
+            col: t.col,
+            message: message.into(),
+        }
+    }
+
+    fn unexpected(&self, wanted: &str) -> SyntaxError {
+        self.error_here(format!(
+            "expected {wanted}, found {}",
+            describe(self.peek())
+        ))
+    }
+
+    fn skip_newlines(&mut self) {
+        while matches!(self.peek(), Tok::Newline) {
+            self.bump();
+        }
+    }
+
+    fn is_kw(&self, kw: &str) -> bool {
+        matches!(self.peek(), Tok::Ident(s) if s.eq_ignore_ascii_case(kw))
+    }
+
+    fn eat_kw(&mut self, kw: &str) -> bool {
+        if self.is_kw(kw) {
+            self.bump();
+            true
+        } else {
+            false
+        }
+    }
+
+    fn expect_kw(&mut self, kw: &str) -> Result<(), SyntaxError> {
+        if self.eat_kw(kw) {
+            Ok(())
+        } else {
+            Err(self.unexpected(kw))
+        }
+    }
+
+    fn is_sym(&self, s: &str) -> bool {
+        matches!(self.peek(), Tok::Sym(x) if *x == s)
+    }
+
+    fn eat_sym(&mut self, s: &str) -> bool {
+        if self.is_sym(s) {
+            self.bump();
+            true
+        } else {
+            false
+        }
+    }
+
+    fn expect_sym(&mut self, s: &str) -> Result<(), SyntaxError> {
+        if self.eat_sym(s) {
+            Ok(())
+        } else {
+            Err(self.unexpected(&format!("`{s}`")))
+        }
+    }
+
+    fn end_of_statement(&mut self) -> Result<(), SyntaxError> {
+        match self.peek() {
+            Tok::Newline => {
+                self.bump();
+                Ok(())
+            }
+            Tok::Eof => Ok(()),
+            _ => Err(self.unexpected("the end of the statement")),
+        }
+    }
+
+    /// An identifier (not checked against keywords).
+    fn ident(&mut self) -> Result<String, SyntaxError> {
+        match self.peek().clone() {
+            Tok::Ident(s) => {
+                self.bump();
+                Ok(s)
+            }
+            _ => Err(self.unexpected("a name")),
+        }
+    }
+
+    /// A user-chosen name: at most 24 characters, as KRL requires.
+    fn name(&mut self) -> Result<String, SyntaxError> {
+        let (line, col) = (self.line(), self.toks[self.pos].col);
+        let s = self.ident()?;
+        if s.len() > MAX_NAME_LEN && !s.starts_with('$') {
+            return Err(SyntaxError {
+                line,
+                col,
+                message: format!(
+                    "name `{s}` has {} characters; KRL allows at most {MAX_NAME_LEN}",
+                    s.len()
+                ),
+            });
+        }
+        Ok(s)
+    }
+
+    fn routine(&mut self) -> Result<Routine, SyntaxError> {
+        let line = self.line();
+        let global = self.eat_kw("GLOBAL");
+        let kind = if self.eat_kw("DEF") {
+            RoutineKind::Def
+        } else if self.eat_kw("DEFFCT") {
+            RoutineKind::DefFct(self.ident()?)
+        } else if self.is_kw("DEFDAT") {
+            return Err(self.error_here("DEFDAT belongs in the .dat file"));
+        } else {
+            return Err(self.unexpected("DEF or DEFFCT (statements must be inside a routine)"));
+        };
+        let name = self.name()?;
+        self.expect_sym("(")?;
+        let mut params = Vec::new();
+        if !self.is_sym(")") {
+            loop {
+                let pname = self.name()?;
+                let mut out = false;
+                if self.eat_sym(":") {
+                    if self.eat_kw("OUT") {
+                        out = true;
+                    } else {
+                        self.expect_kw("IN")?;
+                    }
+                }
+                params.push(Param { name: pname, out });
+                if !self.eat_sym(",") {
+                    break;
+                }
+            }
+        }
+        self.expect_sym(")")?;
+        self.end_of_statement()?;
+        let (closer, opener) = match kind {
+            RoutineKind::Def => ("END", "DEF"),
+            RoutineKind::DefFct(_) => ("ENDFCT", "DEFFCT"),
+        };
+        let (body, _) = self.block(&[closer], opener, line)?;
+        let end_line = self.line();
+        self.bump();
+        self.end_of_statement()?;
+        Ok(Routine {
+            kind,
+            global,
+            name,
+            params,
+            body,
+            line,
+            end_line,
+        })
+    }
+
+    /// Statements up to one of `ends` (not consumed); returns which one.
+    fn block(
+        &mut self,
+        ends: &[&str],
+        opener: &str,
+        open_line: u32,
+    ) -> Result<(Vec<Stmt>, String), SyntaxError> {
+        let mut out = Vec::new();
+        loop {
+            self.skip_newlines();
+            if self.at_eof() {
+                return Err(self.error_here(format!(
+                    "{opener} on line {open_line} is not closed: expected {}",
+                    ends.join(" or ")
+                )));
+            }
+            if let Tok::Ident(s) = self.peek() {
+                if let Some(end) = ends.iter().find(|e| s.eq_ignore_ascii_case(e)) {
+                    return Ok((out, (*end).to_string()));
+                }
+                let upper = s.to_ascii_uppercase();
+                if BLOCK_ENDS.contains(&upper.as_str()) {
+                    return Err(self.error_here(format!(
+                        "{upper} does not match {opener} on line {open_line} (expected {})",
+                        ends.join(" or ")
+                    )));
+                }
+            }
+            out.push(self.statement()?);
+        }
+    }
+
+    fn statement(&mut self) -> Result<Stmt, SyntaxError> {
+        let line = self.line();
+        let kind = self.statement_kind()?;
+        Ok(Stmt { line, kind })
+    }
+
+    fn statement_kind(&mut self) -> Result<StmtKind, SyntaxError> {
+        let line = self.line();
+        let word = match self.peek() {
+            Tok::Ident(s) => s.to_ascii_uppercase(),
+            _ => return Err(self.unexpected("a statement")),
+        };
+        let simple = |k: StmtKind, p: &mut Self| -> Result<StmtKind, SyntaxError> {
+            p.bump();
+            p.end_of_statement()?;
+            Ok(k)
+        };
+        match word.as_str() {
+            "DECL" => {
+                self.bump();
+                self.decl_rest(false)
+            }
+            "GLOBAL" => {
+                self.bump();
+                if self.eat_kw("DECL") {
+                    self.decl_rest(true)
+                } else if self.is_kw("STRUC") || self.is_kw("ENUM") {
+                    self.statement_kind()
+                } else if self.is_kw("INTERRUPT") {
+                    self.statement_kind()
+                } else if self.is_kw("DEF") || self.is_kw("DEFFCT") {
+                    Err(self
+                        .error_here("a routine cannot start inside another routine (missing END?)"))
+                } else {
+                    Err(self.unexpected("DECL, STRUC, ENUM or INTERRUPT after GLOBAL"))
+                }
+            }
+            w if IMPLICIT_DECL_TYPES.contains(&w) && matches!(self.peek_at(1), Tok::Ident(_)) => {
+                self.decl_rest(false)
+            }
+            "STRUC" => {
+                self.bump();
+                let name = self.name()?;
+                let mut fields = Vec::new();
+                let mut ty = self.ident()?;
+                loop {
+                    let fname = self.name()?;
+                    let dims = self.dims()?;
+                    fields.push((ty.clone(), fname, dims));
+                    if !self.eat_sym(",") {
+                        break;
+                    }
+                    if matches!(self.peek(), Tok::Ident(_))
+                        && matches!(self.peek_at(1), Tok::Ident(_))
+                    {
+                        ty = self.ident()?;
+                    }
+                }
+                self.end_of_statement()?;
+                Ok(StmtKind::Struc { name, fields })
+            }
+            "ENUM" => {
+                self.bump();
+                let name = self.name()?;
+                let mut values = vec![self.name()?];
+                while self.eat_sym(",") {
+                    values.push(self.name()?);
+                }
+                self.end_of_statement()?;
+                Ok(StmtKind::Enum { name, values })
+            }
+            "SIGNAL" => {
+                self.bump();
+                let name = self.name()?;
+                self.expr()?;
+                if self.eat_kw("TO") {
+                    self.expr()?;
+                }
+                self.end_of_statement()?;
+                Ok(StmtKind::Signal { name })
+            }
+            "EXT" | "EXTFCT" | "EXTP" | "EXTFCTP" => {
+                self.bump();
+                if word.starts_with("EXTFCT") {
+                    self.ident()?;
+                }
+                let name = self.name()?;
+                self.expect_sym("(")?;
+                let mut depth = 1;
+                while depth > 0 {
+                    match self.bump() {
+                        Tok::Sym("(") => depth += 1,
+                        Tok::Sym(")") => depth -= 1,
+                        Tok::Newline | Tok::Eof => {
+                            return Err(SyntaxError {
+                                line,
+                                col: 1,
+                                message: "`(` not closed on this line".into(),
+                            });
+                        }
+                        _ => {}
+                    }
+                }
+                self.end_of_statement()?;
+                Ok(StmtKind::Ext { name })
+            }
+            "IF" => {
+                self.bump();
+                let cond = self.expr()?;
+                self.expect_kw("THEN")?;
+                self.end_of_statement()?;
+                let (then_body, end) = self.block(&["ELSE", "ENDIF"], "IF", line)?;
+                self.bump();
+                let else_body = if end == "ELSE" {
+                    self.end_of_statement()?;
+                    let (b, _) = self.block(&["ENDIF"], "ELSE", line)?;
+                    self.bump();
+                    b
+                } else {
+                    Vec::new()
+                };
+                self.end_of_statement()?;
+                Ok(StmtKind::If {
+                    cond,
+                    then_body,
+                    else_body,
+                })
+            }
+            "WHILE" => {
+                self.bump();
+                let cond = self.expr()?;
+                self.end_of_statement()?;
+                let (body, _) = self.block(&["ENDWHILE"], "WHILE", line)?;
+                self.bump();
+                self.end_of_statement()?;
+                Ok(StmtKind::While { cond, body })
+            }
+            "FOR" => {
+                self.bump();
+                let var = self.name()?;
+                self.expect_sym("=")?;
+                let from = self.expr()?;
+                self.expect_kw("TO")?;
+                let to = self.expr()?;
+                let step = if self.eat_kw("STEP") {
+                    Some(self.expr()?)
+                } else {
+                    None
+                };
+                self.end_of_statement()?;
+                let (body, _) = self.block(&["ENDFOR"], "FOR", line)?;
+                self.bump();
+                self.end_of_statement()?;
+                Ok(StmtKind::For {
+                    var,
+                    from,
+                    to,
+                    step,
+                    body,
+                })
+            }
+            "LOOP" => {
+                self.bump();
+                self.end_of_statement()?;
+                let (body, _) = self.block(&["ENDLOOP"], "LOOP", line)?;
+                self.bump();
+                self.end_of_statement()?;
+                Ok(StmtKind::Loop { body })
+            }
+            "REPEAT" => {
+                self.bump();
+                self.end_of_statement()?;
+                let (body, _) = self.block(&["UNTIL"], "REPEAT", line)?;
+                self.bump();
+                let until = self.expr()?;
+                self.end_of_statement()?;
+                Ok(StmtKind::Repeat { body, until })
+            }
+            "SWITCH" => {
+                self.bump();
+                let selector = self.expr()?;
+                self.end_of_statement()?;
+                let mut cases = Vec::new();
+                let mut default = None;
+                loop {
+                    self.skip_newlines();
+                    if self.eat_kw("CASE") {
+                        let mut values = vec![self.expr()?];
+                        while self.eat_sym(",") {
+                            values.push(self.expr()?);
+                        }
+                        self.end_of_statement()?;
+                        let (body, _) =
+                            self.block(&["CASE", "DEFAULT", "ENDSWITCH"], "CASE", line)?;
+                        cases.push((values, body));
+                    } else if self.eat_kw("DEFAULT") {
+                        self.end_of_statement()?;
+                        let (body, _) = self.block(&["ENDSWITCH"], "DEFAULT", line)?;
+                        default = Some(body);
+                    } else if self.eat_kw("ENDSWITCH") {
+                        self.end_of_statement()?;
+                        break;
+                    } else if self.at_eof() {
+                        return Err(self.error_here(format!(
+                            "SWITCH on line {line} is not closed: expected ENDSWITCH"
+                        )));
+                    } else {
+                        return Err(self.unexpected("CASE, DEFAULT or ENDSWITCH"));
+                    }
+                }
+                if cases.is_empty() {
+                    return Err(SyntaxError {
+                        line,
+                        col: 1,
+                        message: "SWITCH needs at least one CASE".into(),
+                    });
+                }
+                Ok(StmtKind::Switch {
+                    selector,
+                    cases,
+                    default,
+                })
+            }
+            "RETURN" => {
+                self.bump();
+                let v = if matches!(self.peek(), Tok::Newline | Tok::Eof) {
+                    None
+                } else {
+                    Some(self.expr()?)
+                };
+                self.end_of_statement()?;
+                Ok(StmtKind::Return(v))
+            }
+            "EXIT" => simple(StmtKind::Exit, self),
+            "HALT" => simple(StmtKind::Halt, self),
+            "CONTINUE" => simple(StmtKind::Continue, self),
+            "RESUME" => simple(StmtKind::Resume, self),
+            "ON_ERROR_PROCEED" => simple(StmtKind::OnErrorProceed, self),
+            "BRAKE" => {
+                self.bump();
+                self.eat_kw("F");
+                self.end_of_statement()?;
+                Ok(StmtKind::Brake)
+            }
+            "WAIT" => {
+                self.bump();
+                let k = if self.eat_kw("SEC") {
+                    StmtKind::WaitSec(self.expr()?)
+                } else if self.eat_kw("FOR") {
+                    StmtKind::WaitFor(self.expr()?)
+                } else {
+                    return Err(self.unexpected("SEC or FOR after WAIT"));
+                };
+                self.end_of_statement()?;
+                Ok(k)
+            }
+            "PTP" | "PTP_REL" | "LIN" | "LIN_REL" | "CIRC" | "CIRC_REL" => {
+                self.bump();
+                let kind = match word.as_str() {
+                    "PTP" => MotionKind::Ptp,
+                    "PTP_REL" => MotionKind::PtpRel,
+                    "LIN" => MotionKind::Lin,
+                    "LIN_REL" => MotionKind::LinRel,
+                    "CIRC" => MotionKind::Circ,
+                    _ => MotionKind::CircRel,
+                };
+                let circ = matches!(kind, MotionKind::Circ | MotionKind::CircRel);
+                let first = self.expr()?;
+                let (aux, target) = if circ {
+                    self.expect_sym(",")?;
+                    (Some(first), self.expr()?)
+                } else {
+                    (None, first)
+                };
+                let ca = if circ && self.eat_sym(",") {
+                    self.expect_kw("CA")?;
+                    Some(self.expr()?)
+                } else {
+                    None
+                };
+                let approx = self.approx(&["C_DIS", "C_PTP", "C_VEL", "C_ORI"])?;
+                if matches!(
+                    kind,
+                    MotionKind::PtpRel | MotionKind::LinRel | MotionKind::CircRel
+                ) {
+                    // Optional reference system of a relative motion.
+                    if matches!(self.peek(), Tok::Enum(e) if e.eq_ignore_ascii_case("BASE") || e.eq_ignore_ascii_case("TOOL"))
+                    {
+                        self.bump();
+                    }
+                }
+                self.end_of_statement()?;
+                Ok(StmtKind::Motion {
+                    kind,
+                    aux,
+                    target,
+                    ca,
+                    approx,
+                })
+            }
+            "SPLINE" | "PTP_SPLINE" => {
+                self.bump();
+                let ptp = word == "PTP_SPLINE";
+                self.with_clause()?;
+                self.end_of_statement()?;
+                let mut points = Vec::new();
+                loop {
+                    self.skip_newlines();
+                    let pline = self.line();
+                    let pword = match self.peek() {
+                        Tok::Ident(s) => s.to_ascii_uppercase(),
+                        Tok::Eof => {
+                            return Err(self.error_here(format!(
+                                "{word} on line {line} is not closed: expected ENDSPLINE"
+                            )));
+                        }
+                        _ => {
+                            return Err(self.unexpected(
+                                "a spline point (SPL, SLIN, SCIRC, SPTP) or ENDSPLINE",
+                            ));
+                        }
+                    };
+                    let kind = match pword.as_str() {
+                        "ENDSPLINE" => break,
+                        "SPL" => SplinePointKind::Spl,
+                        "SLIN" => SplinePointKind::Slin,
+                        "SCIRC" => SplinePointKind::Scirc,
+                        "SPTP" => SplinePointKind::Sptp,
+                        other => {
+                            return Err(self.error_here(format!(
+                                "`{other}` is not allowed inside {word}: only SPL, SLIN, SCIRC and SPTP points"
+                            )));
+                        }
+                    };
+                    self.bump();
+                    let first = self.expr()?;
+                    let (aux, target) = if kind == SplinePointKind::Scirc {
+                        self.expect_sym(",")?;
+                        (Some(first), self.expr()?)
+                    } else {
+                        (None, first)
+                    };
+                    if kind == SplinePointKind::Scirc && self.eat_sym(",") {
+                        self.expect_kw("CA")?;
+                        self.expr()?;
+                    }
+                    let with = self.with_clause()?;
+                    self.approx(&["C_SPL"])?;
+                    self.end_of_statement()?;
+                    points.push(SplinePoint {
+                        kind,
+                        aux,
+                        target,
+                        with,
+                        line: pline,
+                    });
+                }
+                self.bump();
+                let approx = self.approx(&["C_SPL"])?;
+                self.end_of_statement()?;
+                if points.is_empty() {
+                    return Err(SyntaxError {
+                        line,
+                        col: 1,
+                        message: format!("{word} has no points"),
+                    });
+                }
+                Ok(StmtKind::Spline {
+                    ptp,
+                    points,
+                    approx,
+                })
+            }
+            "SPL" | "SLIN" | "SCIRC" | "SPTP" => Err(self.error_here(format!(
+                "{word} is a spline point and belongs inside SPLINE … ENDSPLINE"
+            ))),
+            "INTERRUPT" => {
+                self.bump();
+                if self.eat_kw("DECL") {
+                    let prio = self.expr()?;
+                    self.expect_kw("WHEN")?;
+                    let when = self.expr()?;
+                    self.expect_kw("DO")?;
+                    let action = Box::new(self.action()?);
+                    self.end_of_statement()?;
+                    Ok(StmtKind::InterruptDecl { prio, when, action })
+                } else {
+                    let action = self.ident()?.to_ascii_uppercase();
+                    if !["ON", "OFF", "ENABLE", "DISABLE"].contains(&action.as_str()) {
+                        return Err(SyntaxError {
+                            line,
+                            col: 1,
+                            message: format!(
+                                "INTERRUPT {action}: expected DECL, ON, OFF, ENABLE or DISABLE"
+                            ),
+                        });
+                    }
+                    let prio = if matches!(self.peek(), Tok::Newline | Tok::Eof) {
+                        None
+                    } else {
+                        Some(self.expr()?)
+                    };
+                    self.end_of_statement()?;
+                    Ok(StmtKind::InterruptSwitch { action, prio })
+                }
+            }
+            "TRIGGER" => {
+                self.bump();
+                self.expect_kw("WHEN")?;
+                if !(self.eat_kw("DISTANCE") || self.eat_kw("PATH")) {
+                    return Err(self.unexpected("DISTANCE or PATH"));
+                }
+                self.expect_sym("=")?;
+                self.expr()?;
+                self.eat_kw("ONSTART");
+                self.expect_kw("DELAY")?;
+                self.expect_sym("=")?;
+                self.expr()?;
+                self.expect_kw("DO")?;
+                let action = Box::new(self.action()?);
+                if self.eat_kw("PRIO") {
+                    self.expect_sym("=")?;
+                    self.expr()?;
+                }
+                self.end_of_statement()?;
+                Ok(StmtKind::Trigger { action })
+            }
+            "GOTO" => Err(self.error_here("GOTO and labels are not supported")),
+            "DEF" | "DEFFCT" => {
+                Err(self.error_here("a routine cannot start inside another routine (missing END?)"))
+            }
+            _ => {
+                let k = self.action()?;
+                self.end_of_statement()?;
+                Ok(k.kind)
+            }
+        }
+    }
+
+    /// An assignment or a call (the body of a statement line, of a
+    /// `TRIGGER … DO` or of an `INTERRUPT … DO`).
+    fn action(&mut self) -> Result<Stmt, SyntaxError> {
+        let line = self.line();
+        let target = self.postfix()?;
+        if self.eat_sym("=") {
+            let value = self.expr()?;
+            return Ok(Stmt {
+                line,
+                kind: StmtKind::Assign { target, value },
+            });
+        }
+        match target {
+            Expr::Call(name, args) => Ok(Stmt {
+                line,
+                kind: StmtKind::Call { name, args },
+            }),
+            Expr::Var(name) => Err(SyntaxError {
+                line,
+                col: 1,
+                message: format!(
+                    "`{name}` is not a statement (a call needs parentheses: `{name}()`)"
+                ),
+            }),
+            _ => Err(self.unexpected("`=` (an assignment) or a call")),
+        }
+    }
+
+    fn approx(&mut self, allowed: &[&str]) -> Result<Option<String>, SyntaxError> {
+        if let Tok::Ident(s) = self.peek() {
+            let up = s.to_ascii_uppercase();
+            if allowed.contains(&up.as_str()) {
+                self.bump();
+                return Ok(Some(up));
+            }
+            if up.starts_with("C_") {
+                return Err(self.error_here(format!(
+                    "`{up}` is not allowed here (allowed: {})",
+                    allowed.join(", ")
+                )));
+            }
+        }
+        Ok(None)
+    }
+
+    fn with_clause(&mut self) -> Result<Vec<(Expr, Expr)>, SyntaxError> {
+        let mut out = Vec::new();
+        if self.eat_kw("WITH") {
+            loop {
+                let t = self.postfix()?;
+                self.expect_sym("=")?;
+                out.push((t, self.expr()?));
+                if !self.eat_sym(",") {
+                    break;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    fn dims(&mut self) -> Result<Vec<Expr>, SyntaxError> {
+        let mut dims = Vec::new();
+        if self.eat_sym("[") {
+            if !self.is_sym("]") {
+                loop {
+                    dims.push(self.expr()?);
+                    if !self.eat_sym(",") {
+                        break;
+                    }
+                }
+            }
+            self.expect_sym("]")?;
+        }
+        Ok(dims)
+    }
+
+    fn decl_rest(&mut self, mut global: bool) -> Result<StmtKind, SyntaxError> {
+        global |= self.eat_kw("GLOBAL");
+        self.eat_kw("CONST");
+        let ty = self.ident()?;
+        let mut vars = Vec::new();
+        loop {
+            let name = self.name()?;
+            let dims = self.dims()?;
+            let init = if self.eat_sym("=") {
+                Some(self.expr()?)
+            } else {
+                None
+            };
+            vars.push(Declarator { name, dims, init });
+            if !self.eat_sym(",") {
+                break;
+            }
+        }
+        self.end_of_statement()?;
+        Ok(StmtKind::Decl { global, ty, vars })
+    }
+
+    // ---- expressions (lowest to highest precedence) ----
+
+    /// A full expression.
+    fn expr(&mut self) -> Result<Expr, SyntaxError> {
+        self.binary_level(0)
+    }
+
+    fn binary_level(&mut self, level: usize) -> Result<Expr, SyntaxError> {
+        // OR < EXOR < AND < comparison < + - < * /
+        const LEVELS: [&[(&str, BinOp)]; 6] = [
+            &[("OR", BinOp::Or), ("B_OR", BinOp::BOr)],
+            &[("EXOR", BinOp::Exor), ("B_EXOR", BinOp::BExor)],
+            &[("AND", BinOp::And), ("B_AND", BinOp::BAnd)],
+            &[
+                ("==", BinOp::Eq),
+                ("<>", BinOp::Ne),
+                ("<=", BinOp::Le),
+                (">=", BinOp::Ge),
+                ("<", BinOp::Lt),
+                (">", BinOp::Gt),
+            ],
+            &[("+", BinOp::Add), ("-", BinOp::Sub)],
+            &[("*", BinOp::Mul), ("/", BinOp::Div)],
+        ];
+        if level == LEVELS.len() {
+            return self.unary();
+        }
+        let mut left = self.binary_level(level + 1)?;
+        loop {
+            let op = LEVELS[level].iter().find(|(s, _)| match self.peek() {
+                Tok::Sym(x) => x == s,
+                Tok::Ident(x) => x.eq_ignore_ascii_case(s),
+                _ => false,
+            });
+            let Some((_, op)) = op else { break };
+            self.bump();
+            let right = self.binary_level(level + 1)?;
+            left = Expr::Binary(*op, Box::new(left), Box::new(right));
+        }
+        Ok(left)
+    }
+
+    fn unary(&mut self) -> Result<Expr, SyntaxError> {
+        if self.eat_sym("-") {
+            return Ok(match self.unary()? {
+                Expr::Int(v) => Expr::Int(-v),
+                Expr::Real(v) => Expr::Real(-v),
+                e => Expr::Unary(UnOp::Neg, Box::new(e)),
+            });
+        }
+        if self.eat_sym("+") {
+            return self.unary();
+        }
+        if self.eat_kw("NOT") {
+            return Ok(Expr::Unary(UnOp::Not, Box::new(self.unary()?)));
+        }
+        if self.eat_kw("B_NOT") {
+            return Ok(Expr::Unary(UnOp::BNot, Box::new(self.unary()?)));
+        }
+        let mut left = self.postfix()?;
+        while self.eat_sym(":") {
+            let right = self.postfix()?;
+            left = Expr::Binary(BinOp::Geo, Box::new(left), Box::new(right));
+        }
+        Ok(left)
+    }
+
+    fn postfix(&mut self) -> Result<Expr, SyntaxError> {
+        let mut e = self.primary()?;
+        loop {
+            if self.eat_sym("[") {
+                let mut idx = Vec::new();
+                if !self.is_sym("]") {
+                    loop {
+                        idx.push(self.expr()?);
+                        if !self.eat_sym(",") {
+                            break;
+                        }
+                    }
+                }
+                self.expect_sym("]")?;
+                e = Expr::Index(Box::new(e), idx);
+            } else if self.eat_sym(".") {
+                e = Expr::Field(Box::new(e), self.ident()?);
+            } else {
+                return Ok(e);
+            }
+        }
+    }
+
+    fn primary(&mut self) -> Result<Expr, SyntaxError> {
+        match self.peek().clone() {
+            Tok::Int(v) => {
+                self.bump();
+                Ok(Expr::Int(v))
+            }
+            Tok::Real(v) => {
+                self.bump();
+                Ok(Expr::Real(v))
+            }
+            Tok::Bits(v) => {
+                self.bump();
+                Ok(Expr::Int(v))
+            }
+            Tok::Str(s) => {
+                self.bump();
+                Ok(Expr::Str(s))
+            }
+            Tok::Enum(s) => {
+                self.bump();
+                Ok(Expr::Enum(s))
+            }
+            Tok::Sym("(") => {
+                self.bump();
+                let e = self.expr()?;
+                self.expect_sym(")")?;
+                Ok(e)
+            }
+            Tok::Sym("{") => {
+                self.bump();
+                self.struct_literal()
+            }
+            Tok::Ident(s) => {
+                let up = s.to_ascii_uppercase();
+                if ["THEN", "DO", "TO", "STEP", "WHEN", "DELAY", "PRIO", "WITH"]
+                    .contains(&up.as_str())
+                    || BLOCK_ENDS.contains(&up.as_str())
+                {
+                    return Err(self.unexpected("a value"));
+                }
+                self.bump();
+                if up == "TRUE" || up == "FALSE" {
+                    return Ok(Expr::Bool(up == "TRUE"));
+                }
+                if self.eat_sym("(") {
+                    let mut args = Vec::new();
+                    if !self.is_sym(")") {
+                        loop {
+                            args.push(self.expr()?);
+                            if !self.eat_sym(",") {
+                                break;
+                            }
+                        }
+                    }
+                    self.expect_sym(")")?;
+                    return Ok(Expr::Call(s, args));
+                }
+                Ok(Expr::Var(s))
+            }
+            _ => Err(self.unexpected("a value")),
+        }
+    }
+
+    /// `{[TYPE:] NAME value, …}` after the `{`.
+    fn struct_literal(&mut self) -> Result<Expr, SyntaxError> {
+        let mut ty = None;
+        if matches!(self.peek(), Tok::Ident(_)) && matches!(self.peek_at(1), Tok::Sym(":")) {
+            ty = Some(self.ident()?);
+            self.bump();
+        }
+        let mut fields = Vec::new();
+        if !self.is_sym("}") {
+            loop {
+                let name = self.ident()?;
+                // `.dat` files write array fields as `POINT2[] "text"`.
+                if self.is_sym("[") && matches!(self.peek_at(1), Tok::Sym("]")) {
+                    self.bump();
+                    self.bump();
+                }
+                let value = self.expr()?;
+                fields.push((name.to_ascii_uppercase(), value));
+                if !self.eat_sym(",") {
+                    break;
+                }
+            }
+        }
+        if !self.eat_sym("}") {
+            return Err(self.unexpected("`,` or `}` in the structure value"));
+        }
+        Ok(Expr::Struct { ty, fields })
+    }
+}
