@@ -354,9 +354,7 @@ impl Parser {
                 self.bump();
                 if self.eat_kw("DECL") {
                     self.decl_rest(true)
-                } else if self.is_kw("STRUC") || self.is_kw("ENUM") {
-                    self.statement_kind()
-                } else if self.is_kw("INTERRUPT") {
+                } else if self.is_kw("STRUC") || self.is_kw("ENUM") || self.is_kw("INTERRUPT") {
                     self.statement_kind()
                 } else if self.is_kw("DEF") || self.is_kw("DEFFCT") {
                     Err(self
