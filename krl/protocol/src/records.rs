@@ -160,6 +160,9 @@ pub enum Command {
     SetTool(Frame),
     /// Op 9: report the tool frame.
     GetTool,
+    /// Op 10: run the uploaded program module `kbu<n>` (`PRG n`) and answer
+    /// when it ends.
+    Run(i32),
     /// Op 11: set the base frame ($BASE).
     SetBase(Frame),
     /// Op 12: report the base frame.
@@ -182,6 +185,7 @@ impl Command {
             Command::Home => 6,
             Command::SetTool(_) => 8,
             Command::GetTool => 9,
+            Command::Run(_) => 10,
             Command::SetBase(_) => 11,
             Command::GetBase => 12,
             Command::SetSpeed(_) => 13,
@@ -198,6 +202,7 @@ impl Command {
             Command::Home => "home",
             Command::SetTool(_) => "set_tool",
             Command::GetTool => "get_tool",
+            Command::Run(_) => "run",
             Command::SetBase(_) => "set_base",
             Command::GetBase => "get_base",
             Command::SetSpeed(_) => "set_speed",
@@ -286,6 +291,15 @@ impl CommandFile {
             Command::SetTool(frame) | Command::SetBase(frame) => {
                 frame.fields(&mut f)?;
                 write_line(&mut body, "FRM", &f);
+                n = 1;
+            }
+            Command::Run(program) => {
+                if *program <= 0 {
+                    return Err(EncodeError::Shape(format!(
+                        "program number {program} is not positive"
+                    )));
+                }
+                write_line(&mut body, "PRG", &[Field::Int(*program)]);
                 n = 1;
             }
             Command::SetSpeed(s) => {
@@ -463,6 +477,15 @@ impl CommandFile {
                 } else {
                     Command::SetBase(frame)
                 }
+            }
+            10 => {
+                expect_n(1)?;
+                let mut l = r.line("PRG", "i")?;
+                let program = l.int();
+                if program <= 0 {
+                    return Err(l.invalid("program number must be positive"));
+                }
+                Command::Run(program)
             }
             13 => {
                 expect_n(1)?;

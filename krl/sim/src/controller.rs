@@ -321,6 +321,7 @@ impl Controller {
                 let motions: Vec<Motion> = records.iter().map(to_motion).collect();
                 self.start(cid, motions, now);
             }
+            Command::Run(_) => self.push_result(cid, ResultCode::Unsupported, 0, 0, None),
         }
         Changes::results()
     }

@@ -12,6 +12,7 @@
 #![deny(missing_docs)]
 
 mod controller;
+pub mod interp;
 mod runner;
 
 pub use controller::{TraceSample, frame_to_pose, pose_to_frame, to_motion};
