@@ -40,6 +40,15 @@ pub enum AppError {
     /// The engine thread could not start.
     #[error("cannot start the engine")]
     Engine(#[source] std::io::Error),
+    /// The program store cannot be opened.
+    #[error("program store {path}")]
+    Programs {
+        /// Its folder.
+        path: String,
+        /// Cause.
+        #[source]
+        source: std::io::Error,
+    },
     /// The HTTP server failed.
     #[error("HTTP server")]
     Serve(#[source] std::io::Error),
@@ -69,6 +78,9 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
     let cids = CidStore::open(&config.data_dir)?;
     let sim = if config.simulator.enabled {
         let mut sc = SimConfig::new(&dir);
+        if let Some(d) = config.program_dir() {
+            sc.program_dir = d;
+        }
         if let Some(m) = &model {
             sc.model = m.clone();
         }
@@ -99,11 +111,23 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         source,
     })?;
     let (closing, closing_rx) = watch::channel(false);
+    let programs = Arc::new(
+        crate::programs::ProgramStore::open(
+            &config.data_dir.join("programs"),
+            config.programs.max_bytes,
+            config.simulator.enabled,
+        )
+        .map_err(|source| AppError::Programs {
+            path: config.data_dir.join("programs").display().to_string(),
+            source,
+        })?,
+    );
     let router = crate::api::app(
         engine.clone(),
         sim.clone(),
         Duration::from_millis(config.server.request_timeout_ms),
         closing_rx,
+        programs,
     );
     let (stop_http, stop_rx) = oneshot::channel::<()>();
     // Small request/response pairs: send at once instead of waiting for

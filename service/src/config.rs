@@ -57,6 +57,8 @@ pub struct Config {
     pub workspace: Option<WorkspaceBox>,
     /// The embedded simulated controller (`run --simulate`).
     pub simulator: SimulatorConfig,
+    /// Uploaded KRL programs.
+    pub programs: ProgramsConfig,
     /// Where the service keeps its own state (command id counter).
     pub data_dir: PathBuf,
     /// Where the config was loaded from (for messages); not a key.
@@ -161,6 +163,32 @@ pub struct SimulatorConfig {
     pub heartbeat_ms: u64,
 }
 
+/// Uploaded KRL programs (`POST /api/v1/programs`).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ProgramsConfig {
+    /// The controller's program folder the service writes `kbu<n>.src` into
+    /// before a RUN command. On a KRC: `C:\KRC\ROBOTER\KRC\R1\Program\kbridge`
+    /// (the default on Windows). With `--simulate` the default is
+    /// `<channel dir>/programs`. Without it (and off Windows) programs can be
+    /// uploaded and checked but not run.
+    pub controller_dir: Option<PathBuf>,
+    /// Largest accepted .src or .dat file in bytes.
+    pub max_bytes: usize,
+    /// How many generated `kbu<n>` modules to keep in the program folder.
+    pub keep_modules: usize,
+}
+
+impl Default for ProgramsConfig {
+    fn default() -> Self {
+        ProgramsConfig {
+            controller_dir: None,
+            max_bytes: 256 * 1024,
+            keep_modules: 8,
+        }
+    }
+}
+
 impl Default for ServerConfig {
     fn default() -> Self {
         ServerConfig {
@@ -227,6 +255,7 @@ impl Default for Config {
             motion: MotionConfig::default(),
             workspace: None,
             simulator: SimulatorConfig::default(),
+            programs: ProgramsConfig::default(),
             data_dir: default_data_dir(),
             source_name: "defaults".into(),
         }
@@ -303,6 +332,20 @@ impl Config {
                 "channel"
             }),
         }
+    }
+
+    /// Where RUN modules are written, if anywhere (see [`ProgramsConfig`]).
+    pub fn program_dir(&self) -> Option<PathBuf> {
+        if let Some(d) = &self.programs.controller_dir {
+            return Some(d.clone());
+        }
+        if self.simulator.enabled {
+            return Some(self.channel_dir().join("programs"));
+        }
+        if cfg!(windows) {
+            return Some(PathBuf::from(r"C:\KRC\ROBOTER\KRC\R1\Program\kbridge"));
+        }
+        None
     }
 
     /// The robot model in effect (None: no kinematic checks).

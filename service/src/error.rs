@@ -43,6 +43,14 @@ pub enum ErrorCode {
     UnsupportedMediaType,
     /// Too many jobs waiting.
     QueueFull,
+    /// An uploaded KRL program does not parse or fails its checks (with its line).
+    InvalidProgram,
+    /// An uploaded KRL program uses what the simulated controller cannot execute (with its line).
+    ProgramUnsupported,
+    /// An uploaded KRL program failed while running (with its line).
+    ProgramFailed,
+    /// No program folder is configured, so programs cannot be run.
+    ProgramsUnavailable,
     /// The controller answered something this service does not understand.
     ProtocolError,
     /// A bug or an unexpected I/O failure.
@@ -58,7 +66,11 @@ impl ErrorCode {
             | ErrorCode::SpeedLimit
             | ErrorCode::Unreachable
             | ErrorCode::SoftwareLimit
-            | ErrorCode::Singularity => 422,
+            | ErrorCode::Singularity
+            | ErrorCode::InvalidProgram
+            | ErrorCode::ProgramUnsupported => 422,
+            ErrorCode::ProgramFailed => 409,
+            ErrorCode::ProgramsUnavailable => 503,
             ErrorCode::ControllerOffline | ErrorCode::ChannelLocked | ErrorCode::QueueFull => 503,
             ErrorCode::Timeout => 504,
             ErrorCode::ControllerError | ErrorCode::ControllerBusy | ErrorCode::Cancelled => 409,
@@ -91,6 +103,10 @@ impl ErrorCode {
             ErrorCode::PayloadTooLarge => "Payload too large",
             ErrorCode::UnsupportedMediaType => "Unsupported media type",
             ErrorCode::QueueFull => "Queue full",
+            ErrorCode::InvalidProgram => "Invalid KRL program",
+            ErrorCode::ProgramUnsupported => "KRL not supported by the simulator",
+            ErrorCode::ProgramFailed => "KRL program failed",
+            ErrorCode::ProgramsUnavailable => "Programs unavailable",
             ErrorCode::ProtocolError => "Protocol error",
             ErrorCode::Internal => "Internal error",
         }
@@ -116,6 +132,10 @@ impl ErrorCode {
             ErrorCode::PayloadTooLarge => "payload_too_large",
             ErrorCode::UnsupportedMediaType => "unsupported_media_type",
             ErrorCode::QueueFull => "queue_full",
+            ErrorCode::InvalidProgram => "invalid_program",
+            ErrorCode::ProgramUnsupported => "program_unsupported",
+            ErrorCode::ProgramFailed => "program_failed",
+            ErrorCode::ProgramsUnavailable => "programs_unavailable",
             ErrorCode::ProtocolError => "protocol_error",
             ErrorCode::Internal => "internal",
         }
@@ -137,6 +157,12 @@ pub struct BridgeError {
     /// 0-based index of the motion in the batch that failed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub motion: Option<usize>,
+    /// For KRL program errors: the file (`src` or `dat`) the line is in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// For KRL program errors: the 1-based line in the uploaded file.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line: Option<u32>,
 }
 
 impl BridgeError {
@@ -147,6 +173,8 @@ impl BridgeError {
             detail: detail.into(),
             axis: None,
             motion: None,
+            file: None,
+            line: None,
         }
     }
 
@@ -158,6 +186,15 @@ impl BridgeError {
     /// Adds the motion index.
     pub fn at_motion(mut self, index: usize) -> Self {
         self.motion = Some(index);
+        self
+    }
+
+    /// Names the line of an uploaded program the error is on.
+    pub fn at_line(mut self, file: &str, line: u32) -> Self {
+        if line > 0 {
+            self.file = Some(file.to_string());
+            self.line = Some(line);
+        }
         self
     }
 

@@ -15,4 +15,5 @@ pub mod config;
 pub mod engine;
 pub mod error;
 pub mod motion;
+pub mod programs;
 pub mod safety;

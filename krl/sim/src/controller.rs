@@ -7,6 +7,7 @@ use std::time::Instant;
 use kuka_kinematics::{
     Axes, Execution, IkError, Motion, MotionError, MotionKind, PlanSettings, Pose, RobotModel,
 };
+use crate::interp::{self, RunError, Step};
 use kuka_protocol::{
     Cid, Command, ControllerStatus, Frame, MotionRecord, OperatingMode, RESULT_HISTORY, ResultCode,
     ResultRecord, SpeedRecord, StateFile,
@@ -56,7 +57,75 @@ struct Active {
     started_wall: Instant,
     next_sample: usize,
     current_motion: usize,
+    /// Set while a RUN command plays an uploaded program.
+    program: Option<ProgramRun>,
 }
+
+impl Active {
+    /// Motions (and dwells) completed or running, over the whole command.
+    fn progress(&self) -> usize {
+        self.program.as_ref().map_or(0, |p| p.steps_before) + self.current_motion
+    }
+}
+
+/// The part of a running program after the current phase.
+struct ProgramRun {
+    /// Source line of each motion of the current phase.
+    lines: Vec<u32>,
+    /// Phases still to play.
+    rest: VecDeque<Phase>,
+    /// Steps of the phases already played.
+    steps_before: usize,
+}
+
+/// Consecutive program steps that play as one execution: motions with the
+/// same tool and base (one blended batch), or a dwell.
+enum Phase {
+    Moves {
+        tool: Pose,
+        base: Pose,
+        motions: Vec<Motion>,
+        lines: Vec<u32>,
+    },
+    Dwell {
+        seconds: f64,
+        line: u32,
+    },
+}
+
+/// What one step of [`Controller::advance`] did.
+enum Advanced {
+    /// Done for now, with these changes.
+    Changes(Changes),
+    /// A program phase ended and the next one started: play on.
+    NextPhase,
+}
+
+/// Groups interpreter steps into phases.
+fn phases(steps: Vec<Step>) -> VecDeque<Phase> {
+    let mut out: VecDeque<Phase> = VecDeque::new();
+    for step in steps {
+        match step {
+            Step::Move { tool, base, motion, line } => {
+                if let Some(Phase::Moves { tool: t, base: b, motions, lines }) = out.back_mut()
+                    && *t == tool
+                    && *b == base
+                {
+                    motions.push(motion);
+                    lines.push(line);
+                    continue;
+                }
+                out.push_back(Phase::Moves { tool, base, motions: vec![motion], lines: vec![line] });
+            }
+            Step::Dwell { seconds, line } => out.push_back(Phase::Dwell { seconds, line }),
+        }
+    }
+    out
+}
+
+/// An uploaded program as the runner read it from the program folder:
+/// `(src, dat)`, or why it could not be read.
+pub(crate) type LoadedProgram = Result<(String, Option<String>), String>;
 
 /// The simulated controller's memory.
 pub(crate) struct Controller {
@@ -236,7 +305,13 @@ impl Controller {
     }
 
     /// Executes a newly read command (the caller guarantees `cid > last_cid`).
-    pub(crate) fn accept(&mut self, cid: Cid, command: Command, now: Instant) -> Changes {
+    pub(crate) fn accept(
+        &mut self,
+        cid: Cid,
+        command: Command,
+        now: Instant,
+        program: Option<LoadedProgram>,
+    ) -> Changes {
         self.last_cid = cid;
         tracing::debug!(cid, op = command.name(), "command accepted");
         if self.error.is_some() && !matches!(command, Command::Stop | Command::Reset) {
@@ -260,7 +335,7 @@ impl Controller {
                     self.push_result(
                         active.cid,
                         ResultCode::Cancelled,
-                        active.current_motion as u32,
+                        active.progress() as u32,
                         0,
                         None,
                     );
@@ -321,9 +396,111 @@ impl Controller {
                 let motions: Vec<Motion> = records.iter().map(to_motion).collect();
                 self.start(cid, motions, now);
             }
-            Command::Run(_) => self.push_result(cid, ResultCode::Unsupported, 0, 0, None),
+            Command::Run(n) => {
+                let loaded = program.unwrap_or_else(|| Err("program not loaded".into()));
+                self.run_program(cid, n, loaded, now);
+            }
         }
         Changes::results()
+    }
+
+    /// RUN: parses the uploaded module, runs it through the interpreter
+    /// and plays the result phase by phase. Errors are answered with the
+    /// failing source line in `done`.
+    fn run_program(&mut self, cid: Cid, n: i32, loaded: LoadedProgram, now: Instant) {
+        let module = format!("kbu{n}");
+        let (src, dat) = match loaded {
+            Ok(files) => files,
+            Err(why) => {
+                tracing::warn!(cid, %module, %why, "program cannot be read");
+                self.push_result(cid, ResultCode::RuntimeError, 0, 0, None);
+                return;
+            }
+        };
+        let program = match kuka_krl::Program::parse(&src, dat.as_deref(), Some(&module)) {
+            Ok(p) => p,
+            Err(e) => {
+                tracing::info!(cid, %module, error = %e, "program does not parse");
+                self.push_result(cid, ResultCode::BadCommand, e.line().unwrap_or(0), 0, None);
+                return;
+            }
+        };
+        let start = interp::Start {
+            model: &self.model,
+            axes: self.axes,
+            tool: self.tool,
+            base: self.base,
+            speed: self.speed,
+        };
+        let steps = interp::check_subset(&program)
+            .map_err(RunError::from)
+            .and_then(|()| interp::run(&program, &module, &start));
+        let steps = match steps {
+            Ok(steps) => steps,
+            Err(e) => {
+                let (code, line) = match &e {
+                    RunError::Unsupported(u) => (ResultCode::Unsupported, u.line),
+                    RunError::Runtime { line, .. } => (ResultCode::RuntimeError, *line),
+                };
+                tracing::info!(cid, %module, error = %e, "program refused");
+                self.push_result(cid, code, line, 0, None);
+                return;
+            }
+        };
+        let mut rest = phases(steps);
+        match rest.pop_front() {
+            None => self.push_result(cid, ResultCode::Ok, 0, 0, None),
+            Some(first) => {
+                let run = ProgramRun { lines: Vec::new(), rest, steps_before: 0 };
+                self.start_phase(cid, first, run, now);
+            }
+        }
+    }
+
+    /// Starts one phase of a program run (or answers its pre-check error).
+    fn start_phase(&mut self, cid: Cid, phase: Phase, mut run: ProgramRun, now: Instant) {
+        let (execution, count) = match phase {
+            Phase::Moves { tool, base, motions, lines } => {
+                self.tool = tool;
+                self.base = base;
+                let e = kuka_kinematics::plan::plan(
+                    &self.model, &self.axes, &self.tool, &self.base, &motions, &self.plan,
+                );
+                run.lines = lines;
+                (e, motions.len())
+            }
+            Phase::Dwell { seconds, line } => {
+                let pose = self.model.forward(&self.axes, &self.tool, &self.base);
+                let sample = |t| kuka_kinematics::plan::Sample { t, motion: 0, axes: self.axes, pose };
+                run.lines = vec![line];
+                let e = Execution {
+                    samples: vec![sample(0.0), sample(seconds)],
+                    end_axes: self.axes,
+                    duration_s: seconds,
+                    error: None,
+                };
+                (e, 1)
+            }
+        };
+        if let Some((index, err)) = &execution.error
+            && execution.samples.len() <= 1
+            && *index == 0
+        {
+            let (code, axis) = motion_error_code(err);
+            let line = run.lines.first().copied().unwrap_or(0);
+            tracing::info!(cid, line, %err, "program motion rejected");
+            self.push_result(cid, code, line, axis, None);
+            return;
+        }
+        self.active = Some(Active {
+            cid,
+            execution,
+            motions: count,
+            started_wall: now,
+            next_sample: 0,
+            current_motion: 0,
+            program: Some(run),
+        });
     }
 
     fn start(&mut self, cid: Cid, motions: Vec<Motion>, now: Instant) {
@@ -352,13 +529,24 @@ impl Controller {
             started_wall: now,
             next_sample: 0,
             current_motion: 0,
+            program: None,
         });
     }
 
-    /// Plays the active batch up to `now`; returns what changed.
+    /// Plays the active batch (and, for a program, the phases after it)
+    /// up to `now`; returns what changed.
     pub(crate) fn advance(&mut self, now: Instant, time_scale: f64) -> Changes {
+        loop {
+            match self.advance_phase(now, time_scale) {
+                Advanced::Changes(c) => return c,
+                Advanced::NextPhase => {}
+            }
+        }
+    }
+
+    fn advance_phase(&mut self, now: Instant, time_scale: f64) -> Advanced {
         let Some(active) = self.active.as_mut() else {
-            return Changes::default();
+            return Advanced::Changes(Changes::default());
         };
         let elapsed = if time_scale <= 0.0 {
             f64::INFINITY
@@ -388,23 +576,48 @@ impl Controller {
             }
         }
         if active.next_sample < active.execution.samples.len() {
-            return Changes::default();
+            return Advanced::Changes(Changes::default());
         }
         // Batch finished (or stopped at an error point).
         let Some(active) = self.active.take() else {
-            return Changes::default();
+            return Advanced::Changes(Changes::default());
+        };
+        // When the phase ended on the wall clock: the next one starts there.
+        let ended = if time_scale > 0.0 {
+            active.started_wall
+                + std::time::Duration::from_secs_f64(active.execution.duration_s / time_scale)
+        } else {
+            now
         };
         self.axes = active.execution.end_axes;
         self.sim_time += active.execution.duration_s;
-        match &active.execution.error {
-            None => self.push_result(active.cid, ResultCode::Ok, active.motions as u32, 0, None),
-            Some((index, err)) => {
+        let Active { cid, execution, motions, program, .. } = active;
+        match (&execution.error, program) {
+            (None, None) => self.push_result(cid, ResultCode::Ok, motions as u32, 0, None),
+            (None, Some(mut run)) => {
+                run.steps_before += motions;
+                match run.rest.pop_front() {
+                    None => self.push_result(cid, ResultCode::Ok, run.steps_before as u32, 0, None),
+                    Some(next) => {
+                        self.start_phase(cid, next, run, ended.min(now));
+                        if self.active.is_some() {
+                            // The next phase runs on; nothing to report yet.
+                            return Advanced::NextPhase;
+                        }
+                    }
+                }
+            }
+            (Some((index, err)), program) => {
                 let (code, axis) = motion_error_code(err);
-                tracing::info!(cid = active.cid, motion = index, %err, "motion stopped");
-                self.push_result(active.cid, code, *index as u32, axis, None);
+                let done = match &program {
+                    Some(run) => run.lines.get(*index).copied().unwrap_or(0),
+                    None => *index as u32,
+                };
+                tracing::info!(cid, motion = index, done, %err, "motion stopped");
+                self.push_result(cid, code, done, axis, None);
             }
         }
-        Changes::results()
+        Advanced::Changes(Changes::results())
     }
 
     /// What the service must learn at once rather than at the next
@@ -422,7 +635,7 @@ impl Controller {
         let (pose, s, t) = self.position();
         let (status, busy_cid, busy_index) = match (&self.active, &self.error) {
             (_, Some(_)) => (ControllerStatus::Error, 0, 0),
-            (Some(a), None) => (ControllerStatus::Busy, a.cid, a.current_motion as u32),
+            (Some(a), None) => (ControllerStatus::Busy, a.cid, a.progress() as u32),
             (None, None) => (ControllerStatus::Idle, 0, 0),
         };
         StateFile {

@@ -62,13 +62,18 @@ pub struct SimConfig {
     pub mode: OperatingMode,
     /// Maximum number of trace samples kept (oldest dropped).
     pub trace_capacity: usize,
+    /// The program folder RUN commands take `kbu<n>.src`/`.dat` from
+    /// (default: `<channel_dir>/programs`).
+    pub program_dir: PathBuf,
 }
 
 impl SimConfig {
     /// Defaults for a channel directory: KR 3 R540, real time, 50 ms heartbeat.
     pub fn new(channel_dir: impl Into<PathBuf>) -> Self {
+        let channel_dir: PathBuf = channel_dir.into();
         SimConfig {
-            channel_dir: channel_dir.into(),
+            program_dir: channel_dir.join("programs"),
+            channel_dir,
             model: RobotModel::kr3_r540(),
             time_scale: 1.0,
             heartbeat: Duration::from_millis(50),
@@ -289,6 +294,28 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
+/// Largest program file the simulator reads.
+const MAX_PROGRAM_BYTES: u64 = 1 << 20;
+
+/// Reads `kbu<n>.src` and the optional `kbu<n>.dat` from the program folder.
+fn load_program(dir: &std::path::Path, n: i32) -> crate::controller::LoadedProgram {
+    let read = |ext: &str| -> Result<Option<String>, String> {
+        let path = dir.join(format!("kbu{n}.{ext}"));
+        match std::fs::metadata(&path) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            Err(e) => return Err(format!("{}: {e}", path.display())),
+            Ok(m) if m.len() > MAX_PROGRAM_BYTES => {
+                return Err(format!("{} is larger than {MAX_PROGRAM_BYTES} bytes", path.display()));
+            }
+            Ok(_) => {}
+        }
+        let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(Some(String::from_utf8_lossy(&bytes).into_owned()))
+    };
+    let src = read("src")?.ok_or_else(|| format!("kbu{n}.src is not in {}", dir.display()))?;
+    Ok((src, read("dat")?))
+}
+
 /// The controller thread: steps on wake-ups, sample times, heartbeats and polls.
 fn run(runner: &Mutex<Runner>, shared: &Shared, rx: &mpsc::Receiver<()>) {
     let (poll, dir, model) = {
@@ -427,7 +454,11 @@ impl Runner {
             Ok(cmd) => {
                 self.last_text = text;
                 if cmd.cid > c.last_cid {
-                    let ch = c.accept(cmd.cid, cmd.command, now);
+                    let program = match cmd.command {
+                        kuka_protocol::Command::Run(n) => Some(load_program(&self.config.program_dir, n)),
+                        _ => None,
+                    };
+                    let ch = c.accept(cmd.cid, cmd.command, now, program);
                     changes.results |= ch.results;
                 } else {
                     tracing::debug!(cid = cmd.cid, last = c.last_cid, "stale command ignored");

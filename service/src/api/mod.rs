@@ -3,6 +3,7 @@
 //! Swagger UI at `/docs` (served from the binary, no internet needed).
 
 mod events;
+mod programs;
 pub mod problem;
 mod sim;
 mod thesis;
@@ -40,6 +41,8 @@ pub struct AppState {
     pub openapi: Arc<utoipa::openapi::OpenApi>,
     /// Becomes true when the service shuts down (ends event streams).
     pub closing: tokio::sync::watch::Receiver<bool>,
+    /// Uploaded KRL programs.
+    pub programs: Arc<crate::programs::ProgramStore>,
 }
 
 impl AppState {
@@ -66,6 +69,7 @@ impl AppState {
         (name = "thesis", description = "Compatible with the thesis bridge's clients."),
         (name = "robot", description = "State, position, frames and speeds."),
         (name = "motion", description = "Motions, jobs and stop."),
+        (name = "programs", description = "Upload and run KRL programs."),
         (name = "events", description = "Server-Sent Events."),
         (name = "simulator", description = "Only in `--simulate` mode."),
         (name = "service", description = "Health and documentation.")
@@ -135,6 +139,7 @@ fn documented() -> OpenApiRouter<AppState> {
         .routes(routes!(health))
         .merge(thesis::router())
         .merge(v1::router())
+        .merge(programs::router())
         .merge(events::router())
         .merge(sim::router())
 }
@@ -150,6 +155,7 @@ pub fn app(
     sim: Option<Arc<kuka_sim::SimController>>,
     request_timeout: Duration,
     closing: tokio::sync::watch::Receiver<bool>,
+    programs: Arc<crate::programs::ProgramStore>,
 ) -> Router {
     let (router, doc) = documented().split_for_parts();
     let state = AppState {
@@ -158,6 +164,7 @@ pub fn app(
         request_timeout,
         openapi: Arc::new(doc),
         closing,
+        programs,
     };
     router
         .route("/openapi.json", axum::routing::get(openapi_json))

@@ -45,6 +45,12 @@ pub struct ProblemDetails {
     /// Index of the failing motion in the batch.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub motion: Option<usize>,
+    /// For KRL program errors: the uploaded file (`src` or `dat`) of `line`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// For KRL program errors: the 1-based line in the uploaded file.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line: Option<u32>,
     /// Job the error belongs to.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub job_id: Option<JobId>,
@@ -64,6 +70,8 @@ impl ProblemDetails {
             code: e.code,
             axis: e.axis,
             motion: e.motion,
+            file: e.file.clone(),
+            line: e.line,
             job_id: None,
         }
     }

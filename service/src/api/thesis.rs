@@ -181,6 +181,10 @@ pub fn statuscode(code: ErrorCode) -> i32 {
         ErrorCode::MethodNotAllowed => 55,
         ErrorCode::PayloadTooLarge => 56,
         ErrorCode::UnsupportedMediaType => 57,
+        ErrorCode::InvalidProgram => 12,
+        ErrorCode::ProgramUnsupported => 13,
+        ErrorCode::ProgramFailed => 40,
+        ErrorCode::ProgramsUnavailable => 58,
         ErrorCode::Internal => 99,
     }
 }
@@ -340,6 +344,72 @@ async fn gettcp(State(app): State<AppState>, _: ThesisQuery<NoParams>) -> Respon
     run(&app, Operation::GetTool, true).await
 }
 
+/// Name under which `/krl/uploadfile` stores its upload.
+const THESIS_PROGRAM: &str = "uploaded";
+
+/// Uploads a KRL file and runs it (thesis method 10).
+///
+/// The body is the `.src` text, either as a `multipart/form-data` file field (the thesis
+/// client's form upload; the first field is used) or as the raw request body. The file
+/// must define `DEFFCT INT fuploaded()` (the thesis convention) or its first routine is
+/// run. It is checked before anything reaches the controller, stored as program
+/// `uploaded`, written as a new module and run — every upload runs its own code, not the
+/// first one. Answers when the program has ended.
+#[utoipa::path(post, path = "/krl/uploadfile", tag = "thesis",
+    request_body(content = String, content_type = "text/plain", description = "The .src text (or a multipart/form-data file field)"),
+    responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
+async fn uploadfile(State(app): State<AppState>, _: ThesisQuery<NoParams>, req: axum::extract::Request) -> Response {
+    let src = match upload_text(&app, req).await {
+        Ok(s) => s,
+        Err(e) => return fail(&app, &e),
+    };
+    let upload = crate::programs::ProgramUpload {
+        name: THESIS_PROGRAM.into(),
+        src,
+        dat: None,
+        entry: None,
+    };
+    let program = match app.programs.put(upload) {
+        Ok((p, _)) => p,
+        Err(e) => return fail(&app, &e),
+    };
+    run(&app, Operation::RunProgram(program), false).await
+}
+
+/// The uploaded text from a multipart form (first field) or the raw body.
+async fn upload_text(app: &AppState, req: axum::extract::Request) -> Result<String, BridgeError> {
+    use axum::extract::FromRequest;
+    let multipart = req
+        .headers()
+        .get(axum::http::header::CONTENT_TYPE)
+        .and_then(|v| v.to_str().ok())
+        .is_some_and(|v| v.starts_with("multipart/form-data"));
+    let bytes = if multipart {
+        let mut form = axum::extract::Multipart::from_request(req, app)
+            .await
+            .map_err(|e| BridgeError::invalid(format!("multipart upload: {e}")))?;
+        let field = form
+            .next_field()
+            .await
+            .map_err(|e| BridgeError::invalid(format!("multipart upload: {e}")))?
+            .ok_or_else(|| BridgeError::invalid("the form has no file field"))?;
+        field
+            .bytes()
+            .await
+            .map_err(|e| BridgeError::invalid(format!("multipart upload: {e}")))?
+    } else {
+        axum::body::to_bytes(req.into_body(), 4 * 1024 * 1024)
+            .await
+            .map_err(|e| BridgeError::new(ErrorCode::PayloadTooLarge, format!("upload: {e}")))?
+    };
+    if bytes.is_empty() {
+        return Err(BridgeError::invalid("the upload is empty: send the .src text"));
+    }
+    // KRL files are ANSI (Windows-1252) on a KRC: accept anything, the
+    // front end refuses non-ASCII outside comments and strings.
+    Ok(String::from_utf8(bytes.to_vec()).unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect()))
+}
+
 pub(super) fn router() -> OpenApiRouter<AppState> {
     OpenApiRouter::new()
         .routes(routes!(ptp))
@@ -349,4 +419,5 @@ pub(super) fn router() -> OpenApiRouter<AppState> {
         .routes(routes!(base))
         .routes(routes!(tcp))
         .routes(routes!(gettcp))
+        .routes(routes!(uploadfile))
 }

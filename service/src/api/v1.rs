@@ -174,7 +174,7 @@ async fn post_motions(
     job_outcome(job)
 }
 
-fn job_outcome(job: Job) -> Result<Response, Problem> {
+pub(super) fn job_outcome(job: Job) -> Result<Response, Problem> {
     match (job.state, &job.error) {
         (JobState::Done, _) => Ok(ok_json(&job)),
         (_, Some(e)) => Err(Problem {

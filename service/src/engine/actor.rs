@@ -84,6 +84,10 @@ pub(crate) struct Actor {
     ctl: ControllerView,
     speeds: SpeedSettings,
     shutting_down: Option<oneshot::Sender<()>>,
+    /// The controller's program folder for RUN modules.
+    program_dir: Option<std::path::PathBuf>,
+    /// Generated modules kept in it.
+    keep_modules: usize,
 }
 
 fn result_error(r: &ResultRecord) -> Option<BridgeError> {
@@ -156,6 +160,39 @@ fn result_error(r: &ResultRecord) -> Option<BridgeError> {
     Some(e)
 }
 
+/// A RUN result's error: `done` is the failing module line, mapped back to
+/// the uploaded file; program-specific codes replace the generic ones.
+fn program_result_error(e: BridgeError, r: &ResultRecord, program: &str) -> BridgeError {
+    let line = crate::programs::upload_line(r.completed);
+    let at = if line > 0 { format!(" at line {line}") } else { String::new() };
+    let e = match r.code {
+        ResultCode::BadCommand => BridgeError::new(
+            ErrorCode::InvalidProgram,
+            format!("the controller could not compile program {program}{at}"),
+        ),
+        ResultCode::Unsupported => BridgeError::new(
+            ErrorCode::ProgramUnsupported,
+            format!("program {program} uses KRL the controller cannot execute{at}"),
+        ),
+        ResultCode::RuntimeError => BridgeError::new(
+            ErrorCode::ProgramFailed,
+            format!("program {program} failed{at}"),
+        ),
+        ResultCode::Cancelled => BridgeError::new(
+            ErrorCode::Cancelled,
+            format!("program {program} was stopped"),
+        ),
+        _ => {
+            let mut e = e;
+            if line > 0 {
+                e.detail = format!("{} (program {program}, line {line})", e.detail);
+            }
+            e
+        }
+    };
+    if r.code == ResultCode::Cancelled { e } else { e.at_line("src", line) }
+}
+
 fn state_error(s: &StateFile) -> Option<BridgeError> {
     let code = s.error?;
     let r = ResultRecord {
@@ -198,6 +235,8 @@ impl Actor {
             channel,
             cids,
             cfg: config.channel.clone(),
+            program_dir: config.program_dir(),
+            keep_modules: config.programs.keep_modules,
             default_approx_mm: config.motion.default_batch_approx_mm,
             rx,
             queue: VecDeque::new(),
@@ -696,6 +735,9 @@ impl Actor {
         {
             e.motion = None;
         }
+        if let (Operation::RunProgram(p), Some(e)) = (&f.op, error.take()) {
+            error = Some(program_result_error(e, &r, &p.info.name));
+        }
         let elapsed_ms = f.sent_at.elapsed().as_secs_f64() * 1000.0;
         match &error {
             None => tracing::debug!(job = f.id, cid = r.cid, elapsed_ms, "job done"),
@@ -712,7 +754,9 @@ impl Actor {
         self.publish_state();
         self.shared.update(f.id, |j| {
             j.finished_ms = Some(now_ms());
-            j.completed = if matches!(f.op, Operation::Move(_)) {
+            j.completed = if matches!(f.op, Operation::Move(_))
+                || (matches!(f.op, Operation::RunProgram(_)) && r.code == ResultCode::Ok)
+            {
                 r.completed as usize
             } else {
                 0
@@ -883,6 +927,19 @@ impl Actor {
     /// Resolves and checks the job, then writes it (or leaves it pending
     /// while the file is locked).
     fn send(&mut self, job: QueuedJob) -> Result<()> {
+        if let Operation::RunProgram(program) = &job.op {
+            let dir = self.program_dir.clone().ok_or_else(|| {
+                BridgeError::new(
+                    ErrorCode::ProgramsUnavailable,
+                    "no program folder is configured (programs.controller_dir)",
+                )
+            })?;
+            let cid = self.next_cid()?;
+            self.write_module(&dir, cid, program)?;
+            let timeout = job.timeout.unwrap_or(self.cfg.command_timeout());
+            self.write(CommandFile { cid, command: Command::Run(cid) }, Some((job, timeout)));
+            return Ok(());
+        }
         let command = match &job.op {
             Operation::Move(requests) => {
                 let (start, tool, base) = self.start_point()?;
@@ -906,10 +963,58 @@ impl Actor {
                 cp_acceleration_pct: s.cp_acceleration_pct,
             }),
             Operation::Reset => Command::Reset,
+            Operation::RunProgram(_) => {
+                return Err(BridgeError::new(ErrorCode::Internal, "program runs are sent above"));
+            }
         };
         let cid = self.next_cid()?;
         let timeout = job.timeout.unwrap_or(self.cfg.command_timeout());
         self.write(CommandFile { cid, command }, Some((job, timeout)));
+        Ok(())
+    }
+
+    /// Writes module `kbu<cid>` into the program folder and deletes the
+    /// oldest generated modules beyond `keep_modules`.
+    fn write_module(
+        &self,
+        dir: &std::path::Path,
+        cid: Cid,
+        program: &crate::programs::StoredProgram,
+    ) -> Result<()> {
+        let m = crate::programs::module_text(cid, program);
+        let fail = |e: &dyn std::fmt::Display| {
+            BridgeError::new(
+                ErrorCode::ProgramsUnavailable,
+                format!("cannot write {} into {}: {e}", m.name, dir.display()),
+            )
+        };
+        std::fs::create_dir_all(dir).map_err(|e| fail(&e))?;
+        let tag = format!("svc{}", std::process::id());
+        kuka_protocol::files::atomic_write(dir, &format!("{}.src", m.name), &tag, &m.src)
+            .map_err(|e| fail(&e))?;
+        if let Some(dat) = &m.dat {
+            kuka_protocol::files::atomic_write(dir, &format!("{}.dat", m.name), &tag, dat)
+                .map_err(|e| fail(&e))?;
+        }
+        tracing::info!(module = %m.name, program = %program.info.name, "program module written");
+        // Keep the newest modules only (by number; ours are the only kbu* files).
+        let mut numbers: Vec<i64> = std::fs::read_dir(dir)
+            .map(|rd| {
+                rd.flatten()
+                    .filter_map(|e| {
+                        let name = e.file_name().to_string_lossy().into_owned();
+                        name.strip_prefix("kbu")?.strip_suffix(".src")?.parse().ok()
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        numbers.sort_unstable();
+        let excess = numbers.len().saturating_sub(self.keep_modules.max(1));
+        for n in &numbers[..excess] {
+            for ext in ["src", "dat"] {
+                let _ = std::fs::remove_file(dir.join(format!("kbu{n}.{ext}")));
+            }
+        }
         Ok(())
     }
 

@@ -150,6 +150,8 @@ pub enum Operation {
     SetSpeed(SpeedSettings),
     /// Acknowledge a controller error state.
     Reset,
+    /// Run an uploaded KRL program (written as a fresh module first).
+    RunProgram(std::sync::Arc<crate::programs::StoredProgram>),
 }
 
 impl Operation {
@@ -165,6 +167,7 @@ impl Operation {
             Operation::GetBase => "get_base",
             Operation::SetSpeed(_) => "set_speed",
             Operation::Reset => "reset",
+            Operation::RunProgram(_) => "run_program",
         }
     }
 }

@@ -1,0 +1,350 @@
+//! Uploaded KRL programs: validation with the KRL front end, the store in
+//! `<data_dir>/programs`, and the module text the engine writes into the
+//! controller's program folder for a RUN command.
+//!
+//! Every run gets a module name never used before (`kbu<cid>`), so the
+//! controller compiles the newest code each time — the thesis bridge kept
+//! running its first upload. The module is a generated entry routine that
+//! calls the uploaded entry point, followed by the uploaded routines.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, RwLock};
+
+use kuka_krl::{Program, ProgramError, RoutineKind};
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+use crate::engine::now_ms;
+use crate::error::{BridgeError, ErrorCode, Result};
+
+/// The entry point the thesis bridge called (`DEFFCT INT fuploaded()`).
+pub const THESIS_ENTRY: &str = "fuploaded";
+
+/// Lines the generated wrapper puts before the uploaded `.src` text.
+pub const WRAPPER_LINES: u32 = 5;
+
+/// An upload: a program's name, its `.src` text, an optional `.dat` and
+/// the routine to run.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"name": "wave", "src": "DEF wave()\n  PTP {A1 10}\n  PTP {A1 -10}\nEND\n"}))]
+pub struct ProgramUpload {
+    /// Program name: a KRL name (letter or `_` first, then letters, digits,
+    /// `_`; at most 24 characters). Case-insensitive; an upload with an
+    /// existing name replaces that program.
+    pub name: String,
+    /// The `.src` text.
+    pub src: String,
+    /// The `.dat` text (its `DEFDAT` must carry the first routine's name).
+    #[serde(default)]
+    pub dat: Option<String>,
+    /// Routine to run (no parameters). Default: `fuploaded` if the file
+    /// defines it (the thesis convention), else the first routine.
+    #[serde(default)]
+    pub entry: Option<String>,
+}
+
+/// What the service knows about a stored program.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct ProgramInfo {
+    /// Program name.
+    pub name: String,
+    /// The routine a run calls.
+    pub entry: String,
+    /// `def` or `deffct`.
+    pub entry_kind: String,
+    /// Lines of the `.src`.
+    pub src_lines: u32,
+    /// Lines of the `.dat`, if there is one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dat_lines: Option<u32>,
+    /// Size of `.src` plus `.dat` in bytes.
+    pub bytes: usize,
+    /// Upload time (ms since the Unix epoch).
+    pub uploaded_ms: u64,
+    /// Checked against the simulated controller's KRL subset (true when the
+    /// service runs the simulator; a real controller runs all of KRL).
+    pub simulator_checked: bool,
+}
+
+/// A stored program with its text.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct StoredProgram {
+    /// Its description.
+    #[serde(flatten)]
+    pub info: ProgramInfo,
+    /// The `.src` text.
+    pub src: String,
+    /// The `.dat` text.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dat: Option<String>,
+}
+
+/// The files of a generated RUN module.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModuleText {
+    /// Module name `kbu<n>`.
+    pub name: String,
+    /// `kbu<n>.src`.
+    pub src: String,
+    /// `kbu<n>.dat`, if the program has a `.dat`.
+    pub dat: Option<String>,
+}
+
+/// Uploaded programs, persisted as `<name>.src`, `<name>.dat` and
+/// `<name>.json` in one folder.
+#[derive(Debug)]
+pub struct ProgramStore {
+    dir: PathBuf,
+    max_bytes: usize,
+    simulated: bool,
+    programs: RwLock<BTreeMap<String, Arc<StoredProgram>>>,
+}
+
+fn valid_name(name: &str) -> bool {
+    let mut chars = name.chars();
+    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && name.len() <= kuka_krl::MAX_NAME_LEN
+}
+
+fn count_lines(text: &str) -> u32 {
+    text.lines().count() as u32
+}
+
+/// Maps a front-end refusal to the API error, with file and line.
+pub fn program_error(e: &ProgramError) -> BridgeError {
+    let file = match e {
+        ProgramError::Dat(_) | ProgramError::DatName { .. } => "dat",
+        _ => "src",
+    };
+    let err = BridgeError::new(ErrorCode::InvalidProgram, e.to_string());
+    match e.line() {
+        Some(line) => err.at_line(file, line),
+        None => err,
+    }
+}
+
+impl ProgramStore {
+    /// Opens (creating) the store folder and loads the programs in it.
+    /// `simulated`: also check uploads against the simulator's KRL subset.
+    pub fn open(dir: &Path, max_bytes: usize, simulated: bool) -> std::io::Result<Self> {
+        std::fs::create_dir_all(dir)?;
+        let store = ProgramStore {
+            dir: dir.to_path_buf(),
+            max_bytes,
+            simulated,
+            programs: RwLock::new(BTreeMap::new()),
+        };
+        for entry in std::fs::read_dir(dir)?.flatten() {
+            let path = entry.path();
+            if path.extension().is_some_and(|e| e == "json") {
+                match store.load(&path) {
+                    Ok(p) => {
+                        let key = p.info.name.to_ascii_lowercase();
+                        store.write_map().insert(key, Arc::new(p));
+                    }
+                    Err(e) => tracing::warn!(path = %path.display(), error = %e, "stored program skipped"),
+                }
+            }
+        }
+        Ok(store)
+    }
+
+    fn load(&self, meta: &Path) -> std::result::Result<StoredProgram, String> {
+        let text = std::fs::read_to_string(meta).map_err(|e| e.to_string())?;
+        let info: ProgramInfo = serde_json::from_str(&text).map_err(|e| e.to_string())?;
+        let src = std::fs::read_to_string(meta.with_extension("src")).map_err(|e| e.to_string())?;
+        let dat = std::fs::read_to_string(meta.with_extension("dat")).ok();
+        Ok(StoredProgram { info, src, dat })
+    }
+
+    fn write_map(&self) -> std::sync::RwLockWriteGuard<'_, BTreeMap<String, Arc<StoredProgram>>> {
+        self.programs.write().unwrap_or_else(|p| p.into_inner())
+    }
+
+    fn read_map(&self) -> std::sync::RwLockReadGuard<'_, BTreeMap<String, Arc<StoredProgram>>> {
+        self.programs.read().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Checks an upload without storing it: name, size, syntax, entry point
+    /// and, with the simulator, the supported subset.
+    pub fn check(&self, upload: &ProgramUpload) -> Result<(Program, ProgramInfo)> {
+        if !valid_name(&upload.name) {
+            return Err(BridgeError::invalid(format!(
+                "program name {:?} is not a KRL name (letter or _ first, then letters, digits or _, at most {} characters)",
+                upload.name,
+                kuka_krl::MAX_NAME_LEN
+            )));
+        }
+        let bytes = upload.src.len() + upload.dat.as_ref().map_or(0, String::len);
+        if upload.src.len() > self.max_bytes || upload.dat.as_ref().is_some_and(|d| d.len() > self.max_bytes) {
+            return Err(BridgeError::new(
+                ErrorCode::PayloadTooLarge,
+                format!("a program file may have at most {} bytes (programs.max_bytes)", self.max_bytes),
+            ));
+        }
+        let mut entry = upload.entry.clone();
+        let program = Program::parse(&upload.src, upload.dat.as_deref(), entry.as_deref()).map_err(|e| program_error(&e))?;
+        if entry.is_none() && program.routine(THESIS_ENTRY).is_some() {
+            entry = Some(THESIS_ENTRY.into());
+        }
+        let routine = program.entry(entry.as_deref()).map_err(|e| program_error(&e))?;
+        if !routine.params.is_empty() {
+            return Err(BridgeError::new(
+                ErrorCode::InvalidProgram,
+                format!("entry point `{}` must not take parameters", routine.name),
+            )
+            .at_line("src", routine.line));
+        }
+        if self.simulated {
+            kuka_sim::interp::check_subset(&program).map_err(|u| {
+                BridgeError::new(ErrorCode::ProgramUnsupported, u.to_string()).at_line("src", u.line)
+            })?;
+        }
+        let info = ProgramInfo {
+            name: upload.name.clone(),
+            entry: routine.name.clone(),
+            entry_kind: match routine.kind {
+                RoutineKind::Def => "def".into(),
+                RoutineKind::DefFct(_) => "deffct".into(),
+            },
+            src_lines: count_lines(&upload.src),
+            dat_lines: upload.dat.as_deref().map(count_lines),
+            bytes,
+            uploaded_ms: now_ms(),
+            simulator_checked: self.simulated,
+        };
+        Ok((program, info))
+    }
+
+    /// Checks and stores an upload; returns it and whether it is new.
+    pub fn put(&self, upload: ProgramUpload) -> Result<(Arc<StoredProgram>, bool)> {
+        let (_, info) = self.check(&upload)?;
+        let stored = StoredProgram { info, src: upload.src, dat: upload.dat };
+        let key = stored.info.name.to_ascii_lowercase();
+        let io = |e: std::io::Error| BridgeError::new(ErrorCode::Internal, format!("cannot store the program in {}: {e}", self.dir.display()));
+        let meta = serde_json::to_string_pretty(&stored.info).map_err(|e| BridgeError::new(ErrorCode::Internal, e.to_string()))?;
+        let tag = format!("svc{}", std::process::id());
+        let write = |ext: &str, text: &str| {
+            kuka_protocol::files::atomic_write(&self.dir, &format!("{key}.{ext}"), &tag, text)
+                .map_err(|e| BridgeError::new(ErrorCode::Internal, format!("cannot store the program: {e}")))
+        };
+        write("src", &stored.src)?;
+        match &stored.dat {
+            Some(d) => write("dat", d)?,
+            None => match std::fs::remove_file(self.dir.join(format!("{key}.dat"))) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io(e)),
+                _ => {}
+            },
+        }
+        write("json", &meta)?;
+        let stored = Arc::new(stored);
+        let created = self.write_map().insert(key, stored.clone()).is_none();
+        tracing::info!(program = %stored.info.name, entry = %stored.info.entry, bytes = stored.info.bytes, "program stored");
+        Ok((stored, created))
+    }
+
+    /// All programs, by name.
+    pub fn list(&self) -> Vec<ProgramInfo> {
+        self.read_map().values().map(|p| p.info.clone()).collect()
+    }
+
+    /// One program.
+    pub fn get(&self, name: &str) -> Result<Arc<StoredProgram>> {
+        self.read_map()
+            .get(&name.to_ascii_lowercase())
+            .cloned()
+            .ok_or_else(|| BridgeError::new(ErrorCode::NotFound, format!("no program named {name:?}")))
+    }
+
+    /// Removes a program.
+    pub fn remove(&self, name: &str) -> Result<()> {
+        let key = name.to_ascii_lowercase();
+        if self.write_map().remove(&key).is_none() {
+            return Err(BridgeError::new(ErrorCode::NotFound, format!("no program named {name:?}")));
+        }
+        for ext in ["json", "src", "dat"] {
+            let _ = std::fs::remove_file(self.dir.join(format!("{key}.{ext}")));
+        }
+        tracing::info!(program = name, "program removed");
+        Ok(())
+    }
+}
+
+/// The module written for RUN command `n`: a generated `DEF kbu<n>()` that
+/// calls the entry point, then the uploaded text with its `&` header lines
+/// turned into comments (they are only allowed at the top of a file), so
+/// uploaded line L is module line L + [`WRAPPER_LINES`].
+pub fn module_text(n: i32, p: &StoredProgram) -> ModuleText {
+    let name = format!("kbu{n}");
+    let call = match p.info.entry_kind.as_str() {
+        "deffct" => format!("  kb_ret = {}( )", p.info.entry),
+        _ => format!("  {}( )", p.info.entry),
+    };
+    let mut src = format!("DEF {name}( )\n  DECL INT kb_ret\n{call}\nEND\n\n");
+    for line in p.src.lines() {
+        if line.trim_start().starts_with('&') {
+            src.push_str("; ");
+        }
+        src.push_str(line);
+        src.push('\n');
+    }
+    let dat = p.dat.as_ref().map(|d| {
+        let mut out = String::new();
+        let mut renamed = false;
+        for line in d.lines() {
+            let t = line.trim_start();
+            if !renamed && t.len() >= 6 && t[..6].eq_ignore_ascii_case("DEFDAT") {
+                let rest: Vec<&str> = t.split_whitespace().collect();
+                out.push_str(&format!("DEFDAT {name}"));
+                for word in rest.iter().skip(2) {
+                    out.push(' ');
+                    out.push_str(word);
+                }
+                renamed = true;
+            } else {
+                out.push_str(line);
+            }
+            out.push('\n');
+        }
+        out
+    });
+    ModuleText { name, src, dat }
+}
+
+/// Maps a module line back to the uploaded `.src` line (0: in the wrapper).
+pub fn upload_line(module_line: u32) -> u32 {
+    module_line.saturating_sub(WRAPPER_LINES)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_module_keeps_line_numbers_and_renames_the_dat() {
+        let p = StoredProgram {
+            info: ProgramInfo {
+                name: "draw".into(),
+                entry: "fuploaded".into(),
+                entry_kind: "deffct".into(),
+                src_lines: 3,
+                dat_lines: Some(3),
+                bytes: 0,
+                uploaded_ms: 0,
+                simulator_checked: true,
+            },
+            src: "&ACCESS RVP\nDEFFCT INT fuploaded()\n  RETURN 1\nENDFCT\n".into(),
+            dat: Some("&ACCESS RVP\nDEFDAT draw PUBLIC\nENDDAT\n".into()),
+        };
+        let m = module_text(42, &p);
+        let lines: Vec<&str> = m.src.lines().collect();
+        assert_eq!(lines[(WRAPPER_LINES + 3 - 1) as usize], "  RETURN 1");
+        assert_eq!(upload_line(WRAPPER_LINES + 3), 3);
+        let parsed = Program::parse(&m.src, m.dat.as_deref(), Some("kbu42")).expect("module parses");
+        assert_eq!(parsed.src.routines[0].name, "kbu42");
+        assert!(m.dat.as_deref().is_some_and(|d| d.contains("DEFDAT kbu42 PUBLIC")));
+    }
+}

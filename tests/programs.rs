@@ -1,0 +1,215 @@
+//! KRL programs end to end: upload, validation before anything reaches the
+//! controller, runs on the simulated controller through the file protocol
+//! (a fresh module per run), and the thesis's `/krl/uploadfile`.
+
+use kuka_bridge_tests::{Options, TestService, assert_close, thesis_position};
+use serde_json::{Value, json};
+
+/// The thesis's upload example (listing 4.11) with the middle point's Y
+/// as a parameter.
+fn thesis_spline(y_mid: f64, z_end: f64) -> String {
+    format!(
+        "DEFFCT INT fuploaded()
+    SPLINE
+    SPL {{X 200, Y 0, Z 200, A 0, B 90, C 0}}
+    SPL {{X 200, Y {y_mid}, Z 150, A 0, B 90, C 0}}
+    SPL {{X 200, Y 50, Z {z_end}, A 0, B 90, C 0}}
+    ENDSPLINE
+    RETURN 1
+ENDFCT
+"
+    )
+}
+
+async fn post_text(t: &TestService, path: &str, body: String) -> (u16, Value) {
+    let r = reqwest::Client::new()
+        .post(t.url(path))
+        .header("content-type", "text/plain")
+        .body(body)
+        .send()
+        .await
+        .expect("request");
+    kuka_bridge_tests::decode(r).await
+}
+
+fn cmd_file(t: &TestService) -> Option<String> {
+    std::fs::read_to_string(t.channel_dir().join("kb_cmd.txt")).ok()
+}
+
+/// The trace points of the last run, as (x, y, z).
+fn trace_xyz(t: &TestService) -> Vec<[f64; 3]> {
+    let sim = t.service.sim.as_ref().expect("sim");
+    sim.trace().iter().map(|s| [s.pose[0], s.pose[1], s.pose[2]]).collect()
+}
+
+fn passes_near(trace: &[[f64; 3]], p: [f64; 3], tol: f64) -> bool {
+    trace
+        .iter()
+        .any(|q| (0..3).map(|i| (q[i] - p[i]).powi(2)).sum::<f64>().sqrt() <= tol)
+}
+
+#[tokio::test]
+async fn the_thesis_upload_runs_every_time_with_the_new_code() {
+    let t = TestService::start(Options::default()).await;
+    let sim = t.service.sim.as_ref().expect("sim").clone();
+
+    let mut ends = Vec::new();
+    for (y_mid, z_end) in [(-50.0, 100.0), (60.0, 120.0)] {
+        sim.clear_trace();
+        let (status, v) = post_text(&t, "/krl/uploadfile", thesis_spline(y_mid, z_end)).await;
+        assert_eq!(status, 200, "{v}");
+        assert_eq!(v["statuscode"], 1, "{v}");
+        let p = thesis_position(&v);
+        assert_close(p[0], 200.0, 0.01, "end x");
+        assert_close(p[1], 50.0, 0.01, "end y");
+        assert_close(p[2], z_end, 0.01, "end z");
+        let trace = trace_xyz(&t);
+        assert!(trace.len() > 10, "the program moved the robot");
+        assert!(passes_near(&trace, [200.0, y_mid, 150.0], 0.5), "the spline passes its middle point (y {y_mid})");
+        assert!(passes_near(&trace, [200.0, 0.0, 200.0], 0.5), "and its first point");
+        ends.push((y_mid, trace));
+    }
+    // The second run drew the second program, not the first one again.
+    assert!(!passes_near(&ends[1].1, [200.0, -50.0, 150.0], 5.0), "second run must not replay the first upload");
+
+    // Each run wrote its own module: two kbu files, different numbers.
+    let modules: Vec<String> = std::fs::read_dir(t.channel_dir().join("programs"))
+        .expect("program folder")
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".src"))
+        .collect();
+    assert_eq!(modules.len(), 2, "{modules:?}");
+}
+
+#[tokio::test]
+async fn the_thesis_upload_accepts_a_multipart_form() {
+    let t = TestService::start(Options::default()).await;
+    let boundary = "kbtestboundary";
+    let body = format!(
+        "--{boundary}\r\nContent-Disposition: form-data; name=\"file\"; filename=\"up.src\"\r\nContent-Type: application/octet-stream\r\n\r\n{}\r\n--{boundary}--\r\n",
+        thesis_spline(-20.0, 100.0)
+    );
+    let r = reqwest::Client::new()
+        .post(t.url("/krl/uploadfile"))
+        .header("content-type", format!("multipart/form-data; boundary={boundary}"))
+        .body(body)
+        .send()
+        .await
+        .expect("request");
+    let (status, v) = kuka_bridge_tests::decode(r).await;
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["statuscode"], 1);
+}
+
+#[tokio::test]
+async fn bad_programs_are_refused_with_their_line_before_reaching_the_controller() {
+    let t = TestService::start(Options::default()).await;
+    t.wait_online().await;
+    let before = cmd_file(&t);
+
+    // Syntax error: IF without ENDIF.
+    let src = "DEF bad()\n  DECL INT i\n  IF i > 0 THEN\n    i = 1\nEND\n";
+    let (status, v) = t.post_json("/api/v1/programs", &json!({"name": "bad", "src": src})).await;
+    assert_eq!(status, 422, "{v}");
+    assert_eq!(v["code"], "invalid_program");
+    assert_eq!(v["line"], 5, "{v}");
+    assert_eq!(v["file"], "src");
+
+    // Outside the simulator's subset: an interrupt on line 3.
+    let src = "DEF irq()\n  PTP {A1 0}\n  INTERRUPT ON 3\nEND\n";
+    let (status, v) = t.post_json("/api/v1/programs", &json!({"name": "irq", "src": src})).await;
+    assert_eq!(status, 422, "{v}");
+    assert_eq!(v["code"], "program_unsupported");
+    assert_eq!(v["line"], 3, "{v}");
+    assert!(v["detail"].as_str().is_some_and(|d| d.contains("not supported by the simulator")), "{v}");
+
+    // The thesis endpoint answers in its format, with the line.
+    let (status, v) = post_text(&t, "/krl/uploadfile", "DEFFCT INT fuploaded()\n  x = = 1\nENDFCT\n".into()).await;
+    assert_eq!(status, 422, "{v}");
+    assert_ne!(v["statuscode"], 1);
+    assert_eq!(v["line"], 2, "{v}");
+
+    // Bad names, missing entry points, a .dat of another module.
+    let (status, v) = t.post_json("/api/v1/programs", &json!({"name": "9lives", "src": "DEF a()\nEND\n"})).await;
+    assert_eq!((status, v["code"].as_str()), (422, Some("invalid_input")), "{v}");
+    let (status, v) = t.post_json("/api/v1/programs", &json!({"name": "a", "src": "DEF a()\nEND\n", "entry": "main"})).await;
+    assert_eq!((status, v["code"].as_str()), (422, Some("invalid_program")), "{v}");
+    let (status, v) = t.post_json("/api/v1/programs", &json!({"name": "a", "src": "DEF a()\nEND\n", "dat": "DEFDAT b\nENDDAT\n"})).await;
+    assert_eq!((status, v["code"].as_str(), v["file"].as_str()), (422, Some("invalid_program"), Some("dat")), "{v}");
+
+    // Nothing reached the channel or the program folder.
+    assert_eq!(cmd_file(&t), before, "no command was written");
+    assert!(!t.channel_dir().join("programs").exists(), "no module was written");
+    let (_, list) = t.get("/api/v1/programs").await;
+    assert_eq!(list, json!([]), "nothing was stored");
+}
+
+#[tokio::test]
+async fn programs_are_stored_run_listed_and_deleted() {
+    let t = TestService::start(Options::default()).await;
+    let src = "&ACCESS RVP\nDEF wave()\n  DECL INT i\n  FOR i = 1 TO 3\n    PTP {A1 amp * i}\n    WAIT SEC 0.1\n  ENDFOR\n  PTP {A1 0}\nEND\n";
+    let dat = "DEFDAT wave\n  DECL REAL amp = 10.0\nENDDAT\n";
+    let (status, v) = t.post_json("/api/v1/programs", &json!({"name": "Wave", "src": src, "dat": dat})).await;
+    assert_eq!(status, 201, "{v}");
+    assert_eq!(v["entry"], "wave");
+    assert_eq!(v["src_lines"], 9);
+
+    let (status, job) = t.post_json("/api/v1/programs/wave/run", &json!({})).await;
+    assert_eq!(status, 200, "{job}");
+    assert_eq!(job["state"], "done");
+    assert_eq!(job["completed"], 7, "3 PTP + 3 dwells + 1 PTP: {job}");
+    // The trace visited A1 = 30 (amp from the .dat times 3).
+    let sim = t.service.sim.as_ref().expect("sim");
+    assert!(sim.trace().iter().any(|s| (s.axes[0] - 30.0).abs() < 0.01), "A1 reached 30");
+
+    // Replacing keeps one program; listing and reading show it.
+    let (status, _) = t.post_json("/api/v1/programs", &json!({"name": "wave", "src": src, "dat": dat})).await;
+    assert_eq!(status, 200);
+    let (_, list) = t.get("/api/v1/programs").await;
+    assert_eq!(list.as_array().map(Vec::len), Some(1), "{list}");
+    let (status, one) = t.get("/api/v1/programs/WAVE").await;
+    assert_eq!(status, 200);
+    assert_eq!(one["src"], src);
+
+    // Not waiting gives a job to poll.
+    let r = reqwest::Client::new()
+        .post(t.url("/api/v1/programs/wave/run"))
+        .json(&json!({"wait": false}))
+        .send()
+        .await
+        .expect("run");
+    assert_eq!(r.status().as_u16(), 202);
+
+    let (status, _) = t.delete("/api/v1/programs/wave").await;
+    assert_eq!(status, 204);
+    let (status, v) = t.get("/api/v1/programs/wave").await;
+    assert_eq!((status, v["code"].as_str()), (404, Some("not_found")));
+    let (status, v) = t.post_json("/api/v1/programs/wave/run", &json!({})).await;
+    assert_eq!(status, 404, "{v}");
+}
+
+#[tokio::test]
+async fn a_program_that_fails_while_running_names_the_line() {
+    let t = TestService::start(Options::default()).await;
+    // Line 4 is out of reach of a KR 3 R540 (541 mm).
+    let src = "DEF far()\n  PTP {A1 0, A2 -90, A3 90, A4 0, A5 0, A6 0}\n  LIN {X 360, Y 0, Z 600}\n  LIN {X 2000, Y 0, Z 600}\nEND\n";
+    let (status, v) = t.post_json("/api/v1/programs", &json!({"name": "far", "src": src})).await;
+    assert_eq!(status, 201, "{v}");
+    let (status, v) = t.post_json("/api/v1/programs/far/run", &json!({})).await;
+    assert_eq!(status, 422, "{v}");
+    assert_eq!(v["code"], "unreachable");
+    assert_eq!(v["line"], 4, "{v}");
+
+    // A runtime error: division by zero on line 3.
+    let src = "DEF div()\n  DECL INT i\n  i = 1 / 0\nEND\n";
+    t.post_json("/api/v1/programs", &json!({"name": "div", "src": src})).await;
+    let (status, v) = t.post_json("/api/v1/programs/div/run", &json!({})).await;
+    assert_eq!(status, 409, "{v}");
+    assert_eq!(v["code"], "program_failed");
+    assert_eq!(v["line"], 3, "{v}");
+
+    // The service keeps working afterwards.
+    let (status, v) = t.post("/krl/getpos").await;
+    assert_eq!(status, 200, "{v}");
+}
