@@ -145,7 +145,9 @@ impl ProgramStore {
                         let key = p.info.name.to_ascii_lowercase();
                         store.write_map().insert(key, Arc::new(p));
                     }
-                    Err(e) => tracing::warn!(path = %path.display(), error = %e, "stored program skipped"),
+                    Err(e) => {
+                        tracing::warn!(path = %path.display(), error = %e, "stored program skipped")
+                    }
                 }
             }
         }
@@ -179,18 +181,29 @@ impl ProgramStore {
             )));
         }
         let bytes = upload.src.len() + upload.dat.as_ref().map_or(0, String::len);
-        if upload.src.len() > self.max_bytes || upload.dat.as_ref().is_some_and(|d| d.len() > self.max_bytes) {
+        if upload.src.len() > self.max_bytes
+            || upload
+                .dat
+                .as_ref()
+                .is_some_and(|d| d.len() > self.max_bytes)
+        {
             return Err(BridgeError::new(
                 ErrorCode::PayloadTooLarge,
-                format!("a program file may have at most {} bytes (programs.max_bytes)", self.max_bytes),
+                format!(
+                    "a program file may have at most {} bytes (programs.max_bytes)",
+                    self.max_bytes
+                ),
             ));
         }
         let mut entry = upload.entry.clone();
-        let program = Program::parse(&upload.src, upload.dat.as_deref(), entry.as_deref()).map_err(|e| program_error(&e))?;
+        let program = Program::parse(&upload.src, upload.dat.as_deref(), entry.as_deref())
+            .map_err(|e| program_error(&e))?;
         if entry.is_none() && program.routine(THESIS_ENTRY).is_some() {
             entry = Some(THESIS_ENTRY.into());
         }
-        let routine = program.entry(entry.as_deref()).map_err(|e| program_error(&e))?;
+        let routine = program
+            .entry(entry.as_deref())
+            .map_err(|e| program_error(&e))?;
         if !routine.params.is_empty() {
             return Err(BridgeError::new(
                 ErrorCode::InvalidProgram,
@@ -200,7 +213,8 @@ impl ProgramStore {
         }
         if self.simulated {
             kuka_sim::interp::check_subset(&program).map_err(|u| {
-                BridgeError::new(ErrorCode::ProgramUnsupported, u.to_string()).at_line("src", u.line)
+                BridgeError::new(ErrorCode::ProgramUnsupported, u.to_string())
+                    .at_line("src", u.line)
             })?;
         }
         let info = ProgramInfo {
@@ -222,14 +236,29 @@ impl ProgramStore {
     /// Checks and stores an upload; returns it and whether it is new.
     pub fn put(&self, upload: ProgramUpload) -> Result<(Arc<StoredProgram>, bool)> {
         let (_, info) = self.check(&upload)?;
-        let stored = StoredProgram { info, src: upload.src, dat: upload.dat };
+        let stored = StoredProgram {
+            info,
+            src: upload.src,
+            dat: upload.dat,
+        };
         let key = stored.info.name.to_ascii_lowercase();
-        let io = |e: std::io::Error| BridgeError::new(ErrorCode::Internal, format!("cannot store the program in {}: {e}", self.dir.display()));
-        let meta = serde_json::to_string_pretty(&stored.info).map_err(|e| BridgeError::new(ErrorCode::Internal, e.to_string()))?;
+        let io = |e: std::io::Error| {
+            BridgeError::new(
+                ErrorCode::Internal,
+                format!("cannot store the program in {}: {e}", self.dir.display()),
+            )
+        };
+        let meta = serde_json::to_string_pretty(&stored.info)
+            .map_err(|e| BridgeError::new(ErrorCode::Internal, e.to_string()))?;
         let tag = format!("svc{}", std::process::id());
         let write = |ext: &str, text: &str| {
             kuka_protocol::files::atomic_write(&self.dir, &format!("{key}.{ext}"), &tag, text)
-                .map_err(|e| BridgeError::new(ErrorCode::Internal, format!("cannot store the program: {e}")))
+                .map_err(|e| {
+                    BridgeError::new(
+                        ErrorCode::Internal,
+                        format!("cannot store the program: {e}"),
+                    )
+                })
         };
         write("src", &stored.src)?;
         match &stored.dat {
@@ -256,14 +285,19 @@ impl ProgramStore {
         self.read_map()
             .get(&name.to_ascii_lowercase())
             .cloned()
-            .ok_or_else(|| BridgeError::new(ErrorCode::NotFound, format!("no program named {name:?}")))
+            .ok_or_else(|| {
+                BridgeError::new(ErrorCode::NotFound, format!("no program named {name:?}"))
+            })
     }
 
     /// Removes a program.
     pub fn remove(&self, name: &str) -> Result<()> {
         let key = name.to_ascii_lowercase();
         if self.write_map().remove(&key).is_none() {
-            return Err(BridgeError::new(ErrorCode::NotFound, format!("no program named {name:?}")));
+            return Err(BridgeError::new(
+                ErrorCode::NotFound,
+                format!("no program named {name:?}"),
+            ));
         }
         for ext in ["json", "src", "dat"] {
             let _ = std::fs::remove_file(self.dir.join(format!("{key}.{ext}")));
@@ -343,8 +377,13 @@ mod tests {
         let lines: Vec<&str> = m.src.lines().collect();
         assert_eq!(lines[(WRAPPER_LINES + 3 - 1) as usize], "  RETURN 1");
         assert_eq!(upload_line(WRAPPER_LINES + 3), 3);
-        let parsed = Program::parse(&m.src, m.dat.as_deref(), Some("kbu42")).expect("module parses");
+        let parsed =
+            Program::parse(&m.src, m.dat.as_deref(), Some("kbu42")).expect("module parses");
         assert_eq!(parsed.src.routines[0].name, "kbu42");
-        assert!(m.dat.as_deref().is_some_and(|d| d.contains("DEFDAT kbu42 PUBLIC")));
+        assert!(
+            m.dat
+                .as_deref()
+                .is_some_and(|d| d.contains("DEFDAT kbu42 PUBLIC"))
+        );
     }
 }

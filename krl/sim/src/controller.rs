@@ -4,10 +4,10 @@
 use std::collections::VecDeque;
 use std::time::Instant;
 
+use crate::interp::{self, RunError, Step};
 use kuka_kinematics::{
     Axes, Execution, IkError, Motion, MotionError, MotionKind, PlanSettings, Pose, RobotModel,
 };
-use crate::interp::{self, RunError, Step};
 use kuka_protocol::{
     Cid, Command, ControllerStatus, Frame, MotionRecord, OperatingMode, RESULT_HISTORY, ResultCode,
     ResultRecord, SpeedRecord, StateFile,
@@ -106,8 +106,18 @@ fn phases(steps: Vec<Step>) -> VecDeque<Phase> {
     let mut out: VecDeque<Phase> = VecDeque::new();
     for step in steps {
         match step {
-            Step::Move { tool, base, motion, line } => {
-                if let Some(Phase::Moves { tool: t, base: b, motions, lines }) = out.back_mut()
+            Step::Move {
+                tool,
+                base,
+                motion,
+                line,
+            } => {
+                if let Some(Phase::Moves {
+                    tool: t,
+                    base: b,
+                    motions,
+                    lines,
+                }) = out.back_mut()
                     && *t == tool
                     && *b == base
                 {
@@ -115,7 +125,12 @@ fn phases(steps: Vec<Step>) -> VecDeque<Phase> {
                     lines.push(line);
                     continue;
                 }
-                out.push_back(Phase::Moves { tool, base, motions: vec![motion], lines: vec![line] });
+                out.push_back(Phase::Moves {
+                    tool,
+                    base,
+                    motions: vec![motion],
+                    lines: vec![line],
+                });
             }
             Step::Dwell { seconds, line } => out.push_back(Phase::Dwell { seconds, line }),
         }
@@ -451,7 +466,11 @@ impl Controller {
         match rest.pop_front() {
             None => self.push_result(cid, ResultCode::Ok, 0, 0, None),
             Some(first) => {
-                let run = ProgramRun { lines: Vec::new(), rest, steps_before: 0 };
+                let run = ProgramRun {
+                    lines: Vec::new(),
+                    rest,
+                    steps_before: 0,
+                };
                 self.start_phase(cid, first, run, now);
             }
         }
@@ -460,18 +479,33 @@ impl Controller {
     /// Starts one phase of a program run (or answers its pre-check error).
     fn start_phase(&mut self, cid: Cid, phase: Phase, mut run: ProgramRun, now: Instant) {
         let (execution, count) = match phase {
-            Phase::Moves { tool, base, motions, lines } => {
+            Phase::Moves {
+                tool,
+                base,
+                motions,
+                lines,
+            } => {
                 self.tool = tool;
                 self.base = base;
                 let e = kuka_kinematics::plan::plan(
-                    &self.model, &self.axes, &self.tool, &self.base, &motions, &self.plan,
+                    &self.model,
+                    &self.axes,
+                    &self.tool,
+                    &self.base,
+                    &motions,
+                    &self.plan,
                 );
                 run.lines = lines;
                 (e, motions.len())
             }
             Phase::Dwell { seconds, line } => {
                 let pose = self.model.forward(&self.axes, &self.tool, &self.base);
-                let sample = |t| kuka_kinematics::plan::Sample { t, motion: 0, axes: self.axes, pose };
+                let sample = |t| kuka_kinematics::plan::Sample {
+                    t,
+                    motion: 0,
+                    axes: self.axes,
+                    pose,
+                };
                 run.lines = vec![line];
                 let e = Execution {
                     samples: vec![sample(0.0), sample(seconds)],
@@ -591,7 +625,13 @@ impl Controller {
         };
         self.axes = active.execution.end_axes;
         self.sim_time += active.execution.duration_s;
-        let Active { cid, execution, motions, program, .. } = active;
+        let Active {
+            cid,
+            execution,
+            motions,
+            program,
+            ..
+        } = active;
         match (&execution.error, program) {
             (None, None) => self.push_result(cid, ResultCode::Ok, motions as u32, 0, None),
             (None, Some(mut run)) => {

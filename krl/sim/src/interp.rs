@@ -1,11 +1,68 @@
-//! The simulator's KRL interpreter (placeholder: being written).
+//! The simulator's KRL interpreter.
 //!
 //! Runs an uploaded program's syntax tree ([`kuka_krl`]) ahead of motion,
 //! like KRL's advance run, and turns it into the motions and dwells the
 //! controller plays back.
+//!
+//! # Design
+//!
+//! [`run`] first calls [`check_subset`], which walks *every* routine of the
+//! `.src` and every item of the `.dat` and refuses the first statement,
+//! system variable or call outside the subset below (with its line) — a
+//! program is never run with parts silently skipped. It then executes the
+//! entry routine statement by statement (a tree-walking interpreter) and
+//! returns the [`Step`]s: one [`Step::Move`] per motion (a spline block
+//! becomes many) and one [`Step::Dwell`] per `WAIT SEC`. The controller
+//! plans consecutive moves with the same tool and base as one blended batch.
+//!
+//! The interpreter tracks the **programmed** position itself, as the
+//! advance run does: it starts at FK(start axes, `$TOOL`, `$BASE`) and after
+//! each motion it is the motion's resolved target. `$POS_ACT` and
+//! `$AXIS_ACT` read it; like on a KRC, reading them stops the advance run,
+//! so the motion before is not approximated (exact stop) unless the
+//! statement follows `CONTINUE`. The programmed axes are known at the start
+//! and after an axis PTP; after a Cartesian motion reading `$AXIS_ACT` (or an
+//! axis PTP with missing axes) is a runtime error, because the axes the
+//! planner will reach are not known in advance. Assigning `$TOOL`/`$BASE`
+//! re-expresses the programmed pose in the new frames.
+//!
+//! Values are typed like KRL: a declared variable holds a typed template
+//! (uninitialised scalars are "unset" and reading one is an error), an
+//! INT assigned a REAL rounds, `INT / INT` truncates, assigning a structure
+//! value sets only the components it names (the others keep their values).
+//! Names are case-insensitive.
+//!
+//! # The subset
+//!
+//! | Area | Supported | Refused by [`check_subset`] |
+//! |---|---|---|
+//! | Routines | `DEF`/`END`, `DEFFCT type`/`ENDFCT` of the same file, `IN` (by value) and `OUT` (by reference) parameters, `RETURN [value]`, recursion up to 64 levels | calls of routines not in the file (`CWRITE`, `EXT` routines, …), `EXT`/`EXTFCT` (except `EXT BAS`) |
+//! | Declarations | `DECL` and implicit declarations of `INT`, `REAL`, `BOOL`, `CHAR`, `FRAME`, `POS`, `E6POS`, `AXIS`, `E6AXIS`, 1-D and 2-D arrays of them, initial values; `.dat` declarations and assignments are module globals | other types, `STRUC`, `ENUM`, `SIGNAL`, arrays with more than 2 dimensions (`.dat` declarations of other types, e.g. `FDAT`, are accepted but using such a variable is a runtime error) |
+//! | Expressions | INT/REAL arithmetic, comparisons, `NOT AND OR EXOR`, `B_NOT B_AND B_OR B_EXOR`, structure values, components, indices, `:` (frame composition), `SIN COS TAN ASIN ACOS ATAN2(y, x) SQRT ABS` (degrees), strings into `CHAR` arrays | other functions |
+//! | Control | `IF/ELSE`, `WHILE`, `FOR … TO … STEP`, `LOOP`/`EXIT`, `REPEAT/UNTIL`, `SWITCH/CASE/DEFAULT`, `CONTINUE`, `WAIT SEC` (a [`Step::Dwell`]), `WAIT FOR` on program variables (must be TRUE: FALSE would wait forever, a runtime error) | `HALT`, `BRAKE`, `RESUME`, `ON_ERROR_PROCEED`, `INTERRUPT` (except the INI fold's stop-message interrupt `INTERRUPT DECL n WHEN $STOPMESS==TRUE DO IR_STOPM()` and `INTERRUPT ON/OFF n` of it, accepted and ignored: the simulated controller handles its own stops), `TRIGGER`, `WAIT FOR` with any `$` variable (robot/IO) |
+//! | Motions | `PTP`, `LIN`, `CIRC` and `_REL` forms; targets with missing components keep those of the programmed pose; `PTP` with `A1..A6` is an axis PTP; `S`/`T` of a PTP target are used, `E1..E6` ignored; `_REL`: position added in base coordinates, A/B/C rotate about the base axes at the TCP; `C_DIS`, `C_PTP`, `C_VEL`, `C_ORI` all approximate with `$APO.CDIS` (PTPs are never blended by the planner) | `CIRC … CA` |
+//! | Splines | `SPLINE … ENDSPLINE` with `SLIN` (LIN), `SCIRC` (CIRC), `SPL` (centripetal Catmull-Rom curve through the points from the programmed pose, sampled into LINs of at most 5 mm with slerped orientation, each approximated by half its length), `WITH $VEL…/$ACC…` on a point (that segment only), `ENDSPLINE C_SPL` (else the block ends with an exact stop); inner `SLIN`/`SCIRC` points are approximated with `$APO.CDIS`; `PTP_SPLINE` with `SPTP` points (each a PTP) | `SPTP` in `SPLINE`, other points in `PTP_SPLINE`, other `WITH` variables |
+//! | System variables | `$VEL` (`.CP` m/s; `ORI1`/`ORI2` accepted, ignored), `$VEL_AXIS[1..6]` (PTP speed = the smallest), `$ACC` (`.CP` m/s², sent as % of 2.3 m/s² clamped to 1..100), `$ACC_AXIS[1..6]`, `$APO` (`.CDIS`, default 1 mm; `CPTP`, `CVEL`, `CORI` ignored), `$TOOL`, `$BASE`, `$ADVANCE` (ignored); read only: `$POS_ACT`, `$AXIS_ACT`, `$NULLFRAME`, `$OV_PRO` (always 100) | every other system variable (`$OUT`, `$IN`, `$TIMER`, …) |
+//! | Others | The standard INI fold: `BAS(#INITMOV, …)` resets `$VEL_AXIS`/`$ACC_AXIS`/`$VEL.CP`/`$ACC.CP` to the start speeds ([`Start::speed`]; `$TOOL`/`$BASE` stay), the stop-message interrupt (above); `XHOME` (E6AXIS, the model's home) | other `BAS` commands (so the pendant's inline forms with `BAS(#PTP_PARAMS)`, `PDAT_ACT`, `$BWDSTART`, `$H_POS`) |
+//!
+//! Runtime errors ([`RunError::Runtime`], with the line): undefined or
+//! unset variables, type mismatches, index out of range, division by zero,
+//! `WAIT FOR` FALSE, out-of-range `$VEL`/`$ACC`/`$APO` values, more than
+//! 1,000,000 statements or 100,000 steps (an endless loop).
+//!
+//! Known gaps of the parser ([`kuka_krl`] drops them from the tree, so they
+//! cannot be refused here): `#TOOL`/`#BASE` after a `_REL` motion (always
+//! interpreted as `#BASE`), `CA` of an `SCIRC`, `WITH` after `SPLINE` and
+//! `C_SPL` on single spline points.
 
-use kuka_kinematics::{Axes, Motion, Pose, RobotModel};
-use kuka_krl::Program;
+use std::collections::HashMap;
+
+use kuka_kinematics::plan::MAX_CP_VELOCITY;
+use kuka_kinematics::{Axes, Motion, MotionKind as MoveKind, Pose, RobotModel};
+use kuka_krl::{
+    BinOp, Expr, MotionKind as KrlMotion, Program, Routine, RoutineKind, SplinePoint,
+    SplinePointKind, Stmt, StmtKind, UnOp,
+};
 use kuka_protocol::SpeedRecord;
 
 /// What the program starts from.
@@ -24,6 +81,8 @@ pub struct Start<'a> {
 }
 
 /// One thing for the controller to do, with the source line it came from.
+// Moves dominate a program's steps; boxing them would only add indirection.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq)]
 pub enum Step {
     /// A motion, planned with this tool and base.
@@ -72,14 +131,2174 @@ pub enum RunError {
     },
 }
 
+/// Most statements (and loop iterations) one run may execute.
+const MAX_STATEMENTS: u64 = 1_000_000;
+/// Most steps one run may produce.
+const MAX_STEPS: usize = 100_000;
+/// Deepest routine nesting.
+const MAX_DEPTH: usize = 64;
+/// Largest array (elements).
+const MAX_ARRAY: usize = 1_000_000;
+/// Longest LIN an `SPL` curve is sampled into (mm); a little below 5 mm
+/// so the chords stay under 5 mm despite the arc-length table's error.
+const SPL_SAMPLE_MM: f64 = 4.9;
+/// `$ACC.CP` (m/s²) that is 100 % (the planner's default maximum).
+const ACC_CP_MAX: f64 = 2.3;
+/// `$APO.CDIS` at the start (mm).
+const DEFAULT_CDIS: f64 = 1.0;
+
+const FRAME_FIELDS: [&str; 6] = ["X", "Y", "Z", "A", "B", "C"];
+const AXIS_FIELDS: [&str; 6] = ["A1", "A2", "A3", "A4", "A5", "A6"];
+const EXT_FIELDS: [&str; 6] = ["E1", "E2", "E3", "E4", "E5", "E6"];
+const BUILTINS: [&str; 8] = ["SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN2", "SQRT", "ABS"];
+/// System variables a program may assign.
+const SYS_WRITE: [&str; 8] = [
+    "$VEL",
+    "$VEL_AXIS",
+    "$ACC",
+    "$ACC_AXIS",
+    "$APO",
+    "$TOOL",
+    "$BASE",
+    "$ADVANCE",
+];
+/// System variables a program may only read.
+const SYS_READ_ONLY: [&str; 4] = ["$POS_ACT", "$AXIS_ACT", "$NULLFRAME", "$OV_PRO"];
+
+// ---------------------------------------------------------------- values
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Scalar {
+    Int,
+    Real,
+    Bool,
+    Char,
+}
+
+/// A KRL value. Declared variables hold typed templates: `Unset` scalars
+/// are declared but not yet assigned.
+#[derive(Debug, Clone, PartialEq)]
+enum Value {
+    Unset(Scalar),
+    Int(i64),
+    Real(f64),
+    Bool(bool),
+    Char(u8),
+    Str(String),
+    Enum(String),
+    /// Type name (upper case, may be empty for a literal) and components.
+    Struct(String, Vec<(String, Value)>),
+    /// Dimensions and elements (row-major).
+    Array(Vec<usize>, Vec<Value>),
+    /// A `.dat` variable of a type outside the subset.
+    Opaque(String),
+}
+
+impl Value {
+    fn type_name(&self) -> String {
+        match self {
+            Value::Unset(Scalar::Int) | Value::Int(_) => "INT".into(),
+            Value::Unset(Scalar::Real) | Value::Real(_) => "REAL".into(),
+            Value::Unset(Scalar::Bool) | Value::Bool(_) => "BOOL".into(),
+            Value::Unset(Scalar::Char) | Value::Char(_) => "CHAR".into(),
+            Value::Str(_) => "a string".into(),
+            Value::Enum(e) => format!("#{e}"),
+            Value::Struct(t, _) if t.is_empty() => "a structure value".into(),
+            Value::Struct(t, _) => t.clone(),
+            Value::Array(..) => "an array".into(),
+            Value::Opaque(t) => t.clone(),
+        }
+    }
+
+    fn scalar_kind(&self) -> Option<Scalar> {
+        match self {
+            Value::Unset(s) => Some(*s),
+            Value::Int(_) => Some(Scalar::Int),
+            Value::Real(_) => Some(Scalar::Real),
+            Value::Bool(_) => Some(Scalar::Bool),
+            Value::Char(_) => Some(Scalar::Char),
+            _ => None,
+        }
+    }
+
+    fn num(&self) -> Result<f64, String> {
+        match self {
+            Value::Int(i) => Ok(*i as f64),
+            Value::Real(r) => Ok(*r),
+            Value::Char(c) => Ok(f64::from(*c)),
+            v => Err(format!("expected a number, found {}", v.type_name())),
+        }
+    }
+
+    fn int(&self) -> Result<i64, String> {
+        match self {
+            Value::Int(i) => Ok(*i),
+            Value::Char(c) => Ok(i64::from(*c)),
+            v => Err(format!("expected an INT, found {}", v.type_name())),
+        }
+    }
+
+    fn bool(&self) -> Result<bool, String> {
+        match self {
+            Value::Bool(b) => Ok(*b),
+            v => Err(format!("expected a BOOL, found {}", v.type_name())),
+        }
+    }
+}
+
+/// The typed, unset value of a declared type (upper-case name).
+fn template(ty: &str) -> Option<Value> {
+    let ty = ty.to_ascii_uppercase();
+    let unset = |names: &[&str], s: Scalar| -> Vec<(String, Value)> {
+        names
+            .iter()
+            .map(|n| (n.to_string(), Value::Unset(s)))
+            .collect()
+    };
+    Some(match ty.as_str() {
+        "INT" => Value::Unset(Scalar::Int),
+        "REAL" => Value::Unset(Scalar::Real),
+        "BOOL" => Value::Unset(Scalar::Bool),
+        "CHAR" => Value::Unset(Scalar::Char),
+        "FRAME" => Value::Struct(ty, unset(&FRAME_FIELDS, Scalar::Real)),
+        "POS" | "E6POS" => {
+            let mut f = unset(&FRAME_FIELDS, Scalar::Real);
+            f.extend(unset(&["S", "T"], Scalar::Int));
+            if ty == "E6POS" {
+                f.extend(unset(&EXT_FIELDS, Scalar::Real));
+            }
+            Value::Struct(ty, f)
+        }
+        "AXIS" | "E6AXIS" => {
+            let mut f = unset(&AXIS_FIELDS, Scalar::Real);
+            if ty == "E6AXIS" {
+                f.extend(unset(&EXT_FIELDS, Scalar::Real));
+            }
+            Value::Struct(ty, f)
+        }
+        _ => return None,
+    })
+}
+
+fn real_struct(ty: &str, fields: &[(&str, f64)]) -> Value {
+    Value::Struct(
+        ty.into(),
+        fields
+            .iter()
+            .map(|(n, v)| (n.to_string(), Value::Real(*v)))
+            .collect(),
+    )
+}
+
+fn frame_value(p: &Pose) -> Value {
+    let a = p.to_array();
+    let fields: Vec<(&str, f64)> = FRAME_FIELDS.iter().copied().zip(a).collect();
+    real_struct("FRAME", &fields)
+}
+
+fn axis_value(axes: &Axes) -> Value {
+    let mut fields: Vec<(&str, f64)> = AXIS_FIELDS.iter().copied().zip(*axes).collect();
+    fields.extend(EXT_FIELDS.iter().map(|n| (*n, 0.0)));
+    real_struct("E6AXIS", &fields)
+}
+
+fn find<'v>(fields: &'v [(String, Value)], name: &str) -> Option<&'v Value> {
+    fields.iter().find(|(n, _)| n == name).map(|(_, v)| v)
+}
+
+/// A numeric component, `None` if absent or unset.
+fn num_field(fields: &[(String, Value)], name: &str) -> Result<Option<f64>, String> {
+    match find(fields, name) {
+        None | Some(Value::Unset(_)) => Ok(None),
+        Some(v) => v
+            .num()
+            .map(Some)
+            .map_err(|e| format!("component {name}: {e}")),
+    }
+}
+
+/// The six FRAME components of a FRAME/POS/E6POS value, all required.
+fn pose_of(v: &Value) -> Result<Pose, String> {
+    let Value::Struct(_, f) = v else {
+        return Err(format!("expected a FRAME, found {}", v.type_name()));
+    };
+    let mut a = [0.0; 6];
+    for (slot, name) in a.iter_mut().zip(FRAME_FIELDS) {
+        *slot = num_field(f, name)?
+            .ok_or_else(|| format!("component {name} of the {} has no value", v.type_name()))?;
+    }
+    Ok(Pose::new(a[0], a[1], a[2], a[3], a[4], a[5]))
+}
+
+/// Converts `v` to the scalar type `kind` (KRL assignment rules).
+fn convert(kind: Scalar, v: Value) -> Result<Value, String> {
+    Ok(match (kind, v) {
+        (k, Value::Unset(_)) => Value::Unset(k),
+        (Scalar::Int, Value::Int(i)) => Value::Int(i),
+        (Scalar::Int, Value::Real(r)) => {
+            let r = r.round();
+            if !(r.is_finite() && r >= f64::from(i32::MIN) && r <= f64::from(i32::MAX)) {
+                return Err(format!("{r} does not fit into an INT"));
+            }
+            Value::Int(r as i64)
+        }
+        (Scalar::Int, Value::Char(c)) => Value::Int(i64::from(c)),
+        (Scalar::Real, Value::Int(i)) => Value::Real(i as f64),
+        (Scalar::Real, Value::Real(r)) => Value::Real(r),
+        (Scalar::Bool, Value::Bool(b)) => Value::Bool(b),
+        (Scalar::Char, Value::Char(c)) => Value::Char(c),
+        (Scalar::Char, Value::Int(i)) if (0..=255).contains(&i) => Value::Char(i as u8),
+        (Scalar::Char, Value::Str(s)) if s.len() == 1 => Value::Char(s.as_bytes()[0]),
+        (k, v) => {
+            return Err(format!(
+                "cannot assign {} to a {}",
+                v.type_name(),
+                Value::Unset(k).type_name()
+            ));
+        }
+    })
+}
+
+/// Assigns `v` into the typed `slot`: scalars convert, structure values set
+/// only the components they name.
+fn assign_into(slot: &mut Value, v: Value) -> Result<(), String> {
+    if let Some(kind) = slot.scalar_kind() {
+        *slot = convert(kind, v)?;
+        return Ok(());
+    }
+    match (slot, v) {
+        (Value::Struct(ty, fields), Value::Struct(_, new)) => {
+            for (name, val) in new {
+                if matches!(val, Value::Unset(_)) {
+                    continue;
+                }
+                let Some((_, f)) = fields.iter_mut().find(|(n, _)| *n == name) else {
+                    return Err(format!("{ty} has no component {name}"));
+                };
+                assign_into(f, val).map_err(|e| format!("component {name}: {e}"))?;
+            }
+            Ok(())
+        }
+        (Value::Array(dims, elems), Value::Array(d2, e2)) if *dims == d2 => {
+            for (a, b) in elems.iter_mut().zip(e2) {
+                if !matches!(b, Value::Unset(_)) {
+                    assign_into(a, b)?;
+                }
+            }
+            Ok(())
+        }
+        (Value::Array(dims, elems), Value::Str(s))
+            if dims.len() == 1
+                && elems.first().and_then(Value::scalar_kind) == Some(Scalar::Char) =>
+        {
+            if s.len() > elems.len() {
+                return Err(format!(
+                    "the string has {} characters, the array only {}",
+                    s.len(),
+                    elems.len()
+                ));
+            }
+            let bytes = s.as_bytes();
+            for (i, e) in elems.iter_mut().enumerate() {
+                *e = bytes
+                    .get(i)
+                    .map_or(Value::Unset(Scalar::Char), |b| Value::Char(*b));
+            }
+            Ok(())
+        }
+        (Value::Enum(e), Value::Enum(n)) => {
+            *e = n;
+            Ok(())
+        }
+        (Value::Opaque(t), _) => Err(format!("variables of type {t} are not supported")),
+        (slot, v) => Err(format!(
+            "cannot assign {} to {}",
+            v.type_name(),
+            slot.type_name()
+        )),
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum PathElem {
+    /// 1-based indices; empty = the whole array (`name[]`).
+    Index(Vec<i64>),
+    Field(String),
+}
+
+fn flat_index(dims: &[usize], idx: &[i64]) -> Result<usize, String> {
+    if idx.len() != dims.len() {
+        return Err(format!(
+            "{} indices for an array of {} dimensions",
+            idx.len(),
+            dims.len()
+        ));
+    }
+    let mut flat = 0usize;
+    for (&i, &d) in idx.iter().zip(dims) {
+        if i < 1 || i as u64 > d as u64 {
+            return Err(format!("index {i} is out of range 1..{d}"));
+        }
+        flat = flat * d + (i - 1) as usize;
+    }
+    Ok(flat)
+}
+
+fn step_into<'v>(v: &'v Value, p: &PathElem) -> Result<&'v Value, String> {
+    match (v, p) {
+        (v, PathElem::Index(i)) if i.is_empty() => Ok(v),
+        (Value::Array(d, e), PathElem::Index(i)) => {
+            let k = flat_index(d, i)?;
+            e.get(k).ok_or_else(|| "index out of range".to_string())
+        }
+        (Value::Struct(ty, f), PathElem::Field(n)) => {
+            find(f, n).ok_or_else(|| format!("{ty} has no component {n}"))
+        }
+        (v, PathElem::Index(_)) => Err(format!("{} is not an array", v.type_name())),
+        (v, PathElem::Field(n)) => Err(format!("{} has no component {n}", v.type_name())),
+    }
+}
+
+fn walk<'v>(mut v: &'v Value, path: &[PathElem]) -> Result<&'v Value, String> {
+    for p in path {
+        v = step_into(v, p)?;
+    }
+    Ok(v)
+}
+
+fn walk_mut<'v>(mut v: &'v mut Value, path: &[PathElem]) -> Result<&'v mut Value, String> {
+    for p in path {
+        if matches!(p, PathElem::Index(i) if i.is_empty()) {
+            continue;
+        }
+        v = match (v, p) {
+            (Value::Array(d, e), PathElem::Index(i)) => {
+                let k = flat_index(d, i)?;
+                e.get_mut(k)
+                    .ok_or_else(|| "index out of range".to_string())?
+            }
+            (Value::Struct(ty, f), PathElem::Field(n)) => {
+                let ty = ty.clone();
+                f.iter_mut()
+                    .find(|(k, _)| k == n)
+                    .map(|(_, v)| v)
+                    .ok_or_else(|| format!("{ty} has no component {n}"))?
+            }
+            (v, PathElem::Index(_)) => return Err(format!("{} is not an array", v.type_name())),
+            (v, PathElem::Field(n)) => {
+                return Err(format!("{} has no component {n}", v.type_name()));
+            }
+        };
+    }
+    Ok(v)
+}
+
+// ---------------------------------------------------------------- operators
+
+fn int_result(v: Option<i64>) -> Result<Value, String> {
+    match v {
+        Some(i) if i >= i64::from(i32::MIN) && i <= i64::from(i32::MAX) => Ok(Value::Int(i)),
+        _ => Err("INT overflow".into()),
+    }
+}
+
+fn real_result(r: f64) -> Result<Value, String> {
+    if r.is_finite() {
+        Ok(Value::Real(r))
+    } else {
+        Err("REAL overflow".into())
+    }
+}
+
+fn values_equal(l: &Value, r: &Value) -> Result<bool, String> {
+    Ok(match (l, r) {
+        (Value::Bool(a), Value::Bool(b)) => a == b,
+        (Value::Enum(a), Value::Enum(b)) => a == b,
+        (Value::Str(a), Value::Str(b)) => a == b,
+        (Value::Int(a), Value::Int(b)) => a == b,
+        (a, b) => match (a.num(), b.num()) {
+            (Ok(x), Ok(y)) => x == y,
+            _ => {
+                return Err(format!(
+                    "cannot compare {} with {}",
+                    a.type_name(),
+                    b.type_name()
+                ));
+            }
+        },
+    })
+}
+
+fn binary(op: BinOp, l: Value, r: Value) -> Result<Value, String> {
+    match op {
+        BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div => {
+            if let (Value::Int(a), Value::Int(b)) = (&l, &r) {
+                let (a, b) = (*a, *b);
+                return match op {
+                    BinOp::Add => int_result(a.checked_add(b)),
+                    BinOp::Sub => int_result(a.checked_sub(b)),
+                    BinOp::Mul => int_result(a.checked_mul(b)),
+                    _ if b == 0 => Err("division by zero".into()),
+                    _ => int_result(a.checked_div(b)),
+                };
+            }
+            let (a, b) = (l.num()?, r.num()?);
+            match op {
+                BinOp::Add => real_result(a + b),
+                BinOp::Sub => real_result(a - b),
+                BinOp::Mul => real_result(a * b),
+                _ if b == 0.0 => Err("division by zero".into()),
+                _ => real_result(a / b),
+            }
+        }
+        BinOp::Eq => Ok(Value::Bool(values_equal(&l, &r)?)),
+        BinOp::Ne => Ok(Value::Bool(!values_equal(&l, &r)?)),
+        BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => {
+            let (a, b) = (l.num()?, r.num()?);
+            Ok(Value::Bool(match op {
+                BinOp::Lt => a < b,
+                BinOp::Le => a <= b,
+                BinOp::Gt => a > b,
+                _ => a >= b,
+            }))
+        }
+        BinOp::And | BinOp::Or | BinOp::Exor => {
+            let (a, b) = (l.bool()?, r.bool()?);
+            Ok(Value::Bool(match op {
+                BinOp::And => a && b,
+                BinOp::Or => a || b,
+                _ => a != b,
+            }))
+        }
+        BinOp::BAnd | BinOp::BOr | BinOp::BExor => {
+            let (a, b) = (l.int()?, r.int()?);
+            Ok(Value::Int(match op {
+                BinOp::BAnd => a & b,
+                BinOp::BOr => a | b,
+                _ => a ^ b,
+            }))
+        }
+        BinOp::Geo => {
+            // The result has the right operand's type (S, T, E1..E6 kept).
+            let p = pose_of(&l)?.compose(&pose_of(&r)?);
+            let Value::Struct(ty, mut fields) = r else {
+                return Err("the geometric operator needs FRAME/POS values".into());
+            };
+            for (name, v) in FRAME_FIELDS.iter().zip(p.to_array()) {
+                if let Some((_, f)) = fields.iter_mut().find(|(n, _)| n == name) {
+                    *f = Value::Real(v);
+                }
+            }
+            Ok(Value::Struct(ty, fields))
+        }
+    }
+}
+
+fn builtin(name: &str, args: &[Value]) -> Result<Value, String> {
+    let want = if name == "ATAN2" { 2 } else { 1 };
+    if args.len() != want {
+        return Err(format!(
+            "{name} takes {want} argument(s), got {}",
+            args.len()
+        ));
+    }
+    if name == "ABS"
+        && let Value::Int(i) = args[0]
+    {
+        return int_result(i.checked_abs());
+    }
+    let x = args[0].num().map_err(|e| format!("{name}: {e}"))?;
+    let r = match name {
+        "SIN" => x.to_radians().sin(),
+        "COS" => x.to_radians().cos(),
+        "TAN" => x.to_radians().tan(),
+        "ASIN" | "ACOS" => {
+            if !(-1.0..=1.0).contains(&x) {
+                return Err(format!("{name}({x}): the argument must be within -1..1"));
+            }
+            if name == "ASIN" {
+                x.asin().to_degrees()
+            } else {
+                x.acos().to_degrees()
+            }
+        }
+        "ATAN2" => {
+            let xx = args[1].num().map_err(|e| format!("{name}: {e}"))?;
+            x.atan2(xx).to_degrees()
+        }
+        "SQRT" => {
+            if x < 0.0 {
+                return Err(format!("SQRT({x}) of a negative number"));
+            }
+            x.sqrt()
+        }
+        _ => x.abs(),
+    };
+    real_result(r)
+}
+
+/// Source-like text of an lvalue/expression for messages.
+fn describe(e: &Expr) -> String {
+    match e {
+        Expr::Var(n) => n.clone(),
+        Expr::Index(b, i) if i.is_empty() => format!("{}[]", describe(b)),
+        Expr::Index(b, _) => format!("{}[…]", describe(b)),
+        Expr::Field(b, f) => format!("{}.{f}", describe(b)),
+        Expr::Call(n, _) => format!("{n}()"),
+        _ => "the value".into(),
+    }
+}
+
+// ---------------------------------------------------------------- subset check
+
 /// Refuses, before anything runs, every statement outside the subset.
+///
+/// Walks every routine of the `.src` (called or not) and every item of the
+/// `.dat`; see the module documentation for the subset.
 pub fn check_subset(program: &Program) -> Result<(), Unsupported> {
-    let _ = program;
+    let mut prios = Vec::new();
+    for r in &program.src.routines {
+        stopm_prios(&r.body, &mut prios);
+    }
+    if let Some(dat) = &program.dat {
+        let c = Checker {
+            program,
+            in_dat: true,
+            stopm_prios: Vec::new(),
+        };
+        c.block(&dat.items)?;
+    }
+    let c = Checker {
+        program,
+        in_dat: false,
+        stopm_prios: prios,
+    };
+    for r in &program.src.routines {
+        if let RoutineKind::DefFct(ty) = &r.kind
+            && template(ty).is_none()
+        {
+            return c.refuse(r.line, format!("a function returning {ty}"));
+        }
+        c.block(&r.body)?;
+    }
     Ok(())
 }
 
+struct Checker<'a> {
+    program: &'a Program,
+    in_dat: bool,
+    /// Priorities of the standard stop-message interrupt (INI fold).
+    stopm_prios: Vec<i64>,
+}
+
+/// `INTERRUPT DECL n WHEN $STOPMESS == TRUE DO IR_STOPM()`, the standard
+/// stop-message interrupt of the INI fold: accepted and ignored (the
+/// simulated controller handles its own stops).
+fn is_stopm_decl(k: &StmtKind) -> bool {
+    let StmtKind::InterruptDecl { prio, when, action } = k else {
+        return false;
+    };
+    matches!(prio, Expr::Int(_))
+        && matches!(&action.kind, StmtKind::Call { name, args } if name.eq_ignore_ascii_case("IR_STOPM") && args.is_empty())
+        && matches!(when, Expr::Binary(BinOp::Eq, a, b)
+            if matches!(&**a, Expr::Var(v) if v.eq_ignore_ascii_case("$STOPMESS"))
+                && **b == Expr::Bool(true))
+}
+
+/// Priorities of the stop-message interrupts declared anywhere in `body`.
+fn stopm_prios(body: &[Stmt], out: &mut Vec<i64>) {
+    for s in body {
+        match &s.kind {
+            StmtKind::InterruptDecl {
+                prio: Expr::Int(p), ..
+            } if is_stopm_decl(&s.kind) => out.push(*p),
+            StmtKind::If {
+                then_body,
+                else_body,
+                ..
+            } => {
+                stopm_prios(then_body, out);
+                stopm_prios(else_body, out);
+            }
+            StmtKind::While { body, .. }
+            | StmtKind::For { body, .. }
+            | StmtKind::Loop { body }
+            | StmtKind::Repeat { body, .. } => stopm_prios(body, out),
+            StmtKind::Switch { cases, default, .. } => {
+                for (_, b) in cases {
+                    stopm_prios(b, out);
+                }
+                if let Some(d) = default {
+                    stopm_prios(d, out);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+fn root_name(e: &Expr) -> Option<&str> {
+    match e {
+        Expr::Var(n) => Some(n),
+        Expr::Index(b, _) | Expr::Field(b, _) => root_name(b),
+        _ => None,
+    }
+}
+
+fn mentions_system(e: &Expr) -> bool {
+    match e {
+        Expr::Var(n) => n.starts_with('$'),
+        Expr::Index(b, i) => mentions_system(b) || i.iter().any(mentions_system),
+        Expr::Field(b, _) | Expr::Unary(_, b) => mentions_system(b),
+        Expr::Call(_, a) => a.iter().any(mentions_system),
+        Expr::Struct { fields, .. } => fields.iter().any(|(_, v)| mentions_system(v)),
+        Expr::Binary(_, a, b) => mentions_system(a) || mentions_system(b),
+        _ => false,
+    }
+}
+
+impl Checker<'_> {
+    fn refuse(&self, line: u32, what: impl Into<String>) -> Result<(), Unsupported> {
+        let mut what = what.into();
+        if self.in_dat {
+            what.push_str(" (in the .dat file)");
+        }
+        Err(Unsupported { line, what })
+    }
+
+    fn block(&self, b: &[Stmt]) -> Result<(), Unsupported> {
+        b.iter().try_for_each(|s| self.stmt(s))
+    }
+
+    fn exprs<'e>(&self, es: impl IntoIterator<Item = &'e Expr>, l: u32) -> Result<(), Unsupported> {
+        es.into_iter().try_for_each(|e| self.expr(e, l))
+    }
+
+    fn stmt(&self, s: &Stmt) -> Result<(), Unsupported> {
+        let l = s.line;
+        match &s.kind {
+            StmtKind::Decl { ty, vars, .. } => {
+                let known = template(ty).is_some();
+                if !known && !self.in_dat {
+                    return self.refuse(l, format!("the type {ty}"));
+                }
+                for v in vars {
+                    if v.dims.len() > 2 {
+                        return self.refuse(l, "an array with more than 2 dimensions");
+                    }
+                    if known {
+                        self.exprs(&v.dims, l)?;
+                        self.exprs(&v.init, l)?;
+                    }
+                }
+                Ok(())
+            }
+            StmtKind::Struc { .. } => self.refuse(l, "STRUC (user-defined structure types)"),
+            StmtKind::Enum { .. } => self.refuse(l, "ENUM (user-defined enumeration types)"),
+            StmtKind::Signal { .. } => self.refuse(l, "SIGNAL (I/O signals)"),
+            StmtKind::Ext { name } if name.eq_ignore_ascii_case("BAS") => Ok(()),
+            StmtKind::Ext { name } => self.refuse(
+                l,
+                format!("EXT {name} (a routine of another module; the call {name})"),
+            ),
+            StmtKind::Assign { target, value } => {
+                self.lvalue(target, l)?;
+                self.expr(value, l)
+            }
+            StmtKind::Call { name, args } => {
+                if name.eq_ignore_ascii_case("BAS") {
+                    return match args.first() {
+                        Some(Expr::Enum(c)) if c.eq_ignore_ascii_case("INITMOV") => {
+                            self.exprs(args, l)
+                        }
+                        Some(Expr::Enum(c)) => self
+                            .refuse(l, format!("BAS(#{c}) (only BAS(#INITMOV, …) is supported)")),
+                        _ => self.refuse(l, "BAS without a #command"),
+                    };
+                }
+                if self.program.routine(name).is_none() {
+                    return self.refuse(l, format!("the call {name}"));
+                }
+                self.exprs(args, l)
+            }
+            StmtKind::If {
+                cond,
+                then_body,
+                else_body,
+            } => {
+                self.expr(cond, l)?;
+                self.block(then_body)?;
+                self.block(else_body)
+            }
+            StmtKind::While { cond, body } => {
+                self.expr(cond, l)?;
+                self.block(body)
+            }
+            StmtKind::For {
+                from,
+                to,
+                step,
+                body,
+                ..
+            } => {
+                self.exprs([from, to], l)?;
+                self.exprs(step, l)?;
+                self.block(body)
+            }
+            StmtKind::Loop { body } => self.block(body),
+            StmtKind::Repeat { body, until } => {
+                self.block(body)?;
+                self.expr(until, l)
+            }
+            StmtKind::Switch {
+                selector,
+                cases,
+                default,
+            } => {
+                self.expr(selector, l)?;
+                for (vals, body) in cases {
+                    self.exprs(vals, l)?;
+                    self.block(body)?;
+                }
+                if let Some(d) = default {
+                    self.block(d)?;
+                }
+                Ok(())
+            }
+            StmtKind::Return(e) => self.exprs(e, l),
+            StmtKind::Exit | StmtKind::Continue => Ok(()),
+            StmtKind::Halt => self.refuse(l, "HALT"),
+            StmtKind::Brake => self.refuse(l, "BRAKE"),
+            StmtKind::Resume => self.refuse(l, "RESUME"),
+            StmtKind::OnErrorProceed => self.refuse(l, "ON_ERROR_PROCEED"),
+            StmtKind::WaitSec(e) => self.expr(e, l),
+            StmtKind::WaitFor(e) => {
+                if mentions_system(e) {
+                    return self
+                        .refuse(l, "WAIT FOR with a condition that depends on the robot/IO");
+                }
+                self.expr(e, l)
+            }
+            StmtKind::Motion {
+                aux, target, ca, ..
+            } => {
+                if ca.is_some() {
+                    return self.refuse(l, "CIRC with CA (circular angle)");
+                }
+                self.exprs(aux, l)?;
+                self.expr(target, l)
+            }
+            StmtKind::Spline { ptp, points, .. } => {
+                for p in points {
+                    let pl = p.line;
+                    let is_sptp = p.kind == SplinePointKind::Sptp;
+                    if *ptp && !is_sptp {
+                        return self.refuse(
+                            pl,
+                            format!(
+                                "{} inside PTP_SPLINE",
+                                format!("{:?}", p.kind).to_uppercase()
+                            ),
+                        );
+                    }
+                    if !*ptp && is_sptp {
+                        return self.refuse(pl, "SPTP inside a SPLINE block");
+                    }
+                    for (t, v) in &p.with {
+                        let root = root_name(t).unwrap_or("").to_ascii_uppercase();
+                        if !(root == "$VEL" || root == "$ACC") {
+                            return self.refuse(
+                                pl,
+                                format!(
+                                    "WITH {} (only $VEL and $ACC are supported in WITH)",
+                                    describe(t)
+                                ),
+                            );
+                        }
+                        self.lvalue(t, pl)?;
+                        self.expr(v, pl)?;
+                    }
+                    self.exprs(&p.aux, pl)?;
+                    self.expr(&p.target, pl)?;
+                }
+                Ok(())
+            }
+            StmtKind::InterruptDecl { prio, .. } if is_stopm_decl(&s.kind) => self.expr(prio, l),
+            StmtKind::InterruptSwitch {
+                prio: Some(Expr::Int(p)),
+                ..
+            } if self.stopm_prios.contains(p) => Ok(()),
+            StmtKind::InterruptDecl { .. } | StmtKind::InterruptSwitch { .. } => {
+                self.refuse(l, "INTERRUPT")
+            }
+            StmtKind::Trigger { .. } => self.refuse(l, "TRIGGER"),
+        }
+    }
+
+    fn lvalue(&self, e: &Expr, l: u32) -> Result<(), Unsupported> {
+        if let Some(root) = root_name(e) {
+            let up = root.to_ascii_uppercase();
+            if up.starts_with('$') {
+                if SYS_READ_ONLY.contains(&up.as_str()) {
+                    return self.refuse(l, format!("assigning the read-only {up}"));
+                }
+                if !SYS_WRITE.contains(&up.as_str()) {
+                    return self.refuse(l, format!("the system variable {up}"));
+                }
+            }
+        }
+        match e {
+            Expr::Var(_) => Ok(()),
+            Expr::Index(b, i) => {
+                self.lvalue(b, l)?;
+                self.exprs(i, l)
+            }
+            Expr::Field(b, _) => self.lvalue(b, l),
+            _ => self.expr(e, l),
+        }
+    }
+
+    fn expr(&self, e: &Expr, l: u32) -> Result<(), Unsupported> {
+        match e {
+            Expr::Var(n) => {
+                let up = n.to_ascii_uppercase();
+                if up.starts_with('$')
+                    && !SYS_WRITE.contains(&up.as_str())
+                    && !SYS_READ_ONLY.contains(&up.as_str())
+                {
+                    return self.refuse(l, format!("the system variable {up}"));
+                }
+                Ok(())
+            }
+            Expr::Index(b, i) => {
+                self.expr(b, l)?;
+                self.exprs(i, l)
+            }
+            Expr::Field(b, _) | Expr::Unary(_, b) => self.expr(b, l),
+            Expr::Call(n, args) => {
+                let up = n.to_ascii_uppercase();
+                if !BUILTINS.contains(&up.as_str()) && self.program.routine(n).is_none() {
+                    return self.refuse(l, format!("the call {n}"));
+                }
+                self.exprs(args, l)
+            }
+            Expr::Struct { fields, .. } => self.exprs(fields.iter().map(|(_, v)| v), l),
+            Expr::Binary(_, a, b) => {
+                self.expr(a, l)?;
+                self.expr(b, l)
+            }
+            Expr::Int(_) | Expr::Real(_) | Expr::Bool(_) | Expr::Str(_) | Expr::Enum(_) => Ok(()),
+        }
+    }
+}
+
+// ---------------------------------------------------------------- interpreter
+
 /// Runs `entry` and returns the steps it produces.
+///
+/// Calls [`check_subset`] first. The entry may be a `DEF` or a `DEFFCT`
+/// (its value is discarded); it must not take parameters.
 pub fn run(program: &Program, entry: &str, start: &Start<'_>) -> Result<Vec<Step>, RunError> {
-    let _ = (program, entry, start);
-    Ok(Vec::new())
+    check_subset(program)?;
+    let routine = program.routine(entry).ok_or_else(|| RunError::Runtime {
+        line: 0,
+        message: format!("the entry routine {entry} is not defined"),
+    })?;
+    if !routine.params.is_empty() {
+        return Err(RunError::Runtime {
+            line: routine.line,
+            message: format!(
+                "the entry routine {} must not take parameters",
+                routine.name
+            ),
+        });
+    }
+    let mut it = Interp::new(program, start);
+    if let Some(dat) = &program.dat {
+        for s in &dat.items {
+            it.exec(s)?;
+        }
+    }
+    it.call_routine(routine, &[])?;
+    Ok(it.steps)
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum Root {
+    Global(String),
+    Local(usize, String),
+    /// `$POS_ACT`, `$AXIS_ACT`, `$NULLFRAME`, `$OV_PRO`.
+    Computed(String),
+}
+
+#[derive(Debug, Clone)]
+struct Place {
+    root: Root,
+    path: Vec<PathElem>,
+    desc: String,
+}
+
+#[derive(Debug, Clone)]
+enum Slot {
+    Val(Value),
+    /// An `OUT` parameter: the caller's variable.
+    Ref(Place),
+}
+
+enum Flow {
+    Next,
+    Exit,
+    Return(Option<Value>),
+}
+
+/// Speeds in effect for one motion.
+#[derive(Debug, Clone, Copy)]
+struct Speeds {
+    cp: f64,
+    cp_acc_pct: f64,
+    ptp: f64,
+    ptp_acc_pct: f64,
+}
+
+struct Interp<'a> {
+    program: &'a Program,
+    model: &'a RobotModel,
+    speed: SpeedRecord,
+    globals: HashMap<String, Value>,
+    frames: Vec<HashMap<String, Slot>>,
+    steps: Vec<Step>,
+    statements: u64,
+    line: u32,
+    /// Programmed TCP pose in the current `$BASE` with the current `$TOOL`.
+    pos: Pose,
+    /// Programmed axes, if known.
+    axes: Option<Axes>,
+    status: Option<u8>,
+    turn: Option<u8>,
+    /// Line of the last Cartesian motion (for `$AXIS_ACT` errors).
+    cart_line: u32,
+    continue_pending: bool,
+    continue_active: bool,
+}
+
+impl<'a> Interp<'a> {
+    fn new(program: &'a Program, start: &Start<'a>) -> Self {
+        let sp = start.speed;
+        let mut g = HashMap::new();
+        g.insert(
+            "$VEL".into(),
+            real_struct(
+                "VEL_STRUC",
+                &[("CP", sp.cp_velocity), ("ORI1", 200.0), ("ORI2", 200.0)],
+            ),
+        );
+        g.insert(
+            "$ACC".into(),
+            real_struct(
+                "ACC_STRUC",
+                &[
+                    ("CP", sp.cp_acceleration_pct / 100.0 * ACC_CP_MAX),
+                    ("ORI1", 100.0),
+                    ("ORI2", 100.0),
+                ],
+            ),
+        );
+        let arr = |v: f64| Value::Array(vec![6], vec![Value::Real(v); 6]);
+        g.insert("$VEL_AXIS".into(), arr(sp.ptp_velocity_pct));
+        g.insert("$ACC_AXIS".into(), arr(sp.ptp_acceleration_pct));
+        g.insert(
+            "$APO".into(),
+            Value::Struct(
+                "APO_STRUC".into(),
+                vec![
+                    ("CDIS".into(), Value::Real(DEFAULT_CDIS)),
+                    ("CPTP".into(), Value::Int(50)),
+                    ("CVEL".into(), Value::Int(100)),
+                    ("CORI".into(), Value::Real(1.0)),
+                ],
+            ),
+        );
+        g.insert("$TOOL".into(), frame_value(&start.tool));
+        g.insert("$BASE".into(), frame_value(&start.base));
+        g.insert("$ADVANCE".into(), Value::Int(3));
+        g.insert("XHOME".into(), axis_value(&start.model.home));
+        let axes = start.axes;
+        Interp {
+            program,
+            model: start.model,
+            speed: sp,
+            globals: g,
+            frames: Vec::new(),
+            steps: Vec::new(),
+            statements: 0,
+            line: 0,
+            pos: start.model.forward(&axes, &start.tool, &start.base),
+            axes: Some(axes),
+            status: Some(start.model.status(&axes)),
+            turn: Some(RobotModel::turn(&axes)),
+            cart_line: 0,
+            continue_pending: false,
+            continue_active: false,
+        }
+    }
+
+    fn err(&self, msg: impl Into<String>) -> RunError {
+        RunError::Runtime {
+            line: self.line,
+            message: msg.into(),
+        }
+    }
+
+    fn tick(&mut self) -> Result<(), RunError> {
+        self.statements += 1;
+        if self.statements > MAX_STATEMENTS {
+            return Err(self.err(format!(
+                "the program did not finish within {MAX_STATEMENTS} statements (endless loop?)"
+            )));
+        }
+        Ok(())
+    }
+
+    fn push(&mut self, step: Step) -> Result<(), RunError> {
+        if self.steps.len() >= MAX_STEPS {
+            return Err(self.err(format!(
+                "the program did not finish within {MAX_STEPS} motions and waits (endless loop?)"
+            )));
+        }
+        self.steps.push(step);
+        Ok(())
+    }
+
+    // ---- variables
+
+    fn resolve(&self, name: &str) -> Result<Place, RunError> {
+        let up = name.to_ascii_uppercase();
+        if let Some(i) = self.frames.len().checked_sub(1) {
+            match self.frames.get(i).and_then(|f| f.get(&up)) {
+                Some(Slot::Val(_)) => {
+                    return Ok(Place {
+                        root: Root::Local(i, up),
+                        path: Vec::new(),
+                        desc: name.to_string(),
+                    });
+                }
+                Some(Slot::Ref(p)) => {
+                    let mut p = p.clone();
+                    p.desc = name.to_string();
+                    return Ok(p);
+                }
+                None => {}
+            }
+        }
+        let root = if self.globals.contains_key(&up) {
+            Root::Global(up)
+        } else if SYS_READ_ONLY.contains(&up.as_str()) {
+            Root::Computed(up)
+        } else {
+            return Err(self.err(format!("the variable {name} is not declared")));
+        };
+        Ok(Place {
+            root,
+            path: Vec::new(),
+            desc: name.to_string(),
+        })
+    }
+
+    /// The place an lvalue-like expression names, or `None` if it is not
+    /// rooted in a variable.
+    fn place_of(&mut self, e: &Expr) -> Result<Option<Place>, RunError> {
+        Ok(match e {
+            Expr::Var(n) => Some(self.resolve(n)?),
+            Expr::Index(b, idx) => match self.place_of(b)? {
+                Some(mut p) => {
+                    let mut ii = Vec::with_capacity(idx.len());
+                    for i in idx {
+                        let v = self.eval(i)?;
+                        ii.push(v.int().map_err(|m| self.err(format!("index: {m}")))?);
+                    }
+                    p.path.push(PathElem::Index(ii));
+                    p.desc = describe(e);
+                    Some(p)
+                }
+                None => None,
+            },
+            Expr::Field(b, f) => match self.place_of(b)? {
+                Some(mut p) => {
+                    p.path.push(PathElem::Field(f.to_ascii_uppercase()));
+                    p.desc = describe(e);
+                    Some(p)
+                }
+                None => None,
+            },
+            _ => None,
+        })
+    }
+
+    fn root_ref(&self, root: &Root) -> Result<&Value, RunError> {
+        let v = match root {
+            Root::Global(n) => self.globals.get(n),
+            Root::Local(i, n) => match self.frames.get(*i).and_then(|f| f.get(n)) {
+                Some(Slot::Val(v)) => Some(v),
+                _ => None,
+            },
+            Root::Computed(_) => None,
+        };
+        v.ok_or_else(|| self.err("internal: dangling variable reference"))
+    }
+
+    fn read_place(&mut self, p: &Place) -> Result<Value, RunError> {
+        let computed = match &p.root {
+            Root::Computed(n) => Some(self.computed(n)?),
+            _ => None,
+        };
+        let root = match &computed {
+            Some(v) => v,
+            None => self.root_ref(&p.root)?,
+        };
+        let v = walk(root, &p.path).map_err(|m| self.err(format!("{}: {m}", p.desc)))?;
+        match v {
+            Value::Unset(_) => Err(self.err(format!("{} has no value (not initialised)", p.desc))),
+            Value::Opaque(t) => Err(self.err(format!(
+                "{} has the type {t}, which the simulator does not support",
+                p.desc
+            ))),
+            v => Ok(v.clone()),
+        }
+    }
+
+    fn write_place(&mut self, p: &Place, v: Value) -> Result<(), RunError> {
+        let sys = match &p.root {
+            Root::Global(n) if n.starts_with('$') => Some(n.clone()),
+            Root::Computed(n) => return Err(self.err(format!("{n} is read-only"))),
+            _ => None,
+        };
+        let saved = match &sys {
+            Some(_) => Some((self.root_ref(&p.root)?.clone(), self.tool()?, self.base()?)),
+            None => None,
+        };
+        let root = match &p.root {
+            Root::Global(n) => self.globals.get_mut(n),
+            Root::Local(i, n) => match self.frames.get_mut(*i).and_then(|f| f.get_mut(n)) {
+                Some(Slot::Val(v)) => Some(v),
+                _ => None,
+            },
+            Root::Computed(_) => None,
+        };
+        let Some(root) = root else {
+            return Err(self.err("internal: dangling variable reference"));
+        };
+        let r = walk_mut(root, &p.path).and_then(|slot| assign_into(slot, v));
+        r.map_err(|m| self.err(format!("{}: {m}", p.desc)))?;
+        if let (Some(name), Some((old, old_tool, old_base))) = (sys, saved) {
+            if let Err(m) = self.validate_sys(&name) {
+                self.globals.insert(name, old);
+                return Err(self.err(m));
+            }
+            if name == "$TOOL" || name == "$BASE" {
+                self.frames_changed(old_tool, old_base)?;
+            }
+        }
+        Ok(())
+    }
+
+    // ---- system variables
+
+    fn sys_field(&self, root: &str, field: &str) -> Result<f64, RunError> {
+        let v = self
+            .globals
+            .get(root)
+            .ok_or_else(|| self.err(format!("{root} is missing")))?;
+        let Value::Struct(_, f) = v else {
+            return Err(self.err(format!("{root} is not a structure")));
+        };
+        num_field(f, field)
+            .map_err(|m| self.err(format!("{root}: {m}")))?
+            .ok_or_else(|| self.err(format!("{root}.{field} has no value")))
+    }
+
+    fn sys_array(&self, root: &str) -> Result<Vec<f64>, RunError> {
+        match self.globals.get(root) {
+            Some(Value::Array(_, e)) => e
+                .iter()
+                .map(|v| v.num().map_err(|m| self.err(format!("{root}: {m}"))))
+                .collect(),
+            _ => Err(self.err(format!("{root} is not an array"))),
+        }
+    }
+
+    fn sys_frame(&self, root: &str) -> Result<Pose, RunError> {
+        let v = self
+            .globals
+            .get(root)
+            .ok_or_else(|| self.err(format!("{root} is missing")))?;
+        pose_of(v).map_err(|m| self.err(format!("{root}: {m}")))
+    }
+
+    fn tool(&self) -> Result<Pose, RunError> {
+        self.sys_frame("$TOOL")
+    }
+
+    fn base(&self) -> Result<Pose, RunError> {
+        self.sys_frame("$BASE")
+    }
+
+    fn cdis(&self) -> Result<f64, RunError> {
+        self.sys_field("$APO", "CDIS")
+    }
+
+    fn speeds(&self) -> Result<Speeds, RunError> {
+        let min = |v: Vec<f64>| v.into_iter().fold(f64::INFINITY, f64::min);
+        Ok(Speeds {
+            cp: self.sys_field("$VEL", "CP")?,
+            cp_acc_pct: (self.sys_field("$ACC", "CP")? / ACC_CP_MAX * 100.0).clamp(1.0, 100.0),
+            ptp: min(self.sys_array("$VEL_AXIS")?),
+            ptp_acc_pct: min(self.sys_array("$ACC_AXIS")?),
+        })
+    }
+
+    /// Checks a system variable after an assignment (the KRC refuses
+    /// out-of-range values too).
+    fn validate_sys(&self, name: &str) -> Result<(), String> {
+        let msg = |e: RunError| match e {
+            RunError::Runtime { message, .. } => message,
+            RunError::Unsupported(u) => u.what,
+        };
+        match name {
+            "$VEL" => {
+                let cp = self.sys_field("$VEL", "CP").map_err(msg)?;
+                if !(cp > 0.0 && cp <= MAX_CP_VELOCITY) {
+                    return Err(format!(
+                        "$VEL.CP = {cp} m/s is out of range (0 < CP <= {MAX_CP_VELOCITY})"
+                    ));
+                }
+            }
+            "$ACC" => {
+                let cp = self.sys_field("$ACC", "CP").map_err(msg)?;
+                if !(cp > 0.0 && cp.is_finite()) {
+                    return Err(format!("$ACC.CP = {cp} m/s² must be positive"));
+                }
+            }
+            "$VEL_AXIS" | "$ACC_AXIS" => {
+                for (i, v) in self.sys_array(name).map_err(msg)?.iter().enumerate() {
+                    if !(*v > 0.0 && *v <= 100.0) {
+                        return Err(format!(
+                            "{name}[{}] = {v} is out of range (0 < % <= 100)",
+                            i + 1
+                        ));
+                    }
+                }
+            }
+            "$APO" => {
+                let d = self.sys_field("$APO", "CDIS").map_err(msg)?;
+                if !(d >= 0.0 && d.is_finite()) {
+                    return Err(format!("$APO.CDIS = {d} mm must not be negative"));
+                }
+            }
+            "$TOOL" | "$BASE" => {
+                let f = self.sys_frame(name).map_err(msg)?;
+                if !f.is_finite() {
+                    return Err(format!("{name} is not a finite frame"));
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// `$TOOL`/`$BASE` changed: re-express the programmed pose.
+    fn frames_changed(&mut self, old_tool: Pose, old_base: Pose) -> Result<(), RunError> {
+        let (tool, base) = (self.tool()?, self.base()?);
+        if tool == old_tool && base == old_base {
+            return Ok(());
+        }
+        self.pos = match self.axes {
+            Some(a) => self.model.forward(&a, &tool, &base),
+            None => base
+                .inverse()
+                .compose(&old_base)
+                .compose(&self.pos)
+                .compose(&old_tool.inverse())
+                .compose(&tool),
+        };
+        Ok(())
+    }
+
+    /// KRL stops the advance run here: the motion before ends exactly.
+    fn advance_stop(&mut self) {
+        if self.continue_active {
+            return;
+        }
+        if let Some(Step::Move { motion, .. }) = self.steps.last_mut() {
+            motion.approx_mm = 0.0;
+        }
+    }
+
+    fn computed(&mut self, name: &str) -> Result<Value, RunError> {
+        Ok(match name {
+            "$POS_ACT" => {
+                self.advance_stop();
+                let a = self.pos.to_array();
+                let mut f: Vec<(String, Value)> = FRAME_FIELDS
+                    .iter()
+                    .zip(a)
+                    .map(|(n, v)| (n.to_string(), Value::Real(v)))
+                    .collect();
+                let st =
+                    |v: Option<u8>| v.map_or(Value::Unset(Scalar::Int), |x| Value::Int(x.into()));
+                f.push(("S".into(), st(self.status)));
+                f.push(("T".into(), st(self.turn)));
+                f.extend(EXT_FIELDS.iter().map(|n| (n.to_string(), Value::Real(0.0))));
+                Value::Struct("E6POS".into(), f)
+            }
+            "$AXIS_ACT" => {
+                self.advance_stop();
+                match self.axes {
+                    Some(a) => axis_value(&a),
+                    None => {
+                        return Err(self.err(format!(
+                            "$AXIS_ACT after the Cartesian motion on line {} is not known before the motion runs",
+                            self.cart_line
+                        )));
+                    }
+                }
+            }
+            "$NULLFRAME" => frame_value(&Pose::IDENTITY),
+            _ => Value::Int(100), // $OV_PRO
+        })
+    }
+
+    // ---- expressions
+
+    fn eval(&mut self, e: &Expr) -> Result<Value, RunError> {
+        match e {
+            Expr::Int(i) => Ok(Value::Int(*i)),
+            Expr::Real(r) => Ok(Value::Real(*r)),
+            Expr::Bool(b) => Ok(Value::Bool(*b)),
+            Expr::Str(s) => Ok(Value::Str(s.clone())),
+            Expr::Enum(s) => Ok(Value::Enum(s.to_ascii_uppercase())),
+            Expr::Var(_) | Expr::Index(..) | Expr::Field(..) => {
+                if let Some(p) = self.place_of(e)? {
+                    return self.read_place(&p);
+                }
+                // A component or element of a computed value, e.g. f().X.
+                let (base, elem) = match e {
+                    Expr::Field(b, f) => (b, PathElem::Field(f.to_ascii_uppercase())),
+                    Expr::Index(b, idx) => {
+                        let mut ii = Vec::new();
+                        for i in idx {
+                            let v = self.eval(i)?;
+                            ii.push(v.int().map_err(|m| self.err(format!("index: {m}")))?);
+                        }
+                        (b, PathElem::Index(ii))
+                    }
+                    _ => return Err(self.err("internal: not a place")),
+                };
+                let v = self.eval(base)?;
+                match step_into(&v, &elem) {
+                    Ok(Value::Unset(_)) => Err(self.err(format!("{} has no value", describe(e)))),
+                    Ok(x) => Ok(x.clone()),
+                    Err(m) => Err(self.err(m)),
+                }
+            }
+            Expr::Call(name, args) => {
+                let up = name.to_ascii_uppercase();
+                if BUILTINS.contains(&up.as_str()) {
+                    let mut vals = Vec::with_capacity(args.len());
+                    for a in args {
+                        vals.push(self.eval(a)?);
+                    }
+                    return builtin(&up, &vals).map_err(|m| self.err(m));
+                }
+                let routine = self.routine(name)?;
+                if routine.kind == RoutineKind::Def {
+                    return Err(self.err(format!("{name} is a procedure (DEF) and has no value")));
+                }
+                self.call_routine(routine, args)?
+                    .ok_or_else(|| self.err(format!("{name} returned no value")))
+            }
+            Expr::Struct { ty, fields } => {
+                let mut out = Vec::with_capacity(fields.len());
+                for (n, v) in fields {
+                    out.push((n.to_ascii_uppercase(), self.eval(v)?));
+                }
+                let ty = ty.as_deref().unwrap_or("").to_ascii_uppercase();
+                Ok(Value::Struct(ty, out))
+            }
+            Expr::Unary(op, x) => {
+                let v = self.eval(x)?;
+                let r = match (op, v) {
+                    (UnOp::Neg, Value::Int(i)) => int_result(i.checked_neg()),
+                    (UnOp::Neg, Value::Real(r)) => Ok(Value::Real(-r)),
+                    (UnOp::Not, Value::Bool(b)) => Ok(Value::Bool(!b)),
+                    (UnOp::BNot, Value::Int(i)) => Ok(Value::Int(!i)),
+                    (op, v) => Err(format!("{op:?} cannot be applied to {}", v.type_name())),
+                };
+                r.map_err(|m| self.err(m))
+            }
+            Expr::Binary(op, a, b) => {
+                let l = self.eval(a)?;
+                let r = self.eval(b)?;
+                binary(*op, l, r).map_err(|m| self.err(m))
+            }
+        }
+    }
+
+    fn eval_num(&mut self, e: &Expr) -> Result<f64, RunError> {
+        let v = self.eval(e)?;
+        v.num().map_err(|m| self.err(m))
+    }
+
+    fn eval_int(&mut self, e: &Expr) -> Result<i64, RunError> {
+        let v = self.eval(e)?;
+        v.int().map_err(|m| self.err(m))
+    }
+
+    fn eval_bool(&mut self, e: &Expr) -> Result<bool, RunError> {
+        let v = self.eval(e)?;
+        v.bool().map_err(|m| self.err(m))
+    }
+
+    // ---- routines
+
+    fn routine(&self, name: &str) -> Result<&'a Routine, RunError> {
+        self.program
+            .routine(name)
+            .ok_or_else(|| self.err(format!("the routine {name} is not defined")))
+    }
+
+    fn call_routine(&mut self, r: &'a Routine, args: &[Expr]) -> Result<Option<Value>, RunError> {
+        let call_line = self.line;
+        if r.params.len() != args.len() {
+            return Err(self.err(format!(
+                "{} takes {} argument(s), got {}",
+                r.name,
+                r.params.len(),
+                args.len()
+            )));
+        }
+        if self.frames.len() >= MAX_DEPTH {
+            return Err(self.err(format!(
+                "calls nested deeper than {MAX_DEPTH} levels (endless recursion?)"
+            )));
+        }
+        let mut frame = HashMap::new();
+        for (p, a) in r.params.iter().zip(args) {
+            let slot = if p.out {
+                match self.place_of(a)? {
+                    Some(pl) if matches!(pl.root, Root::Global(ref n) if n.starts_with('$')) => {
+                        return Err(self.err(format!(
+                            "the system variable {} cannot be an OUT argument",
+                            describe(a)
+                        )));
+                    }
+                    Some(pl) if !matches!(pl.root, Root::Computed(_)) => Slot::Ref(pl),
+                    _ => {
+                        return Err(self.err(format!(
+                            "the OUT parameter {} of {} needs a variable",
+                            p.name, r.name
+                        )));
+                    }
+                }
+            } else {
+                Slot::Val(self.eval(a)?)
+            };
+            frame.insert(p.name.to_ascii_uppercase(), slot);
+        }
+        self.frames.push(frame);
+        let flow = self.exec_block(&r.body);
+        self.frames.pop();
+        let flow = flow?;
+        self.line = r.end_line;
+        let result = match (&r.kind, flow) {
+            (RoutineKind::Def, Flow::Next | Flow::Return(None)) => None,
+            (RoutineKind::Def, Flow::Return(Some(_))) => {
+                return Err(self.err(format!("the procedure {} cannot RETURN a value", r.name)));
+            }
+            (RoutineKind::DefFct(ty), Flow::Return(Some(v))) => {
+                let mut slot =
+                    template(ty).ok_or_else(|| self.err(format!("functions returning {ty}")))?;
+                assign_into(&mut slot, v)
+                    .map_err(|m| self.err(format!("return value of {}: {m}", r.name)))?;
+                Some(slot)
+            }
+            (RoutineKind::DefFct(_), Flow::Next | Flow::Return(None)) => {
+                return Err(self.err(format!(
+                    "the function {} ended without RETURN of a value",
+                    r.name
+                )));
+            }
+            (_, Flow::Exit) => return Err(self.err("EXIT outside a loop")),
+        };
+        self.line = call_line;
+        Ok(result)
+    }
+
+    // ---- statements
+
+    fn exec_block(&mut self, body: &'a [Stmt]) -> Result<Flow, RunError> {
+        for s in body {
+            match self.exec(s)? {
+                Flow::Next => {}
+                f => return Ok(f),
+            }
+        }
+        Ok(Flow::Next)
+    }
+
+    /// Runs a loop body; `Some(flow)` when the loop must end with `flow`.
+    fn loop_body(&mut self, body: &'a [Stmt], line: u32) -> Result<Option<Flow>, RunError> {
+        self.line = line;
+        self.tick()?;
+        let f = match self.exec_block(body)? {
+            Flow::Next => None,
+            Flow::Exit => Some(Flow::Next),
+            r @ Flow::Return(_) => Some(r),
+        };
+        self.line = line;
+        Ok(f)
+    }
+
+    fn exec(&mut self, s: &'a Stmt) -> Result<Flow, RunError> {
+        self.line = s.line;
+        self.tick()?;
+        self.continue_active = std::mem::take(&mut self.continue_pending);
+        let l = s.line;
+        match &s.kind {
+            StmtKind::Decl { ty, vars, .. } => {
+                for d in &vars[..] {
+                    self.declare(ty, d)?;
+                }
+            }
+            // Only the standard stop-message interrupt passes check_subset.
+            StmtKind::Ext { .. }
+            | StmtKind::InterruptDecl { .. }
+            | StmtKind::InterruptSwitch { .. } => {}
+            StmtKind::Assign { target, value } => {
+                let v = self.eval(value)?;
+                let Some(p) = self.place_of(target)? else {
+                    return Err(self.err(format!("cannot assign to {}", describe(target))));
+                };
+                self.write_place(&p, v)?;
+            }
+            StmtKind::Call { name, args } => {
+                if name.eq_ignore_ascii_case("BAS") {
+                    self.bas(args)?;
+                } else {
+                    let r = self.routine(name)?;
+                    self.call_routine(r, args)?;
+                }
+            }
+            StmtKind::If {
+                cond,
+                then_body,
+                else_body,
+            } => {
+                let body = if self.eval_bool(cond)? {
+                    then_body
+                } else {
+                    else_body
+                };
+                return self.exec_block(body);
+            }
+            StmtKind::While { cond, body } => {
+                while self.eval_bool(cond)? {
+                    if let Some(f) = self.loop_body(body, l)? {
+                        return Ok(f);
+                    }
+                }
+            }
+            StmtKind::For {
+                var,
+                from,
+                to,
+                step,
+                body,
+            } => {
+                let from = self.eval_int(from)?;
+                let to = self.eval_int(to)?;
+                let step = match step {
+                    Some(e) => self.eval_int(e)?,
+                    None => 1,
+                };
+                if step == 0 {
+                    return Err(self.err("FOR with STEP 0 never ends"));
+                }
+                let counter = self.place_of(&Expr::Var(var.clone()))?;
+                let Some(counter) = counter else {
+                    return Err(self.err(format!("{var} is not a variable")));
+                };
+                self.write_place(&counter, Value::Int(from))?;
+                loop {
+                    let i = self.read_place(&counter)?.int().map_err(|m| self.err(m))?;
+                    if (step > 0 && i > to) || (step < 0 && i < to) {
+                        break;
+                    }
+                    if let Some(f) = self.loop_body(body, l)? {
+                        return Ok(f);
+                    }
+                    let i = self.read_place(&counter)?.int().map_err(|m| self.err(m))?;
+                    let next = int_result(i.checked_add(step)).map_err(|m| self.err(m))?;
+                    self.write_place(&counter, next)?;
+                }
+            }
+            StmtKind::Loop { body } => loop {
+                if let Some(f) = self.loop_body(body, l)? {
+                    return Ok(f);
+                }
+            },
+            StmtKind::Repeat { body, until } => loop {
+                if let Some(f) = self.loop_body(body, l)? {
+                    return Ok(f);
+                }
+                if self.eval_bool(until)? {
+                    break;
+                }
+            },
+            StmtKind::Switch {
+                selector,
+                cases,
+                default,
+            } => {
+                let sel = self.eval(selector)?;
+                for (vals, body) in cases {
+                    for v in vals {
+                        let v = self.eval(v)?;
+                        if values_equal(&sel, &v).map_err(|m| self.err(m))? {
+                            return self.exec_block(body);
+                        }
+                    }
+                }
+                if let Some(d) = default {
+                    return self.exec_block(d);
+                }
+            }
+            StmtKind::Return(e) => {
+                let v = match e {
+                    Some(e) => Some(self.eval(e)?),
+                    None => None,
+                };
+                return Ok(Flow::Return(v));
+            }
+            StmtKind::Exit => return Ok(Flow::Exit),
+            StmtKind::Continue => self.continue_pending = true,
+            StmtKind::WaitSec(e) => {
+                let t = self.eval_num(e)?;
+                if !(t >= 0.0 && t.is_finite()) {
+                    return Err(self.err(format!("WAIT SEC {t}: the time must not be negative")));
+                }
+                self.push(Step::Dwell {
+                    seconds: t,
+                    line: l,
+                })?;
+            }
+            StmtKind::WaitFor(e) => {
+                if !self.eval_bool(e)? {
+                    return Err(self.err(
+                        "WAIT FOR: the condition is FALSE and nothing in the simulator can change it (the program would wait forever)",
+                    ));
+                }
+            }
+            StmtKind::Motion {
+                kind,
+                aux,
+                target,
+                approx,
+                ..
+            } => {
+                let approx_mm = if approx.is_some() { self.cdis()? } else { 0.0 };
+                let speeds = self.speeds()?;
+                self.motion(*kind, aux.as_ref(), target, approx_mm, speeds)?;
+            }
+            StmtKind::Spline { points, approx, .. } => self.spline(points, approx.is_some())?,
+            StmtKind::Struc { .. }
+            | StmtKind::Enum { .. }
+            | StmtKind::Signal { .. }
+            | StmtKind::Halt
+            | StmtKind::Brake
+            | StmtKind::Resume
+            | StmtKind::OnErrorProceed
+            | StmtKind::Trigger { .. } => {
+                return Err(Unsupported {
+                    line: l,
+                    what: "this statement".into(),
+                }
+                .into());
+            }
+        }
+        Ok(Flow::Next)
+    }
+
+    fn declare(&mut self, ty: &str, d: &kuka_krl::Declarator) -> Result<(), RunError> {
+        let name = d.name.to_ascii_uppercase();
+        let Some(mut value) = template(ty) else {
+            if self.frames.is_empty() {
+                self.globals
+                    .insert(name, Value::Opaque(ty.to_ascii_uppercase()));
+                return Ok(());
+            }
+            return Err(Unsupported {
+                line: self.line,
+                what: format!("the type {ty}"),
+            }
+            .into());
+        };
+        if !d.dims.is_empty() {
+            let mut dims = Vec::with_capacity(d.dims.len());
+            let mut total = 1usize;
+            for e in &d.dims {
+                let n = self.eval_int(e)?;
+                if n < 1 || n as u64 > MAX_ARRAY as u64 {
+                    return Err(self.err(format!("array size {n} of {} is out of range", d.name)));
+                }
+                total = total.saturating_mul(n as usize);
+                dims.push(n as usize);
+            }
+            if total > MAX_ARRAY {
+                return Err(self.err(format!("the array {} is too large", d.name)));
+            }
+            value = Value::Array(dims, vec![value; total]);
+        }
+        match self.frames.last_mut() {
+            None => {
+                self.globals.insert(name.clone(), value);
+            }
+            Some(frame) => match frame.get_mut(&name) {
+                // The declaration of an OUT parameter: the caller's variable.
+                Some(Slot::Ref(_)) => return Ok(()),
+                // The declaration of an IN parameter: give the value its type.
+                Some(Slot::Val(v)) => {
+                    let given = std::mem::replace(v, Value::Unset(Scalar::Int));
+                    let r = assign_into(&mut value, given);
+                    *v = value;
+                    r.map_err(|m| self.err(format!("parameter {}: {m}", d.name)))?;
+                    return Ok(());
+                }
+                None => {
+                    frame.insert(name.clone(), Slot::Val(value));
+                }
+            },
+        }
+        if let Some(init) = &d.init {
+            let v = self.eval(init)?;
+            let p = self.resolve(&name)?;
+            self.write_place(&p, v)?;
+        }
+        Ok(())
+    }
+
+    fn bas(&mut self, args: &[Expr]) -> Result<(), RunError> {
+        let cmd = match args.first() {
+            Some(e) => self.eval(e)?,
+            None => return Err(self.err("BAS needs a command")),
+        };
+        for a in args.iter().skip(1) {
+            self.eval(a)?;
+        }
+        if cmd != Value::Enum("INITMOV".into()) {
+            return Err(Unsupported {
+                line: self.line,
+                what: format!("BAS({})", cmd.type_name()),
+            }
+            .into());
+        }
+        let sp = self.speed;
+        let arr = |v: f64| Value::Array(vec![6], vec![Value::Real(v); 6]);
+        self.globals
+            .insert("$VEL_AXIS".into(), arr(sp.ptp_velocity_pct));
+        self.globals
+            .insert("$ACC_AXIS".into(), arr(sp.ptp_acceleration_pct));
+        for (root, v) in [
+            ("$VEL", sp.cp_velocity),
+            ("$ACC", sp.cp_acceleration_pct / 100.0 * ACC_CP_MAX),
+        ] {
+            if let Some(Value::Struct(_, f)) = self.globals.get_mut(root)
+                && let Some((_, slot)) = f.iter_mut().find(|(n, _)| n == "CP")
+            {
+                *slot = Value::Real(v);
+            }
+        }
+        Ok(())
+    }
+
+    // ---- motions
+
+    fn target_fields(&mut self, e: &Expr) -> Result<Vec<(String, Value)>, RunError> {
+        match self.eval(e)? {
+            Value::Struct(_, f) => Ok(f),
+            v => Err(self.err(format!(
+                "a motion target must be a position (FRAME, POS, E6POS, AXIS, E6AXIS), found {}",
+                v.type_name()
+            ))),
+        }
+    }
+
+    fn is_axis_target(&self, fields: &[(String, Value)]) -> Result<bool, RunError> {
+        let has = |names: &[&str]| fields.iter().any(|(n, _)| names.contains(&n.as_str()));
+        let axis = has(&AXIS_FIELDS);
+        if axis && has(&FRAME_FIELDS) {
+            return Err(self.err("a motion target mixes axis (A1..A6) and Cartesian components"));
+        }
+        for (n, _) in fields {
+            let ok = EXT_FIELDS.contains(&n.as_str())
+                || if axis {
+                    AXIS_FIELDS.contains(&n.as_str())
+                } else {
+                    FRAME_FIELDS.contains(&n.as_str()) || n == "S" || n == "T"
+                };
+            if !ok {
+                return Err(self.err(format!("{n} is not a component of a position")));
+            }
+        }
+        Ok(axis)
+    }
+
+    /// A Cartesian target: missing components from the programmed pose, or
+    /// (relative) added to it.
+    fn cart_target(&self, fields: &[(String, Value)], rel: bool) -> Result<Pose, RunError> {
+        let mut v = [None; 6];
+        for (slot, n) in v.iter_mut().zip(FRAME_FIELDS) {
+            *slot = num_field(fields, n).map_err(|m| self.err(m))?;
+        }
+        let cur = self.pos;
+        let p = if rel {
+            let d = Pose::new(
+                v[0].unwrap_or(0.0),
+                v[1].unwrap_or(0.0),
+                v[2].unwrap_or(0.0),
+                v[3].unwrap_or(0.0),
+                v[4].unwrap_or(0.0),
+                v[5].unwrap_or(0.0),
+            );
+            let mut p = if d.a == 0.0 && d.b == 0.0 && d.c == 0.0 {
+                cur
+            } else {
+                Pose::from_parts(cur.position(), d.rotation() * cur.rotation())
+            };
+            p.x = cur.x + d.x;
+            p.y = cur.y + d.y;
+            p.z = cur.z + d.z;
+            p
+        } else {
+            let c = cur.to_array();
+            let g = |i: usize| v[i].unwrap_or(c[i]);
+            Pose::new(g(0), g(1), g(2), g(3), g(4), g(5))
+        };
+        if !p.is_finite() {
+            return Err(self.err("the target is not a finite position"));
+        }
+        Ok(p)
+    }
+
+    fn st_field(&self, fields: &[(String, Value)], n: &str) -> Result<Option<u8>, RunError> {
+        match num_field(fields, n).map_err(|m| self.err(m))? {
+            None => Ok(None),
+            Some(v) if (0.0..=255.0).contains(&v) && v.fract() == 0.0 => Ok(Some(v as u8)),
+            Some(v) => Err(self.err(format!("{n} = {v} is not a valid Status/Turn"))),
+        }
+    }
+
+    fn emit(
+        &mut self,
+        kind: MoveKind,
+        velocity: f64,
+        acc: f64,
+        approx_mm: f64,
+    ) -> Result<(), RunError> {
+        let step = Step::Move {
+            tool: self.tool()?,
+            base: self.base()?,
+            motion: Motion {
+                kind,
+                velocity,
+                acceleration_pct: acc,
+                approx_mm,
+            },
+            line: self.line,
+        };
+        self.push(step)
+    }
+
+    fn moved_to_pose(&mut self, p: Pose) {
+        self.pos = p;
+        self.axes = None;
+        self.cart_line = self.line;
+    }
+
+    fn motion(
+        &mut self,
+        kind: KrlMotion,
+        aux: Option<&Expr>,
+        target: &Expr,
+        approx_mm: f64,
+        sp: Speeds,
+    ) -> Result<(), RunError> {
+        let rel = matches!(
+            kind,
+            KrlMotion::PtpRel | KrlMotion::LinRel | KrlMotion::CircRel
+        );
+        let fields = self.target_fields(target)?;
+        let axis = self.is_axis_target(&fields)?;
+        match kind {
+            KrlMotion::Ptp | KrlMotion::PtpRel if axis => {
+                let mut axes = [0.0; 6];
+                for (i, n) in AXIS_FIELDS.iter().enumerate() {
+                    let v = num_field(&fields, n).map_err(|m| self.err(m))?;
+                    axes[i] = match (v, self.axes) {
+                        (Some(v), Some(cur)) if rel => cur[i] + v,
+                        (Some(v), _) if !rel => v,
+                        (None, Some(cur)) => cur[i],
+                        _ => {
+                            return Err(self.err(format!(
+                                "{} needs the programmed axes, which are not known after the Cartesian motion on line {}",
+                                if rel { "PTP_REL with axis values" } else { "an axis PTP with missing axes" },
+                                self.cart_line
+                            )));
+                        }
+                    };
+                }
+                if !axes.iter().all(|a| a.is_finite()) {
+                    return Err(self.err("the axis target is not finite"));
+                }
+                self.emit(
+                    MoveKind::PtpAxes { axes },
+                    sp.ptp,
+                    sp.ptp_acc_pct,
+                    approx_mm,
+                )?;
+                self.pos = self.model.forward(&axes, &self.tool()?, &self.base()?);
+                self.axes = Some(axes);
+                self.status = Some(self.model.status(&axes));
+                self.turn = Some(RobotModel::turn(&axes));
+            }
+            KrlMotion::Ptp | KrlMotion::PtpRel => {
+                let target = self.cart_target(&fields, rel)?;
+                let (s, t) = if rel {
+                    (None, None)
+                } else {
+                    (self.st_field(&fields, "S")?, self.st_field(&fields, "T")?)
+                };
+                self.emit(
+                    MoveKind::Ptp { target, s, t },
+                    sp.ptp,
+                    sp.ptp_acc_pct,
+                    approx_mm,
+                )?;
+                self.moved_to_pose(target);
+                self.status = s.or(self.status);
+                self.turn = t;
+            }
+            _ if axis => {
+                return Err(self.err("LIN and CIRC need a Cartesian target, not axis values"));
+            }
+            KrlMotion::Lin | KrlMotion::LinRel => {
+                let target = self.cart_target(&fields, rel)?;
+                self.emit(MoveKind::Lin { target }, sp.cp, sp.cp_acc_pct, approx_mm)?;
+                self.moved_to_pose(target);
+                self.turn = None;
+            }
+            KrlMotion::Circ | KrlMotion::CircRel => {
+                let Some(aux) = aux else {
+                    return Err(self.err("CIRC without an auxiliary point"));
+                };
+                let af = self.target_fields(aux)?;
+                if self.is_axis_target(&af)? {
+                    return Err(self.err("the CIRC auxiliary point must be Cartesian"));
+                }
+                let aux = self.cart_target(&af, rel)?;
+                let target = self.cart_target(&fields, rel)?;
+                self.emit(
+                    MoveKind::Circ { aux, target },
+                    sp.cp,
+                    sp.cp_acc_pct,
+                    approx_mm,
+                )?;
+                self.moved_to_pose(target);
+                self.turn = None;
+            }
+        }
+        Ok(())
+    }
+
+    /// Applies a spline point's `WITH` assignments, reads the speeds and
+    /// restores `$VEL`/`$ACC`.
+    fn point_speeds(&mut self, with: &[(Expr, Expr)]) -> Result<Speeds, RunError> {
+        let saved: Vec<(String, Option<Value>)> = ["$VEL", "$ACC"]
+            .iter()
+            .map(|n| (n.to_string(), self.globals.get(*n).cloned()))
+            .collect();
+        let mut r = Ok(());
+        for (t, v) in with {
+            r = self.eval(v).and_then(|v| match self.place_of(t)? {
+                Some(p) => self.write_place(&p, v),
+                None => Err(self.err(format!("cannot assign to {}", describe(t)))),
+            });
+            if r.is_err() {
+                break;
+            }
+        }
+        let sp = r.and_then(|_| self.speeds());
+        for (n, v) in saved {
+            if let Some(v) = v {
+                self.globals.insert(n, v);
+            }
+        }
+        sp
+    }
+
+    fn spline(&mut self, points: &'a [SplinePoint], c_spl: bool) -> Result<(), RunError> {
+        let first = self.steps.len();
+        let cdis = self.cdis()?;
+        let mut run: Vec<(Pose, Speeds, u32)> = Vec::new();
+        let mut run_start = self.pos;
+        for p in points {
+            self.line = p.line;
+            self.tick()?;
+            let sp = self.point_speeds(&p.with)?;
+            match p.kind {
+                SplinePointKind::Spl => {
+                    let fields = self.target_fields(&p.target)?;
+                    if self.is_axis_target(&fields)? {
+                        return Err(self.err("SPL needs a Cartesian target, not axis values"));
+                    }
+                    let pose = self.cart_target(&fields, false)?;
+                    if run.is_empty() {
+                        run_start = self.pos;
+                    }
+                    run.push((pose, sp, p.line));
+                    self.moved_to_pose(pose);
+                    self.turn = None;
+                }
+                kind => {
+                    self.flush_spl(run_start, &mut run)?;
+                    self.line = p.line;
+                    let (k, approx) = match kind {
+                        SplinePointKind::Slin => (KrlMotion::Lin, cdis),
+                        SplinePointKind::Scirc => (KrlMotion::Circ, cdis),
+                        _ => (KrlMotion::Ptp, 0.0),
+                    };
+                    self.motion(k, p.aux.as_ref(), &p.target, approx, sp)?;
+                }
+            }
+        }
+        self.flush_spl(run_start, &mut run)?;
+        if self.steps.len() > first
+            && let Some(Step::Move { motion, .. }) = self.steps.last_mut()
+        {
+            motion.approx_mm = if c_spl { cdis } else { 0.0 };
+        }
+        Ok(())
+    }
+
+    /// Samples a run of `SPL` points (a centripetal Catmull-Rom curve from
+    /// `start` through them) into short, blended LINs.
+    fn flush_spl(
+        &mut self,
+        start: Pose,
+        run: &mut Vec<(Pose, Speeds, u32)>,
+    ) -> Result<(), RunError> {
+        if run.is_empty() {
+            return Ok(());
+        }
+        let pts = std::mem::take(run);
+        let mut q: Vec<Pose> = Vec::with_capacity(pts.len() + 1);
+        q.push(start);
+        q.extend(pts.iter().map(|p| p.0));
+        for (i, (b, sp, line)) in pts.iter().enumerate() {
+            self.line = *line;
+            let a = q[i];
+            let (pa, pb) = (p3(&a), p3(b));
+            if dist(pa, pb) < 1e-6 {
+                if a.angle_deg(b) > 1e-9 {
+                    self.emit(MoveKind::Lin { target: *b }, sp.cp, sp.cp_acc_pct, 0.0)?;
+                }
+                continue;
+            }
+            let reflect = |x: [f64; 3], y: [f64; 3]| {
+                [2.0 * x[0] - y[0], 2.0 * x[1] - y[1], 2.0 * x[2] - y[2]]
+            };
+            let p0 = match i.checked_sub(1).and_then(|k| q.get(k)) {
+                Some(p) if dist(p3(p), pa) >= 1e-6 => p3(p),
+                _ => reflect(pa, pb),
+            };
+            let p3_ = match q.get(i + 2) {
+                Some(p) if dist(p3(p), pb) >= 1e-6 => p3(p),
+                _ => reflect(pb, pa),
+            };
+            let ctrl = [p0, pa, pb, p3_];
+            // Arc-length table.
+            let m = ((dist(pa, pb) / 0.25).ceil() as usize).clamp(64, 4000);
+            let mut table = Vec::with_capacity(m + 1);
+            let mut prev = pa;
+            let mut len = 0.0;
+            table.push((0.0, 0.0));
+            for k in 1..=m {
+                let t = k as f64 / m as f64;
+                let x = catmull_rom(&ctrl, t);
+                len += dist(prev, x);
+                table.push((t, len));
+                prev = x;
+            }
+            let n = ((len / SPL_SAMPLE_MM).ceil() as usize).max(1);
+            let (qa, qb) = (a.rotation(), b.rotation());
+            let mut last = pa;
+            for k in 1..=n {
+                let target = if k == n {
+                    *b
+                } else {
+                    let s = len * k as f64 / n as f64;
+                    let j = table.partition_point(|(_, l)| *l < s).clamp(1, m);
+                    let (t0, l0) = table[j - 1];
+                    let (t1, l1) = table[j];
+                    let t = if l1 > l0 {
+                        t0 + (t1 - t0) * (s - l0) / (l1 - l0)
+                    } else {
+                        t1
+                    };
+                    let x = catmull_rom(&ctrl, t);
+                    let mut p = Pose::from_parts(a.position(), qa.slerp(qb, s / len));
+                    p.x = x[0];
+                    p.y = x[1];
+                    p.z = x[2];
+                    p
+                };
+                let chord = dist(last, p3(&target));
+                last = p3(&target);
+                self.emit(MoveKind::Lin { target }, sp.cp, sp.cp_acc_pct, chord / 2.0)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+fn p3(p: &Pose) -> [f64; 3] {
+    [p.x, p.y, p.z]
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// Centripetal Catmull-Rom (Barry–Goldman) between `c[1]` (t = 0) and
+/// `c[2]` (t = 1).
+fn catmull_rom(c: &[[f64; 3]; 4], t: f64) -> [f64; 3] {
+    let knot = |a: [f64; 3], b: [f64; 3]| dist(a, b).sqrt().max(1e-9);
+    let t0 = 0.0;
+    let t1 = t0 + knot(c[0], c[1]);
+    let t2 = t1 + knot(c[1], c[2]);
+    let t3 = t2 + knot(c[2], c[3]);
+    let u = t1 + (t2 - t1) * t;
+    let lerp = |p: [f64; 3], q: [f64; 3], ta: f64, tb: f64| {
+        let w = (u - ta) / (tb - ta);
+        [
+            p[0] + (q[0] - p[0]) * w,
+            p[1] + (q[1] - p[1]) * w,
+            p[2] + (q[2] - p[2]) * w,
+        ]
+    };
+    let a1 = lerp(c[0], c[1], t0, t1);
+    let a2 = lerp(c[1], c[2], t1, t2);
+    let a3 = lerp(c[2], c[3], t2, t3);
+    let b1 = lerp(a1, a2, t0, t2);
+    let b2 = lerp(a2, a3, t1, t3);
+    lerp(b1, b2, t1, t2)
 }

@@ -305,7 +305,10 @@ fn load_program(dir: &std::path::Path, n: i32) -> crate::controller::LoadedProgr
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
             Err(e) => return Err(format!("{}: {e}", path.display())),
             Ok(m) if m.len() > MAX_PROGRAM_BYTES => {
-                return Err(format!("{} is larger than {MAX_PROGRAM_BYTES} bytes", path.display()));
+                return Err(format!(
+                    "{} is larger than {MAX_PROGRAM_BYTES} bytes",
+                    path.display()
+                ));
             }
             Ok(_) => {}
         }
@@ -455,7 +458,9 @@ impl Runner {
                 self.last_text = text;
                 if cmd.cid > c.last_cid {
                     let program = match cmd.command {
-                        kuka_protocol::Command::Run(n) => Some(load_program(&self.config.program_dir, n)),
+                        kuka_protocol::Command::Run(n) => {
+                            Some(load_program(&self.config.program_dir, n))
+                        }
                         _ => None,
                     };
                     let ch = c.accept(cmd.cid, cmd.command, now, program);

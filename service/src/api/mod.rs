@@ -3,8 +3,8 @@
 //! Swagger UI at `/docs` (served from the binary, no internet needed).
 
 mod events;
-mod programs;
 pub mod problem;
+mod programs;
 mod sim;
 mod thesis;
 mod v1;

@@ -41,9 +41,16 @@ pub struct RunRequest {
 #[utoipa::path(post, path = "/api/v1/programs", tag = "programs", request_body = ProgramUpload,
     responses((status = 201, body = ProgramInfo, description = "Stored (new)"), (status = 200, body = ProgramInfo, description = "Stored (replaced)"),
         (status = 422, body = ProblemDetails, content_type = PROBLEM_JSON), (status = 413, body = ProblemDetails, content_type = PROBLEM_JSON)))]
-async fn upload(State(app): State<AppState>, JsonBody(u): JsonBody<ProgramUpload>) -> Result<Response, Problem> {
+async fn upload(
+    State(app): State<AppState>,
+    JsonBody(u): JsonBody<ProgramUpload>,
+) -> Result<Response, Problem> {
     let (stored, created) = app.programs.put(u)?;
-    let mut r = json_response(if created { 201 } else { 200 }, "application/json", &stored.info);
+    let mut r = json_response(
+        if created { 201 } else { 200 },
+        "application/json",
+        &stored.info,
+    );
     if let Ok(v) = HeaderValue::from_str(&format!("/api/v1/programs/{}", stored.info.name)) {
         r.headers_mut().insert(header::LOCATION, v);
     }
@@ -59,14 +66,20 @@ async fn list(State(app): State<AppState>) -> Response {
 /// One program with its source text.
 #[utoipa::path(get, path = "/api/v1/programs/{name}", tag = "programs", params(("name" = String, Path, description = "Program name")),
     responses((status = 200, body = StoredProgram), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
-async fn get_one(State(app): State<AppState>, Path(name): Path<String>) -> Result<Response, Problem> {
+async fn get_one(
+    State(app): State<AppState>,
+    Path(name): Path<String>,
+) -> Result<Response, Problem> {
     Ok(ok_json(app.programs.get(&name)?.as_ref()))
 }
 
 /// Deletes a program.
 #[utoipa::path(delete, path = "/api/v1/programs/{name}", tag = "programs", params(("name" = String, Path, description = "Program name")),
     responses((status = 204, description = "Deleted"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
-async fn delete_one(State(app): State<AppState>, Path(name): Path<String>) -> Result<Response, Problem> {
+async fn delete_one(
+    State(app): State<AppState>,
+    Path(name): Path<String>,
+) -> Result<Response, Problem> {
     app.programs.remove(&name)?;
     Ok(json_response(204, "application/json", &()))
 }
@@ -81,18 +94,26 @@ async fn delete_one(State(app): State<AppState>, Path(name): Path<String>) -> Re
     request_body(content = Option<RunRequest>, description = "Optional"),
     responses((status = 200, body = Job, description = "Finished"), (status = 202, body = Job, description = "Queued (wait = false)"),
         (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
-async fn run(State(app): State<AppState>, Path(name): Path<String>, body: axum::body::Bytes) -> Result<Response, Problem> {
+async fn run(
+    State(app): State<AppState>,
+    Path(name): Path<String>,
+    body: axum::body::Bytes,
+) -> Result<Response, Problem> {
     let req: RunRequest = if body.iter().all(u8::is_ascii_whitespace) {
         RunRequest::default()
     } else {
-        serde_json::from_slice(&body).map_err(|e| BridgeError::invalid(format!("run options: {e}")))?
+        serde_json::from_slice(&body)
+            .map_err(|e| BridgeError::invalid(format!("run options: {e}")))?
     };
     let program = app.programs.get(&name)?;
     let timeout = req.timeout_ms.map(Duration::from_millis);
     if timeout.is_some_and(|t| t.is_zero()) {
         return Err(BridgeError::invalid("timeout_ms must be positive").into());
     }
-    let job = app.engine.submit(Operation::RunProgram(program), timeout).await?;
+    let job = app
+        .engine
+        .submit(Operation::RunProgram(program), timeout)
+        .await?;
     if req.wait == Some(false) {
         let mut r = json_response(202, "application/json", &job);
         if let Ok(v) = HeaderValue::from_str(&format!("/api/v1/jobs/{}", job.id)) {

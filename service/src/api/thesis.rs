@@ -358,7 +358,11 @@ const THESIS_PROGRAM: &str = "uploaded";
 #[utoipa::path(post, path = "/krl/uploadfile", tag = "thesis",
     request_body(content = String, content_type = "text/plain", description = "The .src text (or a multipart/form-data file field)"),
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn uploadfile(State(app): State<AppState>, _: ThesisQuery<NoParams>, req: axum::extract::Request) -> Response {
+async fn uploadfile(
+    State(app): State<AppState>,
+    _: ThesisQuery<NoParams>,
+    req: axum::extract::Request,
+) -> Response {
     let src = match upload_text(&app, req).await {
         Ok(s) => s,
         Err(e) => return fail(&app, &e),
@@ -403,11 +407,14 @@ async fn upload_text(app: &AppState, req: axum::extract::Request) -> Result<Stri
             .map_err(|e| BridgeError::new(ErrorCode::PayloadTooLarge, format!("upload: {e}")))?
     };
     if bytes.is_empty() {
-        return Err(BridgeError::invalid("the upload is empty: send the .src text"));
+        return Err(BridgeError::invalid(
+            "the upload is empty: send the .src text",
+        ));
     }
     // KRL files are ANSI (Windows-1252) on a KRC: accept anything, the
     // front end refuses non-ASCII outside comments and strings.
-    Ok(String::from_utf8(bytes.to_vec()).unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect()))
+    Ok(String::from_utf8(bytes.to_vec())
+        .unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect()))
 }
 
 pub(super) fn router() -> OpenApiRouter<AppState> {

@@ -164,7 +164,11 @@ fn result_error(r: &ResultRecord) -> Option<BridgeError> {
 /// the uploaded file; program-specific codes replace the generic ones.
 fn program_result_error(e: BridgeError, r: &ResultRecord, program: &str) -> BridgeError {
     let line = crate::programs::upload_line(r.completed);
-    let at = if line > 0 { format!(" at line {line}") } else { String::new() };
+    let at = if line > 0 {
+        format!(" at line {line}")
+    } else {
+        String::new()
+    };
     let e = match r.code {
         ResultCode::BadCommand => BridgeError::new(
             ErrorCode::InvalidProgram,
@@ -190,7 +194,11 @@ fn program_result_error(e: BridgeError, r: &ResultRecord, program: &str) -> Brid
             e
         }
     };
-    if r.code == ResultCode::Cancelled { e } else { e.at_line("src", line) }
+    if r.code == ResultCode::Cancelled {
+        e
+    } else {
+        e.at_line("src", line)
+    }
 }
 
 fn state_error(s: &StateFile) -> Option<BridgeError> {
@@ -937,7 +945,13 @@ impl Actor {
             let cid = self.next_cid()?;
             self.write_module(&dir, cid, program)?;
             let timeout = job.timeout.unwrap_or(self.cfg.command_timeout());
-            self.write(CommandFile { cid, command: Command::Run(cid) }, Some((job, timeout)));
+            self.write(
+                CommandFile {
+                    cid,
+                    command: Command::Run(cid),
+                },
+                Some((job, timeout)),
+            );
             return Ok(());
         }
         let command = match &job.op {
@@ -964,7 +978,10 @@ impl Actor {
             }),
             Operation::Reset => Command::Reset,
             Operation::RunProgram(_) => {
-                return Err(BridgeError::new(ErrorCode::Internal, "program runs are sent above"));
+                return Err(BridgeError::new(
+                    ErrorCode::Internal,
+                    "program runs are sent above",
+                ));
             }
         };
         let cid = self.next_cid()?;
