@@ -123,6 +123,10 @@ pub struct SplinePoint {
     pub target: Expr,
     /// `WITH` assignments (e.g. `$VEL = {CP 0.2}`).
     pub with: Vec<(Expr, Expr)>,
+    /// `CA angle` of an `SCIRC`.
+    pub ca: Option<Expr>,
+    /// `C_SPL` on the point.
+    pub approx: Option<String>,
     /// Line of the point.
     pub line: u32,
 }
@@ -257,11 +261,15 @@ pub enum StmtKind {
         ca: Option<Expr>,
         /// Approximation: `C_DIS`, `C_PTP`, `C_VEL`, `C_ORI` (upper case).
         approx: Option<String>,
+        /// Reference of a `_REL` motion: `#BASE` or `#TOOL` (upper case, no `#`).
+        rel_frame: Option<String>,
     },
     /// `SPLINE … ENDSPLINE` or `PTP_SPLINE … ENDSPLINE`.
     Spline {
         /// `PTP_SPLINE` rather than `SPLINE`.
         ptp: bool,
+        /// `WITH` assignments of the whole block.
+        with: Vec<(Expr, Expr)>,
         /// Its points.
         points: Vec<SplinePoint>,
         /// Approximation of the whole block (`C_SPL`).

@@ -607,13 +607,16 @@ impl Parser {
                     None
                 };
                 let approx = self.approx(&["C_DIS", "C_PTP", "C_VEL", "C_ORI"])?;
+                let mut rel_frame = None;
                 if matches!(
                     kind,
                     MotionKind::PtpRel | MotionKind::LinRel | MotionKind::CircRel
                 ) {
                     // Optional reference system of a relative motion.
-                    if matches!(self.peek(), Tok::Enum(e) if e.eq_ignore_ascii_case("BASE") || e.eq_ignore_ascii_case("TOOL"))
+                    if let Tok::Enum(e) = self.peek()
+                        && (e.eq_ignore_ascii_case("BASE") || e.eq_ignore_ascii_case("TOOL"))
                     {
+                        rel_frame = Some(e.to_ascii_uppercase());
                         self.bump();
                     }
                 }
@@ -624,12 +627,13 @@ impl Parser {
                     target,
                     ca,
                     approx,
+                    rel_frame,
                 })
             }
             "SPLINE" | "PTP_SPLINE" => {
                 self.bump();
                 let ptp = word == "PTP_SPLINE";
-                self.with_clause()?;
+                let with = self.with_clause()?;
                 self.end_of_statement()?;
                 let mut points = Vec::new();
                 loop {
@@ -668,18 +672,22 @@ impl Parser {
                     } else {
                         (None, first)
                     };
-                    if kind == SplinePointKind::Scirc && self.eat_sym(",") {
+                    let ca = if kind == SplinePointKind::Scirc && self.eat_sym(",") {
                         self.expect_kw("CA")?;
-                        self.expr()?;
-                    }
+                        Some(self.expr()?)
+                    } else {
+                        None
+                    };
                     let with = self.with_clause()?;
-                    self.approx(&["C_SPL"])?;
+                    let approx = self.approx(&["C_SPL"])?;
                     self.end_of_statement()?;
                     points.push(SplinePoint {
                         kind,
                         aux,
                         target,
                         with,
+                        ca,
+                        approx,
                         line: pline,
                     });
                 }
@@ -695,6 +703,7 @@ impl Parser {
                 }
                 Ok(StmtKind::Spline {
                     ptp,
+                    with,
                     points,
                     approx,
                 })

@@ -50,10 +50,10 @@
 //! `WAIT FOR` FALSE, out-of-range `$VEL`/`$ACC`/`$APO` values, more than
 //! 1,000,000 statements or 100,000 steps (an endless loop).
 //!
-//! Known gaps of the parser ([`kuka_krl`] drops them from the tree, so they
-//! cannot be refused here): `#TOOL`/`#BASE` after a `_REL` motion (always
-//! interpreted as `#BASE`), `CA` of an `SCIRC`, `WITH` after `SPLINE` and
-//! `C_SPL` on single spline points.
+//! Also refused: a `_REL` motion with `#TOOL` (`#BASE` is the default and
+//! runs), `CA` on `CIRC`/`SCIRC`, `WITH` directly after `SPLINE`. `C_SPL` on
+//! a single spline point is accepted and has no effect (blending inside a
+//! block is always on).
 
 use std::collections::HashMap;
 
@@ -880,17 +880,32 @@ impl Checker<'_> {
                 self.expr(e, l)
             }
             StmtKind::Motion {
-                aux, target, ca, ..
+                aux,
+                target,
+                ca,
+                rel_frame,
+                ..
             } => {
                 if ca.is_some() {
                     return self.refuse(l, "CIRC with CA (circular angle)");
                 }
+                if rel_frame.as_deref() == Some("TOOL") {
+                    return self.refuse(l, "a relative motion in #TOOL coordinates");
+                }
                 self.exprs(aux, l)?;
                 self.expr(target, l)
             }
-            StmtKind::Spline { ptp, points, .. } => {
+            StmtKind::Spline {
+                ptp, points, with, ..
+            } => {
+                if !with.is_empty() {
+                    return self.refuse(l, "WITH after SPLINE (put WITH on the points)");
+                }
                 for p in points {
                     let pl = p.line;
+                    if p.ca.is_some() {
+                        return self.refuse(pl, "SCIRC with CA (circular angle)");
+                    }
                     let is_sptp = p.kind == SplinePointKind::Sptp;
                     if *ptp && !is_sptp {
                         return self.refuse(

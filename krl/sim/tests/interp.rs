@@ -620,6 +620,13 @@ fn statements_outside_the_subset_are_refused_with_their_line() {
     assert!(u.what.contains("WAIT FOR"), "{}", u.what);
     let u = refused("DEF f()\n  CIRC {X 1}, {X 2}, CA 90\nEND\n");
     assert_eq!(u.line, 2);
+    let u = refused("DEF f()\n  LIN_REL {X 10} C_DIS #TOOL\nEND\n");
+    assert_eq!(u.line, 2);
+    assert!(u.what.contains("#TOOL"), "{}", u.what);
+    let u = refused("DEF f()\n  SPLINE\n    SCIRC {X 1}, {X 2}, CA 90\n  ENDSPLINE\nEND\n");
+    assert_eq!(u.line, 3);
+    let u = refused("DEF f()\n  SPLINE WITH $VEL = {CP 0.1}\n    SPL {X 1}\n  ENDSPLINE\nEND\n");
+    assert_eq!(u.line, 2);
     let u = refused("DEF f()\n  BAS(#PTP_PARAMS, 100)\nEND\n");
     assert!(u.what.contains("PTP_PARAMS"), "{}", u.what);
     let u = refused("DEF f()\n  x = $TIMER[1]\nEND\n");
