@@ -1038,6 +1038,71 @@ pub fn run(program: &Program, entry: &str, start: &Start<'_>) -> Result<Vec<Step
     Ok(it.steps)
 }
 
+/// Runs `entry` like [`run`] but without the subset check (a statement
+/// outside it still fails when it is reached), and returns the global
+/// variables afterwards. For tests that execute KRL helper routines, such
+/// as the shipped controller program's protocol parser and formatter.
+pub fn run_for_globals(
+    program: &Program,
+    entry: &str,
+    start: &Start<'_>,
+) -> Result<Globals, RunError> {
+    let routine = program.routine(entry).ok_or_else(|| RunError::Runtime {
+        line: 0,
+        message: format!("the entry routine {entry} is not defined"),
+    })?;
+    let mut it = Interp::new(program, start);
+    if let Some(dat) = &program.dat {
+        for s in &dat.items {
+            it.exec(s)?;
+        }
+    }
+    it.call_routine(routine, &[])?;
+    Ok(Globals(it.globals))
+}
+
+/// Global variables after [`run_for_globals`] (names are case-insensitive).
+#[derive(Debug, Clone)]
+pub struct Globals(HashMap<String, Value>);
+
+impl Globals {
+    fn element(&self, name: &str, index: &[i64]) -> Option<&Value> {
+        let v = self.0.get(&name.to_ascii_uppercase())?;
+        if index.is_empty() {
+            return Some(v);
+        }
+        match v {
+            Value::Array(dims, items) => items.get(flat_index(dims, index).ok()?),
+            _ => None,
+        }
+    }
+
+    /// An INT (or CHAR code) variable or array element (1-based indices).
+    pub fn int(&self, name: &str, index: &[i64]) -> Option<i64> {
+        self.element(name, index)?.int().ok()
+    }
+
+    /// A BOOL variable or array element.
+    pub fn bool(&self, name: &str, index: &[i64]) -> Option<bool> {
+        self.element(name, index)?.bool().ok()
+    }
+
+    /// A REAL (or INT) variable or array element.
+    pub fn real(&self, name: &str, index: &[i64]) -> Option<f64> {
+        self.element(name, index)?.num().ok()
+    }
+
+    /// The first `len` characters of a CHAR array.
+    pub fn chars(&self, name: &str, len: usize) -> Option<String> {
+        (1..=len as i64)
+            .map(|i| match self.element(name, &[i])? {
+                Value::Char(c) => Some(char::from(*c)),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 enum Root {
     Global(String),
