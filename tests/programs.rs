@@ -288,30 +288,117 @@ async fn programs_are_stored_run_listed_and_deleted() {
     assert_eq!(status, 404, "{v}");
 }
 
+/// Line 4 is out of reach of a KR 3 R540 (541 mm).
+const FAR: &str = "DEF far()\n  PTP {A1 0, A2 -90, A3 90, A4 0, A5 0, A6 0}\n  LIN {X 360, Y 0, Z 600}\n  LIN {X 2000, Y 0, Z 600}\nEND\n";
+/// Division by zero on line 3.
+const DIV: &str = "DEF div()\n  DECL INT i\n  i = 1 / 0\nEND\n";
+
 #[tokio::test]
-async fn a_program_that_fails_while_running_names_the_line() {
+async fn the_safety_gate_dry_runs_a_program_and_writes_nothing_when_it_fails() {
     let t = TestService::start(Options::default()).await;
-    // Line 4 is out of reach of a KR 3 R540 (541 mm).
-    let src = "DEF far()\n  PTP {A1 0, A2 -90, A3 90, A4 0, A5 0, A6 0}\n  LIN {X 360, Y 0, Z 600}\n  LIN {X 2000, Y 0, Z 600}\nEND\n";
-    let (status, v) = t
-        .post_json("/api/v1/programs", &json!({"name": "far", "src": src}))
-        .await;
-    assert_eq!(status, 201, "{v}");
+    t.wait_online().await;
+    for (name, src) in [("far", FAR), ("div", DIV)] {
+        let (status, v) = t
+            .post_json("/api/v1/programs", &json!({"name": name, "src": src}))
+            .await;
+        assert_eq!(status, 201, "{v}");
+    }
+    let before = cmd_file(&t);
     let (status, v) = t.post_json("/api/v1/programs/far/run", &json!({})).await;
     assert_eq!(status, 422, "{v}");
     assert_eq!(v["code"], "unreachable");
     assert_eq!(v["line"], 4, "{v}");
-
-    // A runtime error: division by zero on line 3.
-    let src = "DEF div()\n  DECL INT i\n  i = 1 / 0\nEND\n";
-    t.post_json("/api/v1/programs", &json!({"name": "div", "src": src}))
-        .await;
     let (status, v) = t.post_json("/api/v1/programs/div/run", &json!({})).await;
     assert_eq!(status, 409, "{v}");
     assert_eq!(v["code"], "program_failed");
     assert_eq!(v["line"], 3, "{v}");
+    assert_eq!(cmd_file(&t), before, "nothing was sent");
+    assert!(
+        !t.channel_dir().join("programs").exists(),
+        "no module was written"
+    );
 
+    // Speed caps hold inside programs too.
+    let fast = "DEF fast()\n  PTP {A1 0, A2 -90, A3 90, A4 0, A5 0, A6 0}\n  $VEL.CP = 1.5\n  LIN {X 360, Y 0, Z 600}\nEND\n";
+    t.post_json("/api/v1/programs", &json!({"name": "fast", "src": fast}))
+        .await;
+    let (status, v) = t.post_json("/api/v1/programs/fast/run", &json!({})).await;
+    assert_eq!(
+        (status, v["code"].as_str(), v["line"].as_u64()),
+        (422, Some("speed_limit"), Some(4)),
+        "{v}"
+    );
+}
+
+#[tokio::test]
+async fn without_a_robot_model_the_controller_reports_the_failing_line() {
+    // No model in the service: no dry run; the simulated controller (a
+    // KR 3 R540) finds the errors while running.
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| c.robot.model = "none".into()),
+        ..Options::default()
+    })
+    .await;
+    for (name, src) in [("far", FAR), ("div", DIV)] {
+        t.post_json("/api/v1/programs", &json!({"name": name, "src": src}))
+            .await;
+    }
+    let (status, v) = t.post_json("/api/v1/programs/far/run", &json!({})).await;
+    assert_eq!(status, 422, "{v}");
+    assert_eq!(v["code"], "unreachable");
+    assert_eq!(v["line"], 4, "{v}");
+    assert!(
+        v["detail"]
+            .as_str()
+            .is_some_and(|d| d.contains("controller")),
+        "{v}"
+    );
+    let (status, v) = t.post_json("/api/v1/programs/div/run", &json!({})).await;
+    assert_eq!(status, 409, "{v}");
+    assert_eq!(v["code"], "program_failed");
+    assert_eq!(v["line"], 3, "{v}");
     // The service keeps working afterwards.
     let (status, v) = t.post("/krl/getpos").await;
     assert_eq!(status, 200, "{v}");
+}
+
+#[tokio::test]
+async fn stop_ends_a_running_program_and_skips_the_rest() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    t.wait_online().await;
+    // A dwell of 3 s, then a PTP that must never run.
+    let src = "DEF slow()\n  WAIT SEC 3\n  PTP {A1 45}\nEND\n";
+    let (status, v) = t
+        .post_json("/api/v1/programs", &json!({"name": "slow", "src": src}))
+        .await;
+    assert_eq!(status, 201, "{v}");
+    let (status, job) = t
+        .post_json("/api/v1/programs/slow/run", &json!({"wait": false}))
+        .await;
+    assert_eq!(status, 202, "{job}");
+    // Wait until the controller runs it, then stop.
+    let id = job["id"].as_u64().expect("job id");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(5);
+    loop {
+        let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
+        if j["state"] == "executing" {
+            break;
+        }
+        assert!(std::time::Instant::now() < deadline, "never executing: {j}");
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
+    let (status, v) = t.post("/api/v1/stop").await;
+    assert_eq!(status, 200, "{v}");
+    let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
+    assert_eq!(j["state"], "cancelled", "{j}");
+    assert_eq!(j["error"]["code"], "cancelled", "{j}");
+    // The PTP after the dwell never ran.
+    tokio::time::sleep(std::time::Duration::from_millis(200)).await;
+    let (_, state) = t.get("/api/v1/state").await;
+    let a1 = state["axes"]["a1"].as_f64().expect("a1");
+    assert!(a1.abs() < 0.01, "A1 stayed at 0: {state}");
 }

@@ -2,10 +2,14 @@
 //! channel: finite numbers, Status/Turn ranges, speed caps, the workspace
 //! box and — with a robot model — a dry run of the whole batch through the
 //! same planner the simulated controller executes (reachability, software
-//! limit switches, singularities along LIN/CIRC paths).
+//! limit switches, singularities along LIN/CIRC paths). Uploaded KRL
+//! programs get the same dry run when they stay within the simulator's KRL
+//! subset ([`Safety::check_program`]).
 
+use kuka_kinematics::MotionKind;
 use kuka_kinematics::{IkError, MotionError, RobotModel, plan};
-use kuka_protocol::{Frame, MAX_REAL, MotionRecord};
+use kuka_protocol::{Frame, MAX_REAL, MotionRecord, SpeedRecord};
+use kuka_sim::interp::{self, RunError, Start, Step};
 
 use crate::config::{MotionConfig, WorkspaceBox};
 use crate::error::{BridgeError, ErrorCode, Result};
@@ -239,6 +243,101 @@ impl Safety {
                 Err(err)
             }
         }
+    }
+}
+
+impl Safety {
+    /// Dry-runs an uploaded program before it is sent, when it can be: a
+    /// robot model is configured and the program stays within the
+    /// simulator's KRL subset (the interpreter runs it ahead, as KRL's
+    /// advance run would). Every motion is held to the speed caps and the
+    /// workspace box, then the run is planned phase by phase from `start`
+    /// (reachability, software limits, singularities). Errors name the
+    /// program line. Returns whether the program could be checked; one
+    /// outside the subset (only a real KRC can run it) is sent unchecked.
+    pub fn check_program(
+        &self,
+        program: &crate::programs::StoredProgram,
+        start: &StartPoint,
+        tool: &Frame,
+        base: &Frame,
+        speed: SpeedRecord,
+    ) -> Result<bool> {
+        let Some(model) = &self.model else {
+            return Ok(false);
+        };
+        let entry = &program.info.entry;
+        let parsed = kuka_krl::Program::parse(&program.src, program.dat.as_deref(), Some(entry))
+            .map_err(|e| crate::programs::program_error(&e))?;
+        if interp::check_subset(&parsed).is_err() {
+            return Ok(false);
+        }
+        let st = Start {
+            model,
+            axes: start.axes,
+            tool: kuka_sim::frame_to_pose(tool),
+            base: kuka_sim::frame_to_pose(base),
+            speed,
+        };
+        let steps = interp::run(&parsed, entry, &st).map_err(|e| match e {
+            RunError::Unsupported(u) => {
+                BridgeError::new(ErrorCode::ProgramUnsupported, u.to_string())
+                    .at_line("src", u.line)
+            }
+            RunError::Runtime { line, message } => BridgeError::new(
+                ErrorCode::ProgramFailed,
+                format!(
+                    "program {} would fail at line {line}: {message}",
+                    program.info.name
+                ),
+            )
+            .at_line("src", line),
+        })?;
+        let at = |e: BridgeError, line: u32| {
+            let mut e = e.at_line("src", line);
+            e.motion = None;
+            e.detail = format!("{} (program {}, line {line})", e.detail, program.info.name);
+            e
+        };
+        for step in &steps {
+            let Step::Move { motion, line, .. } = step else {
+                continue;
+            };
+            let (name, max, unit) = match motion.kind {
+                MotionKind::Ptp { .. } | MotionKind::PtpAxes { .. } => {
+                    ("velocity", self.motion.max_ptp_velocity_pct, "%")
+                }
+                _ => ("$VEL.CP", self.motion.max_cp_velocity, " m/s"),
+            };
+            self.cap(0, name, motion.velocity, max, unit)
+                .map_err(|e| at(e, *line))?;
+            if let Some(ws) = &self.workspace {
+                let mut points = Vec::with_capacity(2);
+                match &motion.kind {
+                    MotionKind::Ptp { target, .. } | MotionKind::Lin { target } => {
+                        points.push(*target)
+                    }
+                    MotionKind::Circ { aux, target } => points.extend([*aux, *target]),
+                    MotionKind::PtpAxes { .. } => {}
+                }
+                for p in points {
+                    if !ws.contains(p.x, p.y, p.z) {
+                        let e = BridgeError::new(
+                            ErrorCode::WorkspaceViolation,
+                            format!(
+                                "point ({:.1}, {:.1}, {:.1}) mm lies outside the workspace box x {:?}, y {:?}, z {:?}",
+                                p.x, p.y, p.z, ws.x, ws.y, ws.z
+                            ),
+                        );
+                        return Err(at(e, *line));
+                    }
+                }
+            }
+        }
+        let phases = kuka_sim::program::phases(steps);
+        kuka_sim::program::dry_run(model, &start.axes, &phases, &plan::PlanSettings::default())
+            .map_err(|e| at(motion_error(&e.error), e.line))?;
+        Ok(true)
     }
 }
 

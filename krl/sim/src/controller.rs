@@ -4,7 +4,8 @@
 use std::collections::VecDeque;
 use std::time::Instant;
 
-use crate::interp::{self, RunError, Step};
+use crate::interp::{self, RunError};
+use crate::program::{Phase, phases};
 use kuka_kinematics::{
     Axes, Execution, IkError, Motion, MotionError, MotionKind, PlanSettings, Pose, RobotModel,
 };
@@ -78,64 +79,12 @@ struct ProgramRun {
     steps_before: usize,
 }
 
-/// Consecutive program steps that play as one execution: motions with the
-/// same tool and base (one blended batch), or a dwell.
-enum Phase {
-    Moves {
-        tool: Pose,
-        base: Pose,
-        motions: Vec<Motion>,
-        lines: Vec<u32>,
-    },
-    Dwell {
-        seconds: f64,
-        line: u32,
-    },
-}
-
 /// What one step of [`Controller::advance`] did.
 enum Advanced {
     /// Done for now, with these changes.
     Changes(Changes),
     /// A program phase ended and the next one started: play on.
     NextPhase,
-}
-
-/// Groups interpreter steps into phases.
-fn phases(steps: Vec<Step>) -> VecDeque<Phase> {
-    let mut out: VecDeque<Phase> = VecDeque::new();
-    for step in steps {
-        match step {
-            Step::Move {
-                tool,
-                base,
-                motion,
-                line,
-            } => {
-                if let Some(Phase::Moves {
-                    tool: t,
-                    base: b,
-                    motions,
-                    lines,
-                }) = out.back_mut()
-                    && *t == tool
-                    && *b == base
-                {
-                    motions.push(motion);
-                    lines.push(line);
-                    continue;
-                }
-                out.push_back(Phase::Moves {
-                    tool,
-                    base,
-                    motions: vec![motion],
-                    lines: vec![line],
-                });
-            }
-            Step::Dwell { seconds, line } => out.push_back(Phase::Dwell { seconds, line }),
-        }
-    }
-    out
 }
 
 /// An uploaded program as the runner read it from the program folder:

@@ -13,6 +13,7 @@
 
 mod controller;
 pub mod interp;
+pub mod program;
 mod runner;
 
 pub use controller::{TraceSample, frame_to_pose, pose_to_frame, to_motion};

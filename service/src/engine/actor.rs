@@ -942,6 +942,24 @@ impl Actor {
                     "no program folder is configured (programs.controller_dir)",
                 )
             })?;
+            let (start, tool, base) = self.start_point()?;
+            let speed = SpeedRecord {
+                override_pct: self.speeds.override_pct,
+                ptp_velocity_pct: self.speeds.ptp_velocity_pct,
+                ptp_acceleration_pct: self.speeds.ptp_acceleration_pct,
+                cp_velocity: self.speeds.cp_velocity_m_s,
+                cp_acceleration_pct: self.speeds.cp_acceleration_pct,
+            };
+            let checked = self
+                .shared
+                .safety
+                .check_program(program, &start, &tool, &base, speed)?;
+            if !checked {
+                tracing::info!(
+                    program = %program.info.name,
+                    "program sent without a dry run (no robot model, or KRL beyond the simulator's subset)"
+                );
+            }
             let cid = self.next_cid()?;
             self.write_module(&dir, cid, program)?;
             let timeout = job.timeout.unwrap_or(self.cfg.command_timeout());
