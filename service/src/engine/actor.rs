@@ -743,8 +743,8 @@ impl Actor {
         {
             e.motion = None;
         }
-        if let (Operation::RunProgram(p), Some(e)) = (&f.op, error.take()) {
-            error = Some(program_result_error(e, &r, &p.info.name));
+        if let Operation::RunProgram(p) = &f.op {
+            error = error.map(|e| program_result_error(e, &r, &p.info.name));
         }
         let elapsed_ms = f.sent_at.elapsed().as_secs_f64() * 1000.0;
         match &error {
