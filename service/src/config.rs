@@ -463,6 +463,15 @@ impl Config {
         if m.max_queue == 0 {
             return Err(self.invalid("motion.max_queue", "must be at least 1".into()));
         }
+        if self.programs.max_bytes == 0 || self.programs.max_bytes > 4 * 1024 * 1024 {
+            return Err(self.invalid(
+                "programs.max_bytes",
+                format!("{} is not in 1..=4194304", self.programs.max_bytes),
+            ));
+        }
+        if self.programs.keep_modules == 0 {
+            return Err(self.invalid("programs.keep_modules", "must be at least 1".into()));
+        }
         if let Some(w) = &self.workspace {
             for (key, r) in [
                 ("workspace.x", w.x),
