@@ -26,6 +26,14 @@
 //! planner will reach are not known in advance. Assigning `$TOOL`/`$BASE`
 //! re-expresses the programmed pose in the new frames.
 //!
+//! For tests, [`run_for_globals`] runs a routine without the subset check
+//! and returns the global variables; it also executes `STRUC` and `ENUM`
+//! declarations (user-defined types). [`run_with_files`] adds a test
+//! harness: in-memory files behind `CWRITE($FCT_CALL, …)` and the
+//! controller's system variables, so that the shipped KRL controller
+//! program's file protocol code runs against the Rust encoder and decoder
+//! (`tests/krl_protocol.rs`). The simulated controller uses neither.
+//!
 //! Values are typed like KRL: a declared variable holds a typed template
 //! (uninitialised scalars are "unset" and reading one is an error), an
 //! INT assigned a REAL rounds, `INT / INT` truncates, assigning a structure
@@ -55,7 +63,7 @@
 //! a single spline point is accepted and has no effect (blending inside a
 //! block is always on).
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 use kuka_kinematics::plan::MAX_CP_VELOCITY;
 use kuka_kinematics::{Axes, Motion, MotionKind as MoveKind, Pose, RobotModel};
@@ -133,6 +141,16 @@ pub enum RunError {
 
 /// Most statements (and loop iterations) one run may execute.
 const MAX_STATEMENTS: u64 = 1_000_000;
+/// Most statements in the test harness ([`run_with_files`]), which runs
+/// the controller program's character-by-character parser over whole files.
+const HARNESS_MAX_STATEMENTS: u64 = 50_000_000;
+/// `MSG_NO` of the harness's `CWRITE($FCT_CALL, …)`: the file is missing
+/// (`"r"`) or the mode is unknown.
+const MSG_NO_OPEN: i64 = -2;
+/// `MSG_NO`: no open file has this handle (or it is open the other way).
+const MSG_NO_HANDLE: i64 = -3;
+/// `MSG_NO` of `krl_fgets` at the end of the file (PROTOCOL.md 12).
+const MSG_NO_EOF: i64 = -4;
 /// Most steps one run may produce.
 const MAX_STEPS: usize = 100_000;
 /// Deepest routine nesting.
@@ -173,6 +191,8 @@ enum Scalar {
     Real,
     Bool,
     Char,
+    /// A variable of an enumeration type (its values are not checked).
+    Enum,
 }
 
 /// A KRL value. Declared variables hold typed templates: `Unset` scalars
@@ -201,6 +221,7 @@ impl Value {
             Value::Unset(Scalar::Real) | Value::Real(_) => "REAL".into(),
             Value::Unset(Scalar::Bool) | Value::Bool(_) => "BOOL".into(),
             Value::Unset(Scalar::Char) | Value::Char(_) => "CHAR".into(),
+            Value::Unset(Scalar::Enum) => "an ENUM".into(),
             Value::Str(_) => "a string".into(),
             Value::Enum(e) => format!("#{e}"),
             Value::Struct(t, _) if t.is_empty() => "a structure value".into(),
@@ -349,6 +370,7 @@ fn convert(kind: Scalar, v: Value) -> Result<Value, String> {
         (Scalar::Char, Value::Char(c)) => Value::Char(c),
         (Scalar::Char, Value::Int(i)) if (0..=255).contains(&i) => Value::Char(i as u8),
         (Scalar::Char, Value::Str(s)) if s.len() == 1 => Value::Char(s.as_bytes()[0]),
+        (Scalar::Enum, Value::Enum(e)) => Value::Enum(e),
         (k, v) => {
             return Err(format!(
                 "cannot assign {} to a {}",
@@ -1015,10 +1037,7 @@ impl Checker<'_> {
 /// (its value is discarded); it must not take parameters.
 pub fn run(program: &Program, entry: &str, start: &Start<'_>) -> Result<Vec<Step>, RunError> {
     check_subset(program)?;
-    let routine = program.routine(entry).ok_or_else(|| RunError::Runtime {
-        line: 0,
-        message: format!("the entry routine {entry} is not defined"),
-    })?;
+    let routine = entry_routine(program, entry)?;
     if !routine.params.is_empty() {
         return Err(RunError::Runtime {
             line: routine.line,
@@ -1029,12 +1048,7 @@ pub fn run(program: &Program, entry: &str, start: &Start<'_>) -> Result<Vec<Step
         });
     }
     let mut it = Interp::new(program, start);
-    if let Some(dat) = &program.dat {
-        for s in &dat.items {
-            it.exec(s)?;
-        }
-    }
-    it.call_routine(routine, &[])?;
+    it.run_entry(routine)?;
     Ok(it.steps)
 }
 
@@ -1047,27 +1061,98 @@ pub fn run_for_globals(
     entry: &str,
     start: &Start<'_>,
 ) -> Result<Globals, RunError> {
-    let routine = program.routine(entry).ok_or_else(|| RunError::Runtime {
-        line: 0,
-        message: format!("the entry routine {entry} is not defined"),
-    })?;
+    let routine = entry_routine(program, entry)?;
     let mut it = Interp::new(program, start);
-    if let Some(dat) = &program.dat {
-        for s in &dat.items {
-            it.exec(s)?;
-        }
-    }
-    it.call_routine(routine, &[])?;
-    Ok(Globals(it.globals))
+    it.run_entry(routine)?;
+    Ok(Globals {
+        vars: it.globals,
+        open_files: Vec::new(),
+    })
 }
 
-/// Global variables after [`run_for_globals`] (names are case-insensitive).
+/// Runs `entry` in the **test harness**: like [`run_for_globals`] (no
+/// subset check), plus an in-memory file system and the controller
+/// environment a Submit-side KRL program needs. For tests that execute the
+/// shipped controller program's file protocol code against the Rust
+/// encoder and decoder; the simulated controller never uses it.
+///
+/// `files` maps bare file names (`"kb_cmd.txt"`) to their text. The run
+/// reads and changes it; it holds the files as the program left them even
+/// when the run fails.
+///
+/// What the harness adds:
+///
+/// - `CWRITE($FCT_CALL, st, md, "func", …)` with `st` a `STATE_T` and `md`
+///   a `MODUS_T`; `st.RET1` is `#DATA_OK` on success, otherwise `#CMD_ABORT`
+///   with `st.MSG_NO` −2 (`"r"` of a missing file, unknown mode), −3 (unknown
+///   handle, or a handle opened the other way) or −4 (end of file):
+///   - `"krl_fopen", name, mode, handle` (`name` a string or `CHAR` array;
+///     mode `"r"` reads an existing file, `"w"` creates or truncates, `"a"`
+///     appends; an optional fourth argument is ignored);
+///   - `"krl_fgets", handle, buf[], size, count`: the next line without its
+///     line end (LF or CR LF), at most `size` characters (a longer line
+///     continues on the next call), copied into the `CHAR` array with a 0
+///     after it if there is room; `count` = characters copied;
+///   - `"krl_fwriteln", handle, buf[]` appends the `CHAR` array up to its
+///     first 0 (or unset element) and LF; `"krl_fputs"` the same without LF;
+///   - `"krl_fclose", handle` and `"krl_fclose_all"`.
+///
+///   Other `CWRITE` channels (`$CMD`) and functions are refused.
+/// - The types `STATE_T` (`RET1`, `HITS`, `LENGTH`, `MSG_NO`), `MODUS_T`,
+///   `CMD_STAT`, `MODE_OP` and `PRO_STATE`.
+/// - System variables as plain variables that the program (or a test's
+///   driver routine) may read and assign: `$POS_ACT` and `$AXIS_ACT`
+///   (initially the start pose), `$MODE_OP` (`#T1`), `$OV_PRO` (100),
+///   `$PRO_STATE1` (`#P_FREE`), `$PRO_NAME1[24]` (spaces), `$STOPMESS`
+///   (FALSE), `$PERI_RDY` (TRUE), `$ROB_TIMER` (0) and `$ERR` (`NUMBER`,
+///   `LINE`).
+/// - `ON_ERROR_PROCEED`: a runtime error in the next statement sets
+///   `$ERR.NUMBER` to 1 and `$ERR.LINE` to its line, and the program goes on
+///   after that statement; `ERR_CLEAR($ERR)` sets both to 0.
+/// - Up to 50,000,000 statements per run.
+///
+/// [`Globals::open_files`] lists the files still open at the end: a KRL
+/// program must close every file it opens (PROTOCOL.md 10).
+pub fn run_with_files(
+    program: &Program,
+    entry: &str,
+    start: &Start<'_>,
+    files: &mut BTreeMap<String, String>,
+) -> Result<Globals, RunError> {
+    let routine = entry_routine(program, entry)?;
+    let mut it = Interp::new(program, start);
+    it.enable_harness(std::mem::take(files));
+    let r = it.run_entry(routine);
+    let mut open_files = Vec::new();
+    if let Some(h) = it.harness.take() {
+        *files = h.files;
+        open_files = h.open.into_values().map(|f| f.name).collect();
+    }
+    r?;
+    Ok(Globals {
+        vars: it.globals,
+        open_files,
+    })
+}
+
+fn entry_routine<'p>(program: &'p Program, entry: &str) -> Result<&'p Routine, RunError> {
+    program.routine(entry).ok_or_else(|| RunError::Runtime {
+        line: 0,
+        message: format!("the entry routine {entry} is not defined"),
+    })
+}
+
+/// Global variables after [`run_for_globals`] or [`run_with_files`]
+/// (names are case-insensitive).
 #[derive(Debug, Clone)]
-pub struct Globals(HashMap<String, Value>);
+pub struct Globals {
+    vars: HashMap<String, Value>,
+    open_files: Vec<String>,
+}
 
 impl Globals {
     fn element(&self, name: &str, index: &[i64]) -> Option<&Value> {
-        let v = self.0.get(&name.to_ascii_uppercase())?;
+        let v = self.vars.get(&name.to_ascii_uppercase())?;
         if index.is_empty() {
             return Some(v);
         }
@@ -1100,6 +1185,104 @@ impl Globals {
                 _ => None,
             })
             .collect()
+    }
+
+    /// The value at a KRL path such as `kb_mot[3].X`, `kb_hv[2,5]` or
+    /// `$POS_ACT.S` (1-based indices, components by name).
+    fn at(&self, path: &str) -> Option<&Value> {
+        let path = path.trim();
+        let end = path.find(['[', '.']).unwrap_or(path.len());
+        let mut v = self.vars.get(&path[..end].to_ascii_uppercase())?;
+        let mut rest = &path[end..];
+        while !rest.is_empty() {
+            if let Some(r) = rest.strip_prefix('[') {
+                let close = r.find(']')?;
+                let idx = r[..close]
+                    .split(',')
+                    .map(|x| x.trim().parse().ok())
+                    .collect::<Option<Vec<i64>>>()?;
+                v = step_into(v, &PathElem::Index(idx)).ok()?;
+                rest = &r[close + 1..];
+            } else {
+                let r = rest.strip_prefix('.')?;
+                let end = r.find(['[', '.']).unwrap_or(r.len());
+                v = step_into(v, &PathElem::Field(r[..end].to_ascii_uppercase())).ok()?;
+                rest = &r[end..];
+            }
+        }
+        Some(v)
+    }
+
+    /// An INT (or CHAR code) at a path (see [`Globals::real_at`]).
+    pub fn int_at(&self, path: &str) -> Option<i64> {
+        self.at(path)?.int().ok()
+    }
+
+    /// A REAL (or INT) at a KRL path such as `kb_mot[3].X` or `kb_hv[2,5]`.
+    pub fn real_at(&self, path: &str) -> Option<f64> {
+        self.at(path)?.num().ok()
+    }
+
+    /// A BOOL at a path.
+    pub fn bool_at(&self, path: &str) -> Option<bool> {
+        self.at(path)?.bool().ok()
+    }
+
+    /// An ENUM value at a path, without `#`, upper case (`"P_ACTIVE"`).
+    pub fn enum_at(&self, path: &str) -> Option<&str> {
+        match self.at(path)? {
+            Value::Enum(e) => Some(e),
+            _ => None,
+        }
+    }
+
+    /// Files that were still open when [`run_with_files`] ended (empty for
+    /// [`run_for_globals`]).
+    pub fn open_files(&self) -> &[String] {
+        &self.open_files
+    }
+}
+
+/// The in-memory file system of [`run_with_files`].
+#[derive(Debug)]
+struct Harness {
+    files: BTreeMap<String, String>,
+    open: BTreeMap<i64, OpenFile>,
+    next_handle: i64,
+}
+
+#[derive(Debug)]
+struct OpenFile {
+    name: String,
+    write: bool,
+    /// Read position (bytes).
+    pos: usize,
+}
+
+/// `$ERR` of the harness.
+fn err_value(number: i64, line: u32) -> Value {
+    Value::Struct(
+        "ERR_INFO".into(),
+        vec![
+            ("NUMBER".into(), Value::Int(number)),
+            ("LINE".into(), Value::Int(line.into())),
+        ],
+    )
+}
+
+/// The text of a string or of a CHAR array up to its first 0 (or unset
+/// element).
+fn text_of(v: &Value) -> Result<String, String> {
+    match v {
+        Value::Str(s) => Ok(s.clone()),
+        Value::Array(dims, elems) if dims.len() == 1 => Ok(elems
+            .iter()
+            .map_while(|e| match e {
+                Value::Char(c) if *c != 0 => Some(char::from(*c)),
+                _ => None,
+            })
+            .collect()),
+        v => Err(format!("expected a string, found {}", v.type_name())),
     }
 }
 
@@ -1159,6 +1342,14 @@ struct Interp<'a> {
     cart_line: u32,
     continue_pending: bool,
     continue_active: bool,
+    /// User-defined (`STRUC`, `ENUM`) and harness types: upper-case name
+    /// and typed template.
+    types: HashMap<String, Value>,
+    max_statements: u64,
+    /// The test harness of [`run_with_files`], if active.
+    harness: Option<Harness>,
+    /// `ON_ERROR_PROCEED` guards the next statement (harness only).
+    error_proceed: bool,
 }
 
 impl<'a> Interp<'a> {
@@ -1219,7 +1410,106 @@ impl<'a> Interp<'a> {
             cart_line: 0,
             continue_pending: false,
             continue_active: false,
+            types: HashMap::new(),
+            max_statements: MAX_STATEMENTS,
+            harness: None,
+            error_proceed: false,
         }
+    }
+
+    /// Executes the `.dat` items, then `routine` (no arguments).
+    fn run_entry(&mut self, routine: &'a Routine) -> Result<(), RunError> {
+        if let Some(dat) = &self.program.dat {
+            for s in &dat.items {
+                self.exec(s)?;
+            }
+        }
+        self.call_routine(routine, &[])?;
+        Ok(())
+    }
+
+    /// Turns on the test harness (see [`run_with_files`]).
+    fn enable_harness(&mut self, files: BTreeMap<String, String>) {
+        self.harness = Some(Harness {
+            files,
+            open: BTreeMap::new(),
+            next_handle: 1,
+        });
+        self.max_statements = HARNESS_MAX_STATEMENTS;
+        let e = Value::Unset(Scalar::Enum);
+        for t in ["MODUS_T", "CMD_STAT", "MODE_OP", "PRO_STATE"] {
+            self.types.insert(t.into(), e.clone());
+        }
+        let int = Value::Unset(Scalar::Int);
+        self.types.insert(
+            "STATE_T".into(),
+            Value::Struct(
+                "STATE_T".into(),
+                vec![
+                    ("RET1".into(), e),
+                    ("HITS".into(), int.clone()),
+                    ("LENGTH".into(), int.clone()),
+                    ("MSG_NO".into(), int),
+                ],
+            ),
+        );
+        let pos = self.pos_act();
+        let g = &mut self.globals;
+        g.insert("$POS_ACT".into(), pos);
+        if let Some(a) = self.axes {
+            g.insert("$AXIS_ACT".into(), axis_value(&a));
+        }
+        g.insert("$MODE_OP".into(), Value::Enum("T1".into()));
+        g.insert("$OV_PRO".into(), Value::Int(100));
+        g.insert("$PRO_STATE1".into(), Value::Enum("P_FREE".into()));
+        g.insert(
+            "$PRO_NAME1".into(),
+            Value::Array(vec![24], vec![Value::Char(b' '); 24]),
+        );
+        g.insert("$STOPMESS".into(), Value::Bool(false));
+        g.insert("$PERI_RDY".into(), Value::Bool(true));
+        g.insert("$ROB_TIMER".into(), Value::Int(0));
+        g.insert("$ERR".into(), err_value(0, 0));
+    }
+
+    /// The typed template of a predefined, user-defined or harness type.
+    fn type_template(&self, ty: &str) -> Option<Value> {
+        template(ty).or_else(|| self.types.get(&ty.to_ascii_uppercase()).cloned())
+    }
+
+    /// `STRUC name type f1, f2[n], …`: registers the type.
+    fn define_struc(
+        &mut self,
+        name: &str,
+        fields: &[(String, String, Vec<Expr>)],
+    ) -> Result<(), RunError> {
+        let mut out = Vec::with_capacity(fields.len());
+        for (ty, field, dims) in fields {
+            let Some(mut v) = self.type_template(ty) else {
+                return Err(self.err(format!(
+                    "the component {field} of {name} has the unknown type {ty}"
+                )));
+            };
+            if !dims.is_empty() {
+                let mut ds = Vec::with_capacity(dims.len());
+                for d in dims {
+                    let n = self.eval_int(d)?;
+                    if !(1..=MAX_ARRAY as i64).contains(&n) {
+                        return Err(self.err(format!("array size {n} of {field} is out of range")));
+                    }
+                    ds.push(n as usize);
+                }
+                let total = ds.iter().product::<usize>();
+                if total > MAX_ARRAY {
+                    return Err(self.err(format!("the array {field} is too large")));
+                }
+                v = Value::Array(ds, vec![v; total]);
+            }
+            out.push((field.to_ascii_uppercase(), v));
+        }
+        let up = name.to_ascii_uppercase();
+        self.types.insert(up.clone(), Value::Struct(up, out));
+        Ok(())
     }
 
     fn err(&self, msg: impl Into<String>) -> RunError {
@@ -1231,9 +1521,10 @@ impl<'a> Interp<'a> {
 
     fn tick(&mut self) -> Result<(), RunError> {
         self.statements += 1;
-        if self.statements > MAX_STATEMENTS {
+        if self.statements > self.max_statements {
             return Err(self.err(format!(
-                "the program did not finish within {MAX_STATEMENTS} statements (endless loop?)"
+                "the program did not finish within {} statements (endless loop?)",
+                self.max_statements
             )));
         }
         Ok(())
@@ -1513,22 +1804,26 @@ impl<'a> Interp<'a> {
         }
     }
 
+    /// The programmed pose as an E6POS (`$POS_ACT`).
+    fn pos_act(&self) -> Value {
+        let a = self.pos.to_array();
+        let mut f: Vec<(String, Value)> = FRAME_FIELDS
+            .iter()
+            .zip(a)
+            .map(|(n, v)| (n.to_string(), Value::Real(v)))
+            .collect();
+        let st = |v: Option<u8>| v.map_or(Value::Unset(Scalar::Int), |x| Value::Int(x.into()));
+        f.push(("S".into(), st(self.status)));
+        f.push(("T".into(), st(self.turn)));
+        f.extend(EXT_FIELDS.iter().map(|n| (n.to_string(), Value::Real(0.0))));
+        Value::Struct("E6POS".into(), f)
+    }
+
     fn computed(&mut self, name: &str) -> Result<Value, RunError> {
         Ok(match name {
             "$POS_ACT" => {
                 self.advance_stop();
-                let a = self.pos.to_array();
-                let mut f: Vec<(String, Value)> = FRAME_FIELDS
-                    .iter()
-                    .zip(a)
-                    .map(|(n, v)| (n.to_string(), Value::Real(v)))
-                    .collect();
-                let st =
-                    |v: Option<u8>| v.map_or(Value::Unset(Scalar::Int), |x| Value::Int(x.into()));
-                f.push(("S".into(), st(self.status)));
-                f.push(("T".into(), st(self.turn)));
-                f.extend(EXT_FIELDS.iter().map(|n| (n.to_string(), Value::Real(0.0))));
-                Value::Struct("E6POS".into(), f)
+                self.pos_act()
             }
             "$AXIS_ACT" => {
                 self.advance_stop();
@@ -1695,8 +1990,9 @@ impl<'a> Interp<'a> {
                 return Err(self.err(format!("the procedure {} cannot RETURN a value", r.name)));
             }
             (RoutineKind::DefFct(ty), Flow::Return(Some(v))) => {
-                let mut slot =
-                    template(ty).ok_or_else(|| self.err(format!("functions returning {ty}")))?;
+                let mut slot = self
+                    .type_template(ty)
+                    .ok_or_else(|| self.err(format!("functions returning {ty}")))?;
                 assign_into(&mut slot, v)
                     .map_err(|m| self.err(format!("return value of {}: {m}", r.name)))?;
                 Some(slot)
@@ -1739,6 +2035,22 @@ impl<'a> Interp<'a> {
     }
 
     fn exec(&mut self, s: &'a Stmt) -> Result<Flow, RunError> {
+        let guarded = std::mem::take(&mut self.error_proceed);
+        match self.exec_stmt(s) {
+            // ON_ERROR_PROCEED (harness only): note the error in $ERR and
+            // go on after the statement. The statement limit still ends
+            // the run.
+            Err(RunError::Runtime { line, .. })
+                if guarded && self.statements <= self.max_statements =>
+            {
+                self.globals.insert("$ERR".into(), err_value(1, line));
+                Ok(Flow::Next)
+            }
+            r => r,
+        }
+    }
+
+    fn exec_stmt(&mut self, s: &'a Stmt) -> Result<Flow, RunError> {
         self.line = s.line;
         self.tick()?;
         self.continue_active = std::mem::take(&mut self.continue_pending);
@@ -1763,6 +2075,15 @@ impl<'a> Interp<'a> {
             StmtKind::Call { name, args } => {
                 if name.eq_ignore_ascii_case("BAS") {
                     self.bas(args)?;
+                } else if self.harness.is_some() && name.eq_ignore_ascii_case("CWRITE") {
+                    self.cwrite(args)?;
+                } else if self.harness.is_some() && name.eq_ignore_ascii_case("ERR_CLEAR") {
+                    match &args[..] {
+                        [Expr::Var(v)] if v.eq_ignore_ascii_case("$ERR") => {
+                            self.globals.insert("$ERR".into(), err_value(0, 0));
+                        }
+                        _ => return Err(self.err("ERR_CLEAR takes $ERR")),
+                    }
                 } else {
                     let r = self.routine(name)?;
                     self.call_routine(r, args)?;
@@ -1890,9 +2211,13 @@ impl<'a> Interp<'a> {
                 self.motion(*kind, aux.as_ref(), target, approx_mm, speeds)?;
             }
             StmtKind::Spline { points, approx, .. } => self.spline(points, approx.is_some())?,
-            StmtKind::Struc { .. }
-            | StmtKind::Enum { .. }
-            | StmtKind::Signal { .. }
+            StmtKind::Struc { name, fields } => self.define_struc(name, fields)?,
+            StmtKind::Enum { name, .. } => {
+                self.types
+                    .insert(name.to_ascii_uppercase(), Value::Unset(Scalar::Enum));
+            }
+            StmtKind::OnErrorProceed if self.harness.is_some() => self.error_proceed = true,
+            StmtKind::Signal { .. }
             | StmtKind::Halt
             | StmtKind::Brake
             | StmtKind::Resume
@@ -1910,7 +2235,7 @@ impl<'a> Interp<'a> {
 
     fn declare(&mut self, ty: &str, d: &kuka_krl::Declarator) -> Result<(), RunError> {
         let name = d.name.to_ascii_uppercase();
-        let Some(mut value) = template(ty) else {
+        let Some(mut value) = self.type_template(ty) else {
             if self.frames.is_empty() {
                 self.globals
                     .insert(name, Value::Opaque(ty.to_ascii_uppercase()));
@@ -1964,6 +2289,201 @@ impl<'a> Interp<'a> {
             self.write_place(&p, v)?;
         }
         Ok(())
+    }
+
+    // ---- test harness: CWRITE($FCT_CALL, …) on the in-memory files
+
+    fn harness_mut(&mut self) -> Result<&mut Harness, RunError> {
+        let line = self.line;
+        self.harness.as_mut().ok_or(RunError::Runtime {
+            line,
+            message: "internal: file access outside the test harness".into(),
+        })
+    }
+
+    /// A variable argument that CWRITE writes (`OUT`).
+    fn out_place(&mut self, e: &Expr, what: &str) -> Result<Place, RunError> {
+        match self.place_of(e)? {
+            Some(p) if !matches!(p.root, Root::Computed(_)) => Ok(p),
+            _ => Err(self.err(format!("CWRITE: {what} must be a variable"))),
+        }
+    }
+
+    fn eval_text(&mut self, e: &Expr) -> Result<String, RunError> {
+        let v = self.eval(e)?;
+        text_of(&v).map_err(|m| self.err(format!("CWRITE: {m}")))
+    }
+
+    fn cwrite(&mut self, args: &[Expr]) -> Result<(), RunError> {
+        let [channel, st, md, func, rest @ ..] = args else {
+            return Err(self.err(
+                "CWRITE takes a channel, a STATE_T, a MODUS_T and a command with its arguments",
+            ));
+        };
+        if !matches!(channel, Expr::Var(n) if n.eq_ignore_ascii_case("$FCT_CALL")) {
+            return Err(Unsupported {
+                line: self.line,
+                what: format!(
+                    "CWRITE({}) (the test harness has only $FCT_CALL)",
+                    describe(channel)
+                ),
+            }
+            .into());
+        }
+        let st = self.out_place(st, "the state (STATE_T)")?;
+        match self.eval(md)? {
+            Value::Enum(_) => {}
+            v => {
+                return Err(self.err(format!(
+                    "CWRITE: the mode must be a MODUS_T, found {}",
+                    v.type_name()
+                )));
+            }
+        }
+        let func = self.eval_text(func)?;
+        let msg_no = match func.to_ascii_lowercase().as_str() {
+            "krl_fopen" => self.krl_fopen(rest)?,
+            "krl_fgets" => self.krl_fgets(rest)?,
+            "krl_fwriteln" => self.krl_fwrite(rest, true)?,
+            "krl_fputs" => self.krl_fwrite(rest, false)?,
+            "krl_fclose" => {
+                let [h] = rest else {
+                    return Err(self.err("krl_fclose takes a handle"));
+                };
+                let h = self.eval_int(h)?;
+                match self.harness_mut()?.open.remove(&h) {
+                    Some(_) => 0,
+                    None => MSG_NO_HANDLE,
+                }
+            }
+            "krl_fclose_all" => {
+                if !rest.is_empty() {
+                    return Err(self.err("krl_fclose_all takes no arguments"));
+                }
+                self.harness_mut()?.open.clear();
+                0
+            }
+            other => {
+                return Err(Unsupported {
+                    line: self.line,
+                    what: format!("CWRITE($FCT_CALL, …, \"{other}\") in the test harness"),
+                }
+                .into());
+            }
+        };
+        let ret1 = if msg_no == 0 { "DATA_OK" } else { "CMD_ABORT" };
+        let status = Value::Struct(
+            "STATE_T".into(),
+            vec![
+                ("RET1".into(), Value::Enum(ret1.into())),
+                ("HITS".into(), Value::Int(0)),
+                ("LENGTH".into(), Value::Int(0)),
+                ("MSG_NO".into(), Value::Int(msg_no)),
+            ],
+        );
+        self.write_place(&st, status)
+    }
+
+    /// `"krl_fopen", name, mode, handle [, size]`; the `MSG_NO` (0 = done).
+    fn krl_fopen(&mut self, args: &[Expr]) -> Result<i64, RunError> {
+        let (name, mode, handle) = match args {
+            [n, m, h] | [n, m, h, _] => (n, m, h),
+            _ => return Err(self.err("krl_fopen takes a name, a mode and a handle")),
+        };
+        let name = self.eval_text(name)?;
+        let mode = self.eval_text(mode)?.to_ascii_lowercase();
+        let handle = self.out_place(handle, "the handle")?;
+        let hs = self.harness_mut()?;
+        match mode.as_str() {
+            "r" if !hs.files.contains_key(&name) => return Ok(MSG_NO_OPEN),
+            "r" => {}
+            "w" => {
+                hs.files.insert(name.clone(), String::new());
+            }
+            "a" => {
+                hs.files.entry(name.clone()).or_default();
+            }
+            _ => return Ok(MSG_NO_OPEN),
+        }
+        let h = hs.next_handle;
+        hs.next_handle += 1;
+        hs.open.insert(
+            h,
+            OpenFile {
+                name,
+                write: mode != "r",
+                pos: 0,
+            },
+        );
+        self.write_place(&handle, Value::Int(h))?;
+        Ok(0)
+    }
+
+    /// `"krl_fgets", handle, buf[], size, count`.
+    fn krl_fgets(&mut self, args: &[Expr]) -> Result<i64, RunError> {
+        let [h, buf, size, count] = args else {
+            return Err(self.err("krl_fgets takes a handle, a CHAR array, a size and a count"));
+        };
+        let h = self.eval_int(h)?;
+        let size = usize::try_from(self.eval_int(size)?).unwrap_or(0);
+        let buf = self.out_place(buf, "the buffer")?;
+        let count = self.out_place(count, "the count")?;
+        let mut chars = self.read_place(&buf)?;
+        let Value::Array(dims, elems) = &mut chars else {
+            return Err(self.err("krl_fgets: the buffer must be a CHAR array"));
+        };
+        if dims.len() != 1 || elems.first().and_then(Value::scalar_kind) != Some(Scalar::Char) {
+            return Err(self.err("krl_fgets: the buffer must be a CHAR array"));
+        }
+        let room = size.min(elems.len());
+        let hs = self.harness_mut()?;
+        let Some(f) = hs.open.get_mut(&h).filter(|f| !f.write) else {
+            return Ok(MSG_NO_HANDLE);
+        };
+        let text = hs.files.get(&f.name).map_or(&[][..], |t| t.as_bytes());
+        let Some(rest) = text.get(f.pos..).filter(|r| !r.is_empty()) else {
+            return Ok(MSG_NO_EOF);
+        };
+        let (mut line, mut used) = match rest.iter().position(|&b| b == b'\n') {
+            Some(i) => (&rest[..i], i + 1),
+            None => (rest, rest.len()),
+        };
+        if let Some(l) = line.strip_suffix(b"\r") {
+            line = l;
+        }
+        if line.len() > room {
+            line = &line[..room];
+            used = room;
+        }
+        f.pos += used;
+        let n = line.len();
+        for (e, &b) in elems.iter_mut().zip(line) {
+            *e = Value::Char(b);
+        }
+        if let Some(e) = elems.get_mut(n) {
+            *e = Value::Char(0);
+        }
+        self.write_place(&buf, chars)?;
+        self.write_place(&count, Value::Int(n as i64))?;
+        Ok(0)
+    }
+
+    /// `"krl_fwriteln", handle, buf[]` (`newline`) or `"krl_fputs"`.
+    fn krl_fwrite(&mut self, args: &[Expr], newline: bool) -> Result<i64, RunError> {
+        let [h, buf] = args else {
+            return Err(self.err("krl_fwriteln/krl_fputs take a handle and a CHAR array"));
+        };
+        let h = self.eval_int(h)?;
+        let mut text = self.eval_text(buf)?;
+        if newline {
+            text.push('\n');
+        }
+        let hs = self.harness_mut()?;
+        let Some(f) = hs.open.get(&h).filter(|f| f.write) else {
+            return Ok(MSG_NO_HANDLE);
+        };
+        hs.files.entry(f.name.clone()).or_default().push_str(&text);
+        Ok(0)
     }
 
     fn bas(&mut self, args: &[Expr]) -> Result<(), RunError> {
