@@ -51,7 +51,13 @@ fn every_shipped_krl_file_parses() {
         "KRL files that do not parse:\n{}",
         failures.join("\n")
     );
-    for needed in ["kb_main"] {
+    for needed in [
+        "kb_main",
+        "kb_submit_init",
+        "kb_submit_cycle",
+        "kbline",
+        "kbmix",
+    ] {
         assert!(
             routines.iter().any(|r| r == needed),
             "routine {needed} missing: {routines:?}"
