@@ -249,7 +249,11 @@ async fn programs_are_stored_run_listed_and_deleted() {
     let (status, job) = t.post_json("/api/v1/programs/wave/run", &json!({})).await;
     assert_eq!(status, 200, "{job}");
     assert_eq!(job["state"], "done");
-    assert_eq!(job["completed"], 7, "3 PTP + 3 dwells + 1 PTP: {job}");
+    assert_eq!(
+        job["completed"], 8,
+        "BCO run + 3 PTP + 3 dwells + 1 PTP: {job}"
+    );
+    assert_eq!(job["motions"], 8, "the dry run counted them: {job}");
     // The trace visited A1 = 30 (amp from the .dat times 3).
     let sim = t.service.sim.as_ref().expect("sim");
     assert!(
@@ -401,4 +405,105 @@ async fn stop_ends_a_running_program_and_skips_the_rest() {
     let (_, state) = t.get("/api/v1/state").await;
     let a1 = state["axes"]["a1"].as_f64().expect("a1");
     assert!(a1.abs() < 0.01, "A1 stayed at 0: {state}");
+}
+
+#[tokio::test]
+async fn uploads_as_old_clients_and_editors_make_them_are_handled() {
+    let t = TestService::start(Options::default()).await;
+    thesis_base(&t).await;
+    // A form field before the file (Python requests with data= and files=).
+    let boundary = "kbb";
+    let body = format!(
+        "--{boundary}\r\nContent-Disposition: form-data; name=\"robot\"\r\n\r\nkr3\r\n--{boundary}\r\nContent-Disposition: form-data; name=\"upload\"; filename=\"up.src\"\r\n\r\n{}\r\n--{boundary}--\r\n",
+        thesis_spline(-20.0, 100.0)
+    );
+    let r = reqwest::Client::new()
+        .post(t.url("/krl/uploadfile"))
+        .header(
+            "content-type",
+            format!("multipart/form-data; boundary={boundary}"),
+        )
+        .body(body)
+        .send()
+        .await
+        .expect("request");
+    let (status, v) = kuka_bridge_tests::decode(r).await;
+    assert_eq!((status, &v["statuscode"]), (200, &json!(1)), "{v}");
+
+    // A byte-order mark, CR LF line ends and a Windows-1252 comment (ü = 0xFC).
+    let mut bytes = b"\xef\xbb\xbfDEF bom()\r\n  ; Gr\xfc\xdfe\r\n  PTP {A1 5}\r\nEND\r\n".to_vec();
+    let r = reqwest::Client::new()
+        .post(t.url("/krl/uploadfile"))
+        .header("content-type", "text/plain")
+        .body(std::mem::take(&mut bytes))
+        .send()
+        .await
+        .expect("request");
+    let (status, v) = kuka_bridge_tests::decode(r).await;
+    assert_eq!(status, 200, "{v}");
+    let modules = t.channel_dir().join("programs");
+    let newest = std::fs::read_dir(&modules)
+        .expect("modules")
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "src"))
+        .max_by_key(|p| std::fs::metadata(p).and_then(|m| m.modified()).ok())
+        .expect("a module");
+    let written = std::fs::read(&newest).expect("module");
+    assert!(
+        !written.windows(3).any(|w| w == b"\xef\xbb\xbf"),
+        "no BOM inside the module"
+    );
+    assert!(
+        written.windows(4).any(|w| w == b"Gr\xfc\xdf"),
+        "comment kept in the 8-bit code page"
+    );
+    assert!(
+        written.starts_with(b"&ACCESS RVP\nDEF kbu"),
+        "module header"
+    );
+
+    // Names Windows reserves, and variables nobody declared.
+    let (status, v) = t
+        .post_json(
+            "/api/v1/programs",
+            &json!({"name": "con", "src": "DEF con()\nEND\n"}),
+        )
+        .await;
+    assert_eq!(
+        (status, v["code"].as_str()),
+        (422, Some("invalid_input")),
+        "{v}"
+    );
+    let (status, v) = t
+        .post_json(
+            "/api/v1/programs",
+            &json!({"name": "dm3", "src": "DEF dm3()\n\n  PTP p1\nEND\n"}),
+        )
+        .await;
+    assert_eq!(
+        (status, v["code"].as_str(), v["line"].as_u64()),
+        (422, Some("invalid_program"), Some(3)),
+        "{v}"
+    );
+}
+
+#[tokio::test]
+async fn a_program_that_never_ends_is_refused_by_the_simulator_with_its_line() {
+    let t = TestService::start(Options::default()).await;
+    let src = "DEF cyc()\n  LOOP\n    PTP {A1 10}\n    PTP {A1 -10}\n  ENDLOOP\nEND\n";
+    let (status, v) = t
+        .post_json("/api/v1/programs", &json!({"name": "cyc", "src": src}))
+        .await;
+    assert_eq!(status, 201, "{v}");
+    let (status, v) = t.post_json("/api/v1/programs/cyc/run", &json!({})).await;
+    assert_eq!(
+        (status, v["code"].as_str()),
+        (409, Some("program_failed")),
+        "{v}"
+    );
+    assert!(
+        v["line"].as_u64().is_some_and(|l| (3..=4).contains(&l)),
+        "{v}"
+    );
 }

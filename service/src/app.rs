@@ -115,6 +115,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         crate::programs::ProgramStore::open(
             &config.data_dir.join("programs"),
             config.programs.max_bytes,
+            Duration::from_millis(config.programs.run_timeout_ms),
             config.simulator.enabled,
         )
         .map_err(|source| AppError::Programs {

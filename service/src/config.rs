@@ -177,6 +177,10 @@ pub struct ProgramsConfig {
     pub max_bytes: usize,
     /// How many generated `kbu<n>` modules to keep in the program folder.
     pub keep_modules: usize,
+    /// How long a program run may take by default (ms); a run request's
+    /// `timeout_ms` overrides it. Programs run far longer than single
+    /// commands (`channel.command_timeout_ms`).
+    pub run_timeout_ms: u64,
 }
 
 impl Default for ProgramsConfig {
@@ -185,6 +189,7 @@ impl Default for ProgramsConfig {
             controller_dir: None,
             max_bytes: 256 * 1024,
             keep_modules: 8,
+            run_timeout_ms: 3_600_000,
         }
     }
 }
@@ -468,6 +473,9 @@ impl Config {
                 "programs.max_bytes",
                 format!("{} is not in 1..=4194304", self.programs.max_bytes),
             ));
+        }
+        if self.programs.run_timeout_ms == 0 {
+            return Err(self.invalid("programs.run_timeout_ms", "must be positive".into()));
         }
         if self.programs.keep_modules == 0 {
             return Err(self.invalid("programs.keep_modules", "must be at least 1".into()));

@@ -22,7 +22,7 @@ use crate::error::{BridgeError, ErrorCode, Result};
 pub const THESIS_ENTRY: &str = "fuploaded";
 
 /// Lines the generated wrapper puts before the uploaded `.src` text.
-pub const WRAPPER_LINES: u32 = 5;
+pub const WRAPPER_LINES: u32 = 7;
 
 /// An upload: a program's name, its `.src` text, an optional `.dat` and
 /// the routine to run.
@@ -98,15 +98,43 @@ pub struct ModuleText {
 pub struct ProgramStore {
     dir: PathBuf,
     max_bytes: usize,
+    run_timeout: std::time::Duration,
     simulated: bool,
     programs: RwLock<BTreeMap<String, Arc<StoredProgram>>>,
 }
+
+/// Names Windows reserves for devices: a file `con.src` cannot exist.
+const WINDOWS_DEVICES: [&str; 22] = [
+    "CON", "PRN", "AUX", "NUL", "COM1", "COM2", "COM3", "COM4", "COM5", "COM6", "COM7", "COM8",
+    "COM9", "LPT1", "LPT2", "LPT3", "LPT4", "LPT5", "LPT6", "LPT7", "LPT8", "LPT9",
+];
 
 fn valid_name(name: &str) -> bool {
     let mut chars = name.chars();
     matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
         && name.len() <= kuka_krl::MAX_NAME_LEN
+        && !WINDOWS_DEVICES.iter().any(|d| d.eq_ignore_ascii_case(name))
+}
+
+/// Uploaded bytes as text: UTF-8 if they are, else the controller's 8-bit
+/// code page (Windows-1252, read as Latin-1); a byte-order mark is dropped.
+pub fn decode_text(bytes: &[u8]) -> String {
+    let bytes = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
+    match std::str::from_utf8(bytes) {
+        Ok(s) => s.to_string(),
+        Err(_) => bytes.iter().map(|&b| char::from(b)).collect(),
+    }
+}
+
+/// Text as the controller stores KRL files: one byte per character
+/// (Latin-1 / Windows-1252 for the common accented letters; anything
+/// beyond becomes `?`, which the front end only allows in comments and
+/// strings anyway).
+pub fn encode_ansi(text: &str) -> Vec<u8> {
+    text.chars()
+        .map(|c| u8::try_from(u32::from(c)).unwrap_or(b'?'))
+        .collect()
 }
 
 fn count_lines(text: &str) -> u32 {
@@ -129,11 +157,17 @@ pub fn program_error(e: &ProgramError) -> BridgeError {
 impl ProgramStore {
     /// Opens (creating) the store folder and loads the programs in it.
     /// `simulated`: also check uploads against the simulator's KRL subset.
-    pub fn open(dir: &Path, max_bytes: usize, simulated: bool) -> std::io::Result<Self> {
+    pub fn open(
+        dir: &Path,
+        max_bytes: usize,
+        run_timeout: std::time::Duration,
+        simulated: bool,
+    ) -> std::io::Result<Self> {
         std::fs::create_dir_all(dir)?;
         let store = ProgramStore {
             dir: dir.to_path_buf(),
             max_bytes,
+            run_timeout,
             simulated,
             programs: RwLock::new(BTreeMap::new()),
         };
@@ -175,7 +209,7 @@ impl ProgramStore {
     pub fn check(&self, upload: &ProgramUpload) -> Result<(Program, ProgramInfo)> {
         if !valid_name(&upload.name) {
             return Err(BridgeError::invalid(format!(
-                "program name {:?} is not a KRL name (letter or _ first, then letters, digits or _, at most {} characters)",
+                "program name {:?} is not a KRL name (letter or _ first, then letters, digits or _, at most {} characters, not a Windows device name such as CON)",
                 upload.name,
                 kuka_krl::MAX_NAME_LEN
             )));
@@ -212,6 +246,9 @@ impl ProgramStore {
             .at_line("src", routine.line));
         }
         if self.simulated {
+            kuka_sim::names::check_names(&program).map_err(|u| {
+                BridgeError::new(ErrorCode::InvalidProgram, u.to_string()).at_line("src", u.line)
+            })?;
             kuka_sim::interp::check_subset(&program).map_err(|u| {
                 BridgeError::new(ErrorCode::ProgramUnsupported, u.to_string())
                     .at_line("src", u.line)
@@ -234,7 +271,12 @@ impl ProgramStore {
     }
 
     /// Checks and stores an upload; returns it and whether it is new.
-    pub fn put(&self, upload: ProgramUpload) -> Result<(Arc<StoredProgram>, bool)> {
+    pub fn put(&self, mut upload: ProgramUpload) -> Result<(Arc<StoredProgram>, bool)> {
+        for text in std::iter::once(&mut upload.src).chain(upload.dat.as_mut()) {
+            if let Some(rest) = text.strip_prefix('\u{feff}') {
+                *text = rest.to_string();
+            }
+        }
         let (_, info) = self.check(&upload)?;
         let stored = StoredProgram {
             info,
@@ -275,6 +317,11 @@ impl ProgramStore {
         Ok((stored, created))
     }
 
+    /// The default timeout of a program run.
+    pub fn run_timeout(&self) -> std::time::Duration {
+        self.run_timeout
+    }
+
     /// All programs, by name.
     pub fn list(&self) -> Vec<ProgramInfo> {
         self.read_map().values().map(|p| p.info.clone()).collect()
@@ -308,8 +355,10 @@ impl ProgramStore {
 }
 
 /// The module written for RUN command `n`: a generated `DEF kbu<n>()` that
-/// calls the entry point, then the uploaded text with its `&` header lines
-/// turned into comments (they are only allowed at the top of a file), so
+/// makes the BCO run a KRC requires after selecting a program (`PTP
+/// $AXIS_ACT`: reaches the current position, does not move) and calls the
+/// entry point; then the uploaded text with its `&` header lines turned
+/// into comments (they are only allowed at the top of a file), so
 /// uploaded line L is module line L + [`WRAPPER_LINES`].
 pub fn module_text(n: i32, p: &StoredProgram) -> ModuleText {
     let name = format!("kbu{n}");
@@ -317,7 +366,8 @@ pub fn module_text(n: i32, p: &StoredProgram) -> ModuleText {
         "deffct" => format!("  kb_ret = {}( )", p.info.entry),
         _ => format!("  {}( )", p.info.entry),
     };
-    let mut src = format!("DEF {name}( )\n  DECL INT kb_ret\n{call}\nEND\n\n");
+    let mut src =
+        format!("&ACCESS RVP\nDEF {name}( )\n  DECL INT kb_ret\n  PTP $AXIS_ACT\n{call}\nEND\n\n");
     for line in p.src.lines() {
         if line.trim_start().starts_with('&') {
             src.push_str("; ");

@@ -253,8 +253,10 @@ impl Safety {
     /// advance run would). Every motion is held to the speed caps and the
     /// workspace box, then the run is planned phase by phase from `start`
     /// (reachability, software limits, singularities). Errors name the
-    /// program line. Returns whether the program could be checked; one
-    /// outside the subset (only a real KRC can run it) is sent unchecked.
+    /// program line. A program outside the subset (only a real KRC can
+    /// run it) is sent unchecked; one that does not end within the
+    /// interpreter's limits (a cyclic program, run until stopped) is
+    /// checked up to there.
     pub fn check_program(
         &self,
         program: &crate::programs::StoredProgram,
@@ -262,15 +264,20 @@ impl Safety {
         tool: &Frame,
         base: &Frame,
         speed: SpeedRecord,
-    ) -> Result<bool> {
+    ) -> Result<ProgramCheck> {
+        let unchecked = ProgramCheck::default();
         let Some(model) = &self.model else {
-            return Ok(false);
+            return Ok(unchecked);
         };
-        let entry = &program.info.entry;
-        let parsed = kuka_krl::Program::parse(&program.src, program.dat.as_deref(), Some(entry))
+        // Dry-run exactly what the controller will run: the generated
+        // module (with its BCO run); lines map back to the upload.
+        let module = crate::programs::module_text(0, program);
+        let entry = &module.name;
+        let up = crate::programs::upload_line;
+        let parsed = kuka_krl::Program::parse(&module.src, module.dat.as_deref(), Some(entry))
             .map_err(|e| crate::programs::program_error(&e))?;
         if interp::check_subset(&parsed).is_err() {
-            return Ok(false);
+            return Ok(unchecked);
         }
         let st = Start {
             model,
@@ -279,21 +286,35 @@ impl Safety {
             base: kuka_sim::frame_to_pose(base),
             speed,
         };
-        let steps = interp::run(&parsed, entry, &st).map_err(|e| match e {
-            RunError::Unsupported(u) => {
-                BridgeError::new(ErrorCode::ProgramUnsupported, u.to_string())
-                    .at_line("src", u.line)
+        let (steps, complete) = match interp::run(&parsed, entry, &st) {
+            Ok(steps) => (steps, true),
+            Err(RunError::TooLong { steps, .. }) => (steps, false),
+            Err(RunError::Unsupported(u)) => {
+                return Err(BridgeError::new(
+                    ErrorCode::ProgramUnsupported,
+                    format!(
+                        "line {}: {} is not supported by the simulator",
+                        up(u.line),
+                        u.what
+                    ),
+                )
+                .at_line("src", up(u.line)));
             }
-            RunError::Runtime { line, message } => BridgeError::new(
-                ErrorCode::ProgramFailed,
-                format!(
-                    "program {} would fail at line {line}: {message}",
-                    program.info.name
-                ),
-            )
-            .at_line("src", line),
-        })?;
+            Err(RunError::Runtime { line, message }) => {
+                return Err(BridgeError::new(
+                    ErrorCode::ProgramFailed,
+                    format!(
+                        "program {} would fail at line {}: {message}",
+                        program.info.name,
+                        up(line)
+                    ),
+                )
+                .at_line("src", up(line)));
+            }
+        };
+        let count = steps.len();
         let at = |e: BridgeError, line: u32| {
+            let line = up(line);
             let mut e = e.at_line("src", line);
             e.motion = None;
             e.detail = format!("{} (program {}, line {line})", e.detail, program.info.name);
@@ -309,8 +330,18 @@ impl Safety {
                 }
                 _ => ("$VEL.CP", self.motion.max_cp_velocity, " m/s"),
             };
-            self.cap(0, name, motion.velocity, max, unit)
-                .map_err(|e| at(e, *line))?;
+            let v = motion.velocity;
+            if !(v.is_finite() && v > 0.0) {
+                let e = BridgeError::invalid(format!("{name} = {v} must be a positive number"));
+                return Err(at(e, *line));
+            }
+            if v > max {
+                let e = BridgeError::new(
+                    ErrorCode::SpeedLimit,
+                    format!("{name} = {v}{unit} exceeds the configured cap of {max}{unit}"),
+                );
+                return Err(at(e, *line));
+            }
             if let Some(ws) = &self.workspace {
                 let mut points = Vec::with_capacity(2);
                 match &motion.kind {
@@ -337,8 +368,24 @@ impl Safety {
         let phases = kuka_sim::program::phases(steps);
         kuka_sim::program::dry_run(model, &start.axes, &phases, &plan::PlanSettings::default())
             .map_err(|e| at(motion_error(&e.error), e.line))?;
-        Ok(true)
+        Ok(ProgramCheck {
+            checked: true,
+            complete,
+            steps: Some(count),
+        })
     }
+}
+
+/// What [`Safety::check_program`] could check.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ProgramCheck {
+    /// The program was dry-run.
+    pub checked: bool,
+    /// The dry run reached the program's end (false: it stopped at the
+    /// interpreter's limits, e.g. a program that runs until stopped).
+    pub complete: bool,
+    /// Motions and dwells the dry run found (up to the limit).
+    pub steps: Option<usize>,
 }
 
 /// Maps a planner error to the API error (the same mapping as controller results).

@@ -70,6 +70,17 @@ pub const TEMP_DIR: &str = ".kb-tmp";
 /// then renames it over the target. A reader sees the old or the new file,
 /// never a mix. `tag` keeps temp files of different writers apart.
 pub fn atomic_write(dir: &Path, name: &str, tag: &str, text: &str) -> Result<(), WriteError> {
+    atomic_write_bytes(dir, name, tag, text.as_bytes())
+}
+
+/// [`atomic_write`] for bytes (e.g. a KRL module in the controller's
+/// 8-bit code page).
+pub fn atomic_write_bytes(
+    dir: &Path,
+    name: &str,
+    tag: &str,
+    bytes: &[u8],
+) -> Result<(), WriteError> {
     let target = dir.join(name);
     let display = || target.display().to_string();
     // Honour a lock held on the current file (see the module doc).
@@ -107,7 +118,7 @@ pub fn atomic_write(dir: &Path, name: &str, tag: &str, text: &str) -> Result<(),
             }
             other => other?,
         };
-        f.write_all(text.as_bytes())?;
+        f.write_all(bytes)?;
         Ok(())
     };
     write().map_err(|source| WriteError::Io {

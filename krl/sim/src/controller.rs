@@ -404,7 +404,9 @@ impl Controller {
             Err(e) => {
                 let (code, line) = match &e {
                     RunError::Unsupported(u) => (ResultCode::Unsupported, u.line),
-                    RunError::Runtime { line, .. } => (ResultCode::RuntimeError, *line),
+                    RunError::Runtime { line, .. } | RunError::TooLong { line, .. } => {
+                        (ResultCode::RuntimeError, *line)
+                    }
                 };
                 tracing::info!(cid, %module, error = %e, "program refused");
                 self.push_result(cid, code, line, 0, None);

@@ -124,7 +124,7 @@ pub struct Unsupported {
 }
 
 /// Why a program could not be run.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RunError {
     /// Outside the subset.
     #[error(transparent)]
@@ -136,6 +136,17 @@ pub enum RunError {
         line: u32,
         /// What went wrong.
         message: String,
+    },
+    /// The program did not end within the statement or step limit (an
+    /// endless loop, or a cyclic program meant to run until stopped).
+    #[error("line {line}: {message}")]
+    TooLong {
+        /// Source line where the limit was reached.
+        line: u32,
+        /// What limit.
+        message: String,
+        /// The steps produced until then.
+        steps: Vec<Step>,
     },
 }
 
@@ -977,7 +988,7 @@ impl Checker<'_> {
             let up = root.to_ascii_uppercase();
             if up.starts_with('$') {
                 if SYS_READ_ONLY.contains(&up.as_str()) {
-                    return self.refuse(l, format!("assigning the read-only {up}"));
+                    return self.refuse(l, format!("assigning {up}"));
                 }
                 if !SYS_WRITE.contains(&up.as_str()) {
                     return self.refuse(l, format!("the system variable {up}"));
@@ -1522,19 +1533,27 @@ impl<'a> Interp<'a> {
     fn tick(&mut self) -> Result<(), RunError> {
         self.statements += 1;
         if self.statements > self.max_statements {
-            return Err(self.err(format!(
-                "the program did not finish within {} statements (endless loop?)",
-                self.max_statements
-            )));
+            return Err(RunError::TooLong {
+                line: self.line,
+                message: format!(
+                    "the program did not finish within {} statements (endless loop?)",
+                    self.max_statements
+                ),
+                steps: std::mem::take(&mut self.steps),
+            });
         }
         Ok(())
     }
 
     fn push(&mut self, step: Step) -> Result<(), RunError> {
         if self.steps.len() >= MAX_STEPS {
-            return Err(self.err(format!(
-                "the program did not finish within {MAX_STEPS} motions and waits (endless loop?)"
-            )));
+            return Err(RunError::TooLong {
+                line: self.line,
+                message: format!(
+                    "the program did not finish within {MAX_STEPS} motions and waits (endless loop?)"
+                ),
+                steps: std::mem::take(&mut self.steps),
+            });
         }
         self.steps.push(step);
         Ok(())
@@ -1731,7 +1750,7 @@ impl<'a> Interp<'a> {
     /// out-of-range values too).
     fn validate_sys(&self, name: &str) -> Result<(), String> {
         let msg = |e: RunError| match e {
-            RunError::Runtime { message, .. } => message,
+            RunError::Runtime { message, .. } | RunError::TooLong { message, .. } => message,
             RunError::Unsupported(u) => u.what,
         };
         match name {

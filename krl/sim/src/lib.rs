@@ -13,6 +13,7 @@
 
 mod controller;
 pub mod interp;
+pub mod names;
 pub mod program;
 mod runner;
 

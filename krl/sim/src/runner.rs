@@ -313,7 +313,11 @@ fn load_program(dir: &std::path::Path, n: i32) -> crate::controller::LoadedProgr
             Ok(_) => {}
         }
         let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        Ok(Some(String::from_utf8_lossy(&bytes).into_owned()))
+        // KRL files are 8-bit (Windows-1252); UTF-8 is accepted too.
+        Ok(Some(match String::from_utf8(bytes) {
+            Ok(s) => s,
+            Err(e) => e.into_bytes().iter().map(|&b| char::from(b)).collect(),
+        }))
     };
     let src = read("src")?.ok_or_else(|| format!("kbu{n}.src is not in {}", dir.display()))?;
     Ok((src, read("dat")?))

@@ -27,7 +27,7 @@ pub struct RunRequest {
     /// Wait for the program to end (default true); false answers 202 with the job.
     #[serde(default)]
     pub wait: Option<bool>,
-    /// Job timeout in ms (default `channel.command_timeout_ms`).
+    /// Job timeout in ms (default `programs.run_timeout_ms`, one hour).
     #[serde(default)]
     pub timeout_ms: Option<u64>,
 }
@@ -110,6 +110,7 @@ async fn run(
     if timeout.is_some_and(|t| t.is_zero()) {
         return Err(BridgeError::invalid("timeout_ms must be positive").into());
     }
+    let timeout = Some(timeout.unwrap_or(app.programs.run_timeout()));
     let job = app
         .engine
         .submit(Operation::RunProgram(program), timeout)

@@ -344,19 +344,30 @@ async fn gettcp(State(app): State<AppState>, _: ThesisQuery<NoParams>) -> Respon
     run(&app, Operation::GetTool, true).await
 }
 
+/// The form a thesis client posts to `/krl/uploadfile`.
+#[derive(utoipa::ToSchema)]
+#[allow(dead_code)] // documents the form; the handler reads the parts itself
+pub struct UploadForm {
+    /// The `.src` file.
+    #[schema(value_type = String, format = Binary)]
+    file: Vec<u8>,
+}
+
 /// Name under which `/krl/uploadfile` stores its upload.
 const THESIS_PROGRAM: &str = "uploaded";
 
 /// Uploads a KRL file and runs it (thesis method 10).
 ///
-/// The body is the `.src` text, either as a `multipart/form-data` file field (the thesis
-/// client's form upload; the first field is used) or as the raw request body. The file
+/// The body is the `.src` text, either as a `multipart/form-data` file part (the thesis
+/// client's form upload: the part named `file`, else the first part with a file name) or as
+/// the raw request body. The file
 /// must define `DEFFCT INT fuploaded()` (the thesis convention) or its first routine is
 /// run. It is checked before anything reaches the controller, stored as program
 /// `uploaded`, written as a new module and run — every upload runs its own code, not the
 /// first one. Answers when the program has ended.
 #[utoipa::path(post, path = "/krl/uploadfile", tag = "thesis",
-    request_body(content = String, content_type = "text/plain", description = "The .src text (or a multipart/form-data file field)"),
+    request_body(description = "The .src text, raw or as a form's file part",
+        content((String = "text/plain"), (UploadForm = "multipart/form-data"))),
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
 async fn uploadfile(
     State(app): State<AppState>,
@@ -377,7 +388,20 @@ async fn uploadfile(
         Ok((p, _)) => p,
         Err(e) => return fail(&app, &e),
     };
-    run(&app, Operation::RunProgram(program), false).await
+    // Programs run longer than single motions: their own timeout.
+    let timeout = app.programs.run_timeout();
+    match app
+        .engine
+        .execute(
+            Operation::RunProgram(program),
+            Some(timeout),
+            app.wait_budget(Some(timeout)),
+        )
+        .await
+    {
+        Ok(job) => done(job_position(&job, false)),
+        Err(e) => fail(&app, &e),
+    }
 }
 
 /// The uploaded text from a multipart form (first field) or the raw body.
@@ -389,18 +413,31 @@ async fn upload_text(app: &AppState, req: axum::extract::Request) -> Result<Stri
         .and_then(|v| v.to_str().ok())
         .is_some_and(|v| v.starts_with("multipart/form-data"));
     let bytes = if multipart {
+        let form_error = |e: axum::extract::multipart::MultipartError| {
+            if e.status() == axum::http::StatusCode::PAYLOAD_TOO_LARGE {
+                BridgeError::new(ErrorCode::PayloadTooLarge, format!("multipart upload: {e}"))
+            } else {
+                BridgeError::invalid(format!("multipart upload: {e}"))
+            }
+        };
         let mut form = axum::extract::Multipart::from_request(req, app)
             .await
             .map_err(|e| BridgeError::invalid(format!("multipart upload: {e}")))?;
-        let field = form
-            .next_field()
-            .await
-            .map_err(|e| BridgeError::invalid(format!("multipart upload: {e}")))?
-            .ok_or_else(|| BridgeError::invalid("the form has no file field"))?;
-        field
-            .bytes()
-            .await
-            .map_err(|e| BridgeError::invalid(format!("multipart upload: {e}")))?
+        // The file: the part named `file` (FastAPI's UploadFile parameter)
+        // or else the first part that carries a file name; other form
+        // fields are skipped.
+        let mut found = None;
+        while let Some(field) = form.next_field().await.map_err(form_error)? {
+            if field.name() == Some("file") || field.file_name().is_some() {
+                found = Some(field.bytes().await.map_err(form_error)?);
+                break;
+            }
+        }
+        found.ok_or_else(|| {
+            BridgeError::invalid(
+                "the form has no file part (send the .src as a field named `file`)",
+            )
+        })?
     } else {
         axum::body::to_bytes(req.into_body(), 4 * 1024 * 1024)
             .await
@@ -411,10 +448,7 @@ async fn upload_text(app: &AppState, req: axum::extract::Request) -> Result<Stri
             "the upload is empty: send the .src text",
         ));
     }
-    // KRL files are ANSI (Windows-1252) on a KRC: accept anything, the
-    // front end refuses non-ASCII outside comments and strings.
-    Ok(String::from_utf8(bytes.to_vec())
-        .unwrap_or_else(|e| e.into_bytes().iter().map(|&b| b as char).collect()))
+    Ok(crate::programs::decode_text(&bytes))
 }
 
 pub(super) fn router() -> OpenApiRouter<AppState> {

@@ -950,11 +950,21 @@ impl Actor {
                 cp_velocity: self.speeds.cp_velocity_m_s,
                 cp_acceleration_pct: self.speeds.cp_acceleration_pct,
             };
-            let checked = self
+            let check = self
                 .shared
                 .safety
                 .check_program(program, &start, &tool, &base, speed)?;
-            if !checked {
+            if check.checked && !check.complete {
+                tracing::warn!(
+                    program = %program.info.name,
+                    steps = check.steps,
+                    "program does not end within the dry run's limits; checked up to there"
+                );
+            }
+            if let Some(n) = check.steps.filter(|_| check.complete) {
+                self.shared.update(job.id, |j| j.motions = n);
+            }
+            if !check.checked {
                 tracing::info!(
                     program = %program.info.name,
                     "program sent without a dry run (no robot model, or KRL beyond the simulator's subset)"
@@ -1025,11 +1035,23 @@ impl Actor {
         };
         std::fs::create_dir_all(dir).map_err(|e| fail(&e))?;
         let tag = format!("svc{}", std::process::id());
-        kuka_protocol::files::atomic_write(dir, &format!("{}.src", m.name), &tag, &m.src)
-            .map_err(|e| fail(&e))?;
+        // KRL files on a KRC use the 8-bit Windows code page.
+        let ansi = crate::programs::encode_ansi;
+        kuka_protocol::files::atomic_write_bytes(
+            dir,
+            &format!("{}.src", m.name),
+            &tag,
+            &ansi(&m.src),
+        )
+        .map_err(|e| fail(&e))?;
         if let Some(dat) = &m.dat {
-            kuka_protocol::files::atomic_write(dir, &format!("{}.dat", m.name), &tag, dat)
-                .map_err(|e| fail(&e))?;
+            kuka_protocol::files::atomic_write_bytes(
+                dir,
+                &format!("{}.dat", m.name),
+                &tag,
+                &ansi(dat),
+            )
+            .map_err(|e| fail(&e))?;
         }
         tracing::info!(module = %m.name, program = %program.info.name, "program module written");
         // Keep the newest modules only (by number; ours are the only kbu* files).
