@@ -43,7 +43,9 @@ fn steps(src: &str) -> Vec<Step> {
 fn runtime_error(src: &str) -> (u32, String) {
     let entry = src.split(['(', ' ']).nth(1).expect("DEF name(").to_string();
     match run_src(src, None, &entry) {
-        Err(RunError::Runtime { line, message }) => (line, message),
+        Err(RunError::Runtime { line, message } | RunError::TooLong { line, message, .. }) => {
+            (line, message)
+        }
         other => panic!("expected a runtime error, got {other:?}"),
     }
 }
