@@ -64,7 +64,8 @@ pub struct Service {
     pub sim: Option<Arc<SimController>>,
     closing: watch::Sender<bool>,
     stop_http: Option<oneshot::Sender<()>>,
-    server: JoinHandle<Result<(), AppError>>,
+    /// The HTTP server task; `None` once it has ended.
+    server: Option<JoinHandle<Result<(), AppError>>>,
     _lock: ServiceLock,
 }
 
@@ -154,7 +155,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         sim,
         closing,
         stop_http: Some(stop_http),
-        server,
+        server: Some(server),
         _lock: lock,
     })
 }
@@ -173,16 +174,21 @@ impl Service {
             let _ = tx.send(());
         }
         self.engine.shutdown().await;
-        let served = match tokio::time::timeout(Duration::from_secs(10), &mut self.server).await {
-            Ok(Ok(r)) => r,
-            Ok(Err(e)) => {
-                tracing::error!(error = %e, "server task failed");
-                Ok(())
-            }
-            Err(_) => {
-                tracing::warn!("HTTP connections still open after 10 s; closing them");
-                self.server.abort();
-                Ok(())
+        let served = match self.server.take() {
+            None => Ok(()),
+            Some(mut server) => {
+                match tokio::time::timeout(Duration::from_secs(10), &mut server).await {
+                    Ok(Ok(r)) => r,
+                    Ok(Err(e)) => {
+                        tracing::error!(error = %e, "server task failed");
+                        Ok(())
+                    }
+                    Err(_) => {
+                        tracing::warn!("HTTP connections still open after 10 s; closing them");
+                        server.abort();
+                        Ok(())
+                    }
+                }
             }
         };
         if let Some(sim) = self.sim.take() {
@@ -199,6 +205,41 @@ impl Service {
 /// Runs until `shutdown` resolves (Ctrl-C, or the Windows service manager).
 pub async fn run(config: Config, shutdown: impl Future<Output = ()>) -> Result<(), AppError> {
     let service = start(config).await?;
-    shutdown.await;
-    service.shutdown().await
+    run_service(service, shutdown, std::future::pending()).await
+}
+
+/// Runs a started service until `stop` resolves, then shuts it down
+/// gracefully while `while_stopping` runs (the Windows service reports its
+/// progress there). If the HTTP server ends by itself first, everything
+/// else is shut down too and the error is returned: the process must then
+/// exit with a failure code so that the service manager restarts it.
+pub async fn run_service(
+    mut service: Service,
+    stop: impl Future<Output = ()>,
+    while_stopping: impl Future<Output = ()>,
+) -> Result<(), AppError> {
+    let ended = match service.server.as_mut() {
+        None => None,
+        Some(server) => tokio::select! {
+            () = stop => None,
+            r = server => Some(r),
+        },
+    };
+    if let Some(r) = ended {
+        service.server = None;
+        let e = match r {
+            Ok(Err(e)) => e,
+            Ok(Ok(())) => AppError::Serve(std::io::Error::other("the HTTP server stopped")),
+            Err(e) => AppError::Serve(std::io::Error::other(e.to_string())),
+        };
+        tracing::error!(error = %crate::error::chain(&e), "HTTP server ended; shutting down");
+        let _ = service.shutdown().await;
+        return Err(e);
+    }
+    let shutdown = service.shutdown();
+    tokio::pin!(shutdown);
+    tokio::select! {
+        r = &mut shutdown => r,
+        () = while_stopping => shutdown.await,
+    }
 }

@@ -59,6 +59,8 @@ pub struct Config {
     pub simulator: SimulatorConfig,
     /// Uploaded KRL programs.
     pub programs: ProgramsConfig,
+    /// Log files.
+    pub log: LogConfig,
     /// Where the service keeps its own state (command id counter).
     pub data_dir: PathBuf,
     /// Where the config was loaded from (for messages); not a key.
@@ -163,6 +165,33 @@ pub struct SimulatorConfig {
     pub heartbeat_ms: u64,
 }
 
+/// Log files: rolled daily, old ones deleted.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LogConfig {
+    /// Write log files (in `dir`). Console mode also prints to the console.
+    pub file: bool,
+    /// Folder of the log files (default `<data_dir>/logs`).
+    pub dir: Option<PathBuf>,
+    /// Days of log files to keep (one file per day).
+    pub retention_days: usize,
+    /// Level filter (`error`, `warn`, `info`, `debug`, `trace`, or a
+    /// tracing filter such as `info,kuka_bridge::engine=debug`); the
+    /// environment variable `KUKA_BRIDGE_LOG` overrides it.
+    pub level: String,
+}
+
+impl Default for LogConfig {
+    fn default() -> Self {
+        LogConfig {
+            file: true,
+            dir: None,
+            retention_days: 14,
+            level: "info".into(),
+        }
+    }
+}
+
 /// Uploaded KRL programs (`POST /api/v1/programs`).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -261,6 +290,7 @@ impl Default for Config {
             workspace: None,
             simulator: SimulatorConfig::default(),
             programs: ProgramsConfig::default(),
+            log: LogConfig::default(),
             data_dir: default_data_dir(),
             source_name: "defaults".into(),
         }
@@ -337,6 +367,14 @@ impl Config {
                 "channel"
             }),
         }
+    }
+
+    /// The folder of the log files.
+    pub fn log_dir(&self) -> PathBuf {
+        self.log
+            .dir
+            .clone()
+            .unwrap_or_else(|| self.data_dir.join("logs"))
     }
 
     /// Where RUN modules are written, if anywhere (see [`ProgramsConfig`]).
@@ -472,6 +510,26 @@ impl Config {
             return Err(self.invalid(
                 "programs.max_bytes",
                 format!("{} is not in 1..=4194304", self.programs.max_bytes),
+            ));
+        }
+        if self.log.retention_days == 0 {
+            return Err(self.invalid("log.retention_days", "must be at least 1".into()));
+        }
+        let level = self.log.level.trim();
+        let plain_level = ["off", "error", "warn", "info", "debug", "trace"]
+            .iter()
+            .any(|l| l.eq_ignore_ascii_case(level));
+        // A bare word would be read as a target name: only levels, or
+        // filters with `=` or `,` (e.g. `info,kuka_bridge::engine=debug`).
+        let filter_ok = (plain_level || level.contains('=') || level.contains(','))
+            && tracing_subscriber::EnvFilter::try_new(level).is_ok();
+        if !filter_ok {
+            return Err(self.invalid(
+                "log.level",
+                format!(
+                    "{:?} is not a level (error, warn, info, debug, trace, off) or a filter such as \"info,kuka_bridge::engine=debug\"",
+                    self.log.level
+                ),
             ));
         }
         if self.programs.run_timeout_ms == 0 {

@@ -2,6 +2,7 @@
 //! controller. It reacts to submissions, file events and a poll tick; the
 //! poll is the source of truth, events only make it faster.
 
+use crate::logging::events;
 use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -290,7 +291,7 @@ impl Actor {
                 self.check_timeouts();
                 // The locked state ends when the holder lets go, not only at the next write.
                 if self.ctl.locked && self.pending.is_none() && !self.channel.command_locked() {
-                    tracing::warn!(dir = %self.channel.dir().display(), "channel unlocked");
+                    tracing::warn!(event_id = events::CHANNEL_UNLOCKED, dir = %self.channel.dir().display(), "channel unlocked");
                     self.ctl.locked = false;
                 }
                 // Every handle is gone (the service was dropped without a
@@ -496,7 +497,7 @@ impl Actor {
         match self.channel.write_command(&p.cmd) {
             Ok(()) => {
                 if self.ctl.locked {
-                    tracing::warn!(dir = %self.channel.dir().display(), "channel unlocked");
+                    tracing::warn!(event_id = events::CHANNEL_UNLOCKED, dir = %self.channel.dir().display(), "channel unlocked");
                     self.ctl.locked = false;
                 }
                 if let Some(p) = self.pending.take() {
@@ -518,7 +519,7 @@ impl Actor {
                 p.next_try = now + p.backoff;
                 p.backoff = (p.backoff * 2).min(Duration::from_millis(50));
                 if !self.ctl.locked {
-                    tracing::warn!(%path, "command file locked by another process; retrying");
+                    tracing::warn!(event_id = events::CHANNEL_LOCKED, %path, "command file locked by another process; retrying");
                     self.ctl.locked = true;
                     self.shared.publish(Event::Alarm(BridgeError::new(
                         ErrorCode::ChannelLocked,
@@ -644,9 +645,10 @@ impl Actor {
         if online != self.ctl.online {
             self.ctl.online = online;
             if online {
-                tracing::info!("controller online");
+                tracing::info!(event_id = events::CONTROLLER_ONLINE, "controller online");
             } else {
                 tracing::warn!(
+                    event_id = events::CONTROLLER_OFFLINE,
                     after_ms = self.cfg.offline_after_ms,
                     "controller offline: heartbeat stopped"
                 );
@@ -753,7 +755,7 @@ impl Actor {
                 tracing::info!(job = f.id, cid = r.cid, detail = %e.detail, "job cancelled")
             }
             Some(e) => {
-                tracing::warn!(job = f.id, cid = r.cid, code = e.code.as_str(), detail = %e.detail, "job failed")
+                tracing::warn!(event_id = events::JOB_FAILED, job = f.id, cid = r.cid, code = e.code.as_str(), detail = %e.detail, "job failed")
             }
         }
         let frame_op = is_frame_op(&f.op);
@@ -786,7 +788,7 @@ impl Actor {
 
     fn fail_inflight(&mut self, error: BridgeError) {
         if let Some(f) = self.inflight.take() {
-            tracing::warn!(job = f.id, cid = f.cid, code = error.code.as_str(), detail = %error.detail, "job failed");
+            tracing::warn!(event_id = events::JOB_FAILED, job = f.id, cid = f.cid, code = error.code.as_str(), detail = %error.detail, "job failed");
             self.shared.finish(f.id, JobState::Failed, error);
         }
     }

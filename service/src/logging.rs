@@ -1,0 +1,128 @@
+//! Logging for the binary: tracing to the console (console mode), to
+//! rolling daily log files with retention (non-blocking, flushed when the
+//! returned guard drops) and, on Windows, to the Event Log (warnings,
+//! errors and events that carry an `event_id`; see [`events`]).
+//!
+//! The rest of the code only logs with `tracing`; this module decides
+//! where it goes.
+
+use std::path::PathBuf;
+
+use tracing_subscriber::EnvFilter;
+use tracing_subscriber::layer::SubscriberExt;
+use tracing_subscriber::util::SubscriberInitExt;
+
+/// Event Log ids: the events operators look for get ids of their own (set
+/// as the `event_id` field of a tracing event); other warnings and errors
+/// use [`events::WARNING`] and [`events::ERROR`].
+pub mod events {
+    /// The service started and listens.
+    pub const SERVICE_STARTED: u32 = 1;
+    /// The service stopped.
+    pub const SERVICE_STOPPED: u32 = 2;
+    /// The configuration could not be loaded.
+    pub const CONFIG_ERROR: u32 = 3;
+    /// The service stopped for another reason than a stop request.
+    pub const SERVICE_FAILED: u32 = 4;
+    /// The controller's heartbeat stopped.
+    pub const CONTROLLER_OFFLINE: u32 = 10;
+    /// The controller's heartbeat is back.
+    pub const CONTROLLER_ONLINE: u32 = 11;
+    /// The command file is locked by another process.
+    pub const CHANNEL_LOCKED: u32 = 20;
+    /// The command file is writable again.
+    pub const CHANNEL_UNLOCKED: u32 = 21;
+    /// A job failed.
+    pub const JOB_FAILED: u32 = 30;
+    /// A plugin failed.
+    pub const PLUGIN_FAILED: u32 = 40;
+    /// Any other warning.
+    pub const WARNING: u32 = 100;
+    /// Any other error.
+    pub const ERROR: u32 = 101;
+}
+
+/// Where logs go.
+#[derive(Debug, Clone)]
+pub struct LogOptions {
+    /// Level filter; `KUKA_BRIDGE_LOG` overrides it.
+    pub level: String,
+    /// Print to stderr (console mode).
+    pub console: bool,
+    /// Rolling daily files in this folder, keeping this many days.
+    pub files: Option<(PathBuf, usize)>,
+    /// Report to the Windows Event Log (ignored elsewhere).
+    pub event_log: bool,
+}
+
+/// Keeps the file writer alive; dropping it flushes what is buffered.
+pub struct LogGuard {
+    _file: Option<tracing_appender::non_blocking::WorkerGuard>,
+}
+
+/// Why logging could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum LogError {
+    /// The log folder cannot be created or the appender not built.
+    #[error("log folder {path}: {message}")]
+    Files {
+        /// The folder.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// Installs the global subscriber. Call once, at the start of `main`.
+pub fn init(opts: &LogOptions) -> Result<LogGuard, LogError> {
+    let filter = EnvFilter::try_from_env("KUKA_BRIDGE_LOG")
+        .or_else(|_| EnvFilter::try_new(&opts.level))
+        .unwrap_or_else(|_| EnvFilter::new("info"));
+    let console = opts.console.then(|| {
+        tracing_subscriber::fmt::layer()
+            .with_target(false)
+            .with_writer(std::io::stderr)
+    });
+    let (file, guard) = match &opts.files {
+        Some((dir, keep)) => {
+            let fail = |message: String| LogError::Files {
+                path: dir.display().to_string(),
+                message,
+            };
+            std::fs::create_dir_all(dir).map_err(|e| fail(e.to_string()))?;
+            let appender = tracing_appender::rolling::RollingFileAppender::builder()
+                .rotation(tracing_appender::rolling::Rotation::DAILY)
+                .filename_prefix("kuka-bridge")
+                .filename_suffix("log")
+                .max_log_files(*keep)
+                .build(dir)
+                .map_err(|e| fail(e.to_string()))?;
+            let (writer, guard) = tracing_appender::non_blocking(appender);
+            let layer = tracing_subscriber::fmt::layer()
+                .with_ansi(false)
+                .with_target(true)
+                .with_writer(writer);
+            (Some(layer), Some(guard))
+        }
+        None => (None, None),
+    };
+    let registry = tracing_subscriber::registry()
+        .with(filter)
+        .with(console)
+        .with(file);
+    #[cfg(windows)]
+    {
+        let event_log = if opts.event_log {
+            crate::winsvc::eventlog::EventLogLayer::new(crate::winsvc::EVENT_SOURCE)
+        } else {
+            None
+        };
+        registry.with(event_log).init();
+    }
+    #[cfg(not(windows))]
+    {
+        let _ = opts.event_log;
+        registry.init();
+    }
+    Ok(LogGuard { _file: guard })
+}

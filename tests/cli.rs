@@ -1,0 +1,138 @@
+//! The binary as an operator runs it: log files (rolled daily, flushed on
+//! shutdown), exit codes, and configuration errors that name the file and
+//! the key.
+
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn cli() -> &'static str {
+    env!("CARGO_BIN_EXE_kuka-bridge-cli")
+}
+
+fn log_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    std::fs::read_dir(dir)
+        .map(|rd| rd.flatten().map(|e| e.path()).collect())
+        .unwrap_or_default()
+}
+
+#[test]
+fn console_run_writes_a_daily_log_file_and_flushes_it_on_shutdown() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let data = root.path().join("data");
+    let mut child = Command::new(cli())
+        .args([
+            "run",
+            "--simulate",
+            "--time-scale",
+            "0",
+            "--listen",
+            "127.0.0.1:0",
+            "--data-dir",
+        ])
+        .arg(&data)
+        .env("KUKA_BRIDGE_LOG", "info")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("spawn");
+    let stdout = child.stdout.take().expect("stdout");
+    let mut lines = BufReader::new(stdout).lines();
+    let url = loop {
+        let line = lines
+            .next()
+            .expect("the service prints its URL")
+            .expect("line");
+        if let Some(rest) = line.split("listening on ").nth(1) {
+            break rest.trim().to_string();
+        }
+    };
+    assert!(url.starts_with("http://127.0.0.1:"), "{url}");
+    // Graceful stop (SIGTERM, as systemd or `kill` would).
+    let pid = child.id().to_string();
+    let status = Command::new("kill")
+        .args(["-TERM", &pid])
+        .status()
+        .expect("kill");
+    assert!(status.success());
+    let end = Instant::now() + Duration::from_secs(20);
+    let code = loop {
+        if let Some(s) = child.try_wait().expect("wait") {
+            break s;
+        }
+        assert!(Instant::now() < end, "the service did not stop");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert!(code.success(), "clean exit: {code:?}");
+
+    let logs = log_files(&data.join("logs"));
+    assert_eq!(logs.len(), 1, "one file per day: {logs:?}");
+    let name = logs[0]
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or_default()
+        .to_string();
+    assert!(
+        name.starts_with("kuka-bridge.") && name.ends_with(".log"),
+        "{name}"
+    );
+    let text = std::fs::read_to_string(&logs[0]).expect("log");
+    assert!(text.contains("kuka-bridge listening"), "{text}");
+    assert!(
+        text.contains("kuka-bridge stopped"),
+        "the last line is flushed: {text}"
+    );
+    assert!(!text.contains("\u{1b}["), "no colour codes in files");
+}
+
+/// Runs the CLI with a bad config; a service that starts anyway (the check
+/// missed) is killed after 20 s instead of hanging the suite.
+fn run_bad(config: &std::path::Path) -> std::process::Output {
+    let mut child = Command::new(cli())
+        .args(["run", "--listen", "127.0.0.1:0", "--config"])
+        .arg(config)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let end = Instant::now() + Duration::from_secs(20);
+    while child.try_wait().expect("wait").is_none() {
+        if Instant::now() > end {
+            let _ = child.kill();
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("output")
+}
+
+#[test]
+fn configuration_errors_name_the_file_and_key_and_exit_78() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let path = root.path().join("bad.toml");
+    std::fs::write(&path, "[channel]\npoll_interval_ms = 0\n").expect("write");
+    let out = run_bad(&path);
+    assert_eq!(out.status.code(), Some(78), "{out:?}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.toml"), "names the file: {err}");
+    assert!(
+        err.contains("channel.poll_interval_ms"),
+        "names the key: {err}"
+    );
+
+    std::fs::write(&path, "[log]\nlevel = \"loud\"\n").expect("write");
+    let out = run_bad(&path);
+    assert_eq!(out.status.code(), Some(78), "{out:?}");
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("log.level"),
+        "{out:?}"
+    );
+
+    std::fs::write(&path, "[chanel]\ndir = \"x\"\n").expect("write");
+    let out = run_bad(&path);
+    assert_eq!(out.status.code(), Some(78), "an unknown section: {out:?}");
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("chanel"),
+        "{out:?}"
+    );
+}
