@@ -30,6 +30,78 @@ enum Cmd {
     DefaultConfig,
     /// Print the OpenAPI document.
     Openapi,
+    /// Manage the Windows service (install, uninstall, start, stop, status).
+    #[cfg(windows)]
+    #[command(subcommand)]
+    Service(ServiceCmd),
+}
+
+/// `kuka-bridge service …` (Windows).
+#[cfg(windows)]
+#[derive(Debug, Subcommand)]
+enum ServiceCmd {
+    /// Install or update the service (idempotent): automatic start,
+    /// recovery actions, Event Log source, ProgramData folders and a
+    /// default config if there is none; then start it.
+    Install {
+        /// Do not start the service after installing it.
+        #[arg(long)]
+        no_start: bool,
+        /// Called by the MSI (which creates and starts the service itself):
+        /// only configure the existing service.
+        #[arg(long)]
+        from_msi: bool,
+    },
+    /// Stop and remove the service and its Event Log source; keeps
+    /// configuration, logs and data unless --purge.
+    Uninstall {
+        /// Also delete %ProgramData%\kuka-bridge (config, logs, data).
+        #[arg(long)]
+        purge: bool,
+        /// Called by the MSI (which removes the service itself).
+        #[arg(long)]
+        from_msi: bool,
+    },
+    /// Start the service.
+    Start,
+    /// Stop the service (waits until it has stopped).
+    Stop,
+    /// Show the service's state, exit codes, config and log folder.
+    Status,
+    /// The service entry (started by the service manager, not by hand).
+    #[command(hide = true)]
+    Run {
+        /// The configuration file; its folder is also the data folder
+        /// unless the file sets `data_dir` (default
+        /// %ProgramData%\kuka-bridge\kuka-bridge.toml).
+        #[arg(long)]
+        config: Option<PathBuf>,
+    },
+}
+
+/// Exit code for a configuration that cannot be used (`EX_CONFIG`).
+pub const EXIT_CONFIG: u8 = 78;
+
+/// Why the command failed, and with which exit code.
+struct Failure {
+    code: u8,
+    error: anyhow::Error,
+}
+
+impl<E: Into<anyhow::Error>> From<E> for Failure {
+    fn from(e: E) -> Self {
+        let error = e.into();
+        let code = if error.downcast_ref::<crate::config::ConfigError>().is_some()
+            || matches!(
+                error.downcast_ref::<crate::app::AppError>(),
+                Some(crate::app::AppError::Config(_))
+            ) {
+            EXIT_CONFIG
+        } else {
+            1
+        };
+        Failure { code, error }
+    }
 }
 
 #[derive(Debug, clap::Args)]
@@ -73,34 +145,52 @@ struct SimArgs {
     heartbeat_ms: u64,
 }
 
-fn init_logging() {
-    use tracing_subscriber::EnvFilter;
-    let filter =
-        EnvFilter::try_from_env("KUKA_BRIDGE_LOG").unwrap_or_else(|_| EnvFilter::new("info"));
-    tracing_subscriber::fmt()
-        .with_env_filter(filter)
-        .with_target(false)
-        .with_writer(std::io::stderr)
-        .init();
-}
-
-/// Runs the command line; the process exit code.
-pub fn main() -> ExitCode {
-    let cli = Cli::parse();
-    init_logging();
-    match real_main(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+/// Logging for commands that are not the service itself: the console, and
+/// the log files of `config` when there is one.
+fn console_logging(config: Option<&Config>) -> Option<crate::logging::LogGuard> {
+    let opts = crate::logging::LogOptions {
+        level: config.map_or_else(|| "info".into(), |c| c.log.level.clone()),
+        console: true,
+        files: config
+            .filter(|c| c.log.file)
+            .map(|c| (c.log_dir(), c.log.retention_days)),
+        event_log: false,
+    };
+    match crate::logging::init(&opts) {
+        Ok(g) => Some(g),
         Err(e) => {
-            tracing::error!("{e:#}");
-            ExitCode::FAILURE
+            eprintln!("kuka-bridge: {e}; logging to the console only");
+            let opts = crate::logging::LogOptions {
+                files: None,
+                ..opts
+            };
+            crate::logging::init(&opts).ok()
         }
     }
 }
 
-fn real_main(cli: Cli) -> anyhow::Result<()> {
+/// Runs the command line; the process exit code (78 for a configuration
+/// error, 1 for any other failure).
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match real_main(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            if tracing::dispatcher::has_been_set() {
+                tracing::error!(exit_code = f.code, "{:#}", f.error);
+            } else {
+                eprintln!("kuka-bridge: {:#}", f.error);
+            }
+            ExitCode::from(f.code)
+        }
+    }
+}
+
+fn real_main(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Cmd::Run(args) => {
             let config = build_config(args)?;
+            let _log = console_logging(Some(&config));
             let rt = tokio::runtime::Runtime::new().context("cannot start the async runtime")?;
             rt.block_on(async move {
                 let simulated = config.simulator.enabled;
@@ -123,18 +213,17 @@ fn real_main(cli: Cli) -> anyhow::Result<()> {
                     );
                 }
                 println!("Press Ctrl-C to stop.");
-                shutdown_signal().await;
-                service.shutdown().await?;
-                anyhow::Ok(())
-            })
+                crate::app::run_service(service, shutdown_signal(), std::future::pending()).await
+            })?;
+            Ok(())
         }
         Cmd::Simulate(args) => {
+            let _log = console_logging(None);
             let model = kuka_kinematics::RobotModel::by_name(&args.robot)
                 .with_context(|| format!("unknown robot model {:?}", args.robot))?;
-            anyhow::ensure!(
-                args.time_scale.is_finite() && args.time_scale >= 0.0,
-                "--time-scale must be ≥ 0"
-            );
+            if !(args.time_scale.is_finite() && args.time_scale >= 0.0) {
+                return Err(anyhow::anyhow!("--time-scale must be ≥ 0").into());
+            }
             let mut sc = kuka_sim::SimConfig::new(&args.channel_dir);
             sc.model = model;
             sc.time_scale = args.time_scale;
@@ -150,6 +239,8 @@ fn real_main(cli: Cli) -> anyhow::Result<()> {
             sim.shutdown();
             Ok(())
         }
+        #[cfg(windows)]
+        Cmd::Service(cmd) => service_command(cmd),
         Cmd::DefaultConfig => {
             print!("{}", toml::to_string_pretty(&Config::default())?);
             Ok(())
@@ -217,4 +308,86 @@ fn build_config(args: RunArgs) -> anyhow::Result<Config> {
     }
     config.validate()?;
     Ok(config)
+}
+
+/// The configuration the Windows service runs with: `path` (default
+/// `%ProgramData%\kuka-bridge\kuka-bridge.toml`) if it exists, else the
+/// defaults. The file's folder is the data folder unless the file sets
+/// `data_dir`: a service may see another `%ProgramData%` than the installer
+/// did (Wine does that), the path the installer registered is the truth.
+#[cfg(windows)]
+pub(crate) fn service_config(path: Option<&std::path::Path>) -> anyhow::Result<Config> {
+    let path = path.map_or_else(crate::winsvc::config_path, std::path::Path::to_path_buf);
+    let folder = path.parent().map(std::path::Path::to_path_buf);
+    let (mut config, sets_data_dir) = if path.exists() {
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        let sets = toml::from_str::<toml::Table>(&text).is_ok_and(|t| t.contains_key("data_dir"));
+        (Config::load(&path)?, sets)
+    } else {
+        (Config::default(), false)
+    };
+    if !sets_data_dir && let Some(f) = folder {
+        config.data_dir = f;
+    }
+    config.validate()?;
+    Ok(config)
+}
+
+#[cfg(windows)]
+fn service_command(cmd: ServiceCmd) -> Result<(), Failure> {
+    use crate::winsvc::{manage, service};
+    match cmd {
+        ServiceCmd::Run { config } => {
+            // Started by the service manager: no console; log files and the
+            // Event Log. A configuration error is logged in the logs folder
+            // beside the config file, the Event Log and the exit code.
+            let folder = config
+                .as_deref()
+                .and_then(std::path::Path::parent)
+                .map(std::path::Path::to_path_buf);
+            let config = service_config(config.as_deref());
+            let (level, files) = match &config {
+                Ok(c) => (
+                    c.log.level.clone(),
+                    c.log.file.then(|| (c.log_dir(), c.log.retention_days)),
+                ),
+                Err(_) => {
+                    let d = Config::default();
+                    let dir = folder.unwrap_or(d.data_dir).join("logs");
+                    ("info".into(), Some((dir, d.log.retention_days)))
+                }
+            };
+            let _log = crate::logging::init(&crate::logging::LogOptions {
+                level,
+                console: false,
+                files,
+                event_log: true,
+            })
+            .ok();
+            service::run_dispatcher(config.map_err(|e| format!("{e:#}"))).context(
+                "not started by the service manager (use `kuka-bridge run` in a console)",
+            )?;
+            match service::outcome() {
+                Some(code) if code != 0 => Err(Failure {
+                    code: u8::try_from(code).unwrap_or(1),
+                    error: anyhow::anyhow!("the service stopped with exit code {code}"),
+                }),
+                _ => Ok(()),
+            }
+        }
+        other => {
+            let _log = console_logging(None);
+            match other {
+                ServiceCmd::Install { no_start, from_msi } => {
+                    manage::install(!no_start && !from_msi, from_msi)?
+                }
+                ServiceCmd::Uninstall { purge, from_msi } => manage::uninstall(purge, from_msi)?,
+                ServiceCmd::Start => manage::start()?,
+                ServiceCmd::Stop => manage::stop()?,
+                ServiceCmd::Status => manage::status()?,
+                ServiceCmd::Run { .. } => {}
+            }
+            Ok(())
+        }
+    }
 }

@@ -14,6 +14,9 @@ pub mod cli;
 pub mod config;
 pub mod engine;
 pub mod error;
+pub mod logging;
 pub mod motion;
 pub mod programs;
 pub mod safety;
+#[cfg(windows)]
+pub mod winsvc;
