@@ -16,6 +16,7 @@ fn log_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
         .unwrap_or_default()
 }
 
+#[cfg(unix)] // stops the service with SIGTERM
 #[test]
 fn console_run_writes_a_daily_log_file_and_flushes_it_on_shutdown() {
     let root = tempfile::tempdir().expect("tempdir");
