@@ -160,8 +160,8 @@ fn run_service() -> windows_service::Result<()> {
         let handle2 = handle;
         let cp = checkpoint.clone();
         let ticker = async move {
+            // StopPending at once, then a new checkpoint every second.
             loop {
-                tokio::time::sleep(Duration::from_secs(1)).await;
                 let n = cp.fetch_add(1, Ordering::SeqCst) + 1;
                 let _ = handle2.set_service_status(status(
                     ServiceState::StopPending,
@@ -169,6 +169,7 @@ fn run_service() -> windows_service::Result<()> {
                     n,
                     Duration::from_secs(5),
                 ));
+                tokio::time::sleep(Duration::from_secs(1)).await;
             }
         };
         crate::app::run_service(service, stopping, ticker).await
