@@ -507,3 +507,32 @@ async fn a_program_that_never_ends_is_refused_by_the_simulator_with_its_line() {
         "{v}"
     );
 }
+
+#[tokio::test]
+async fn stop_is_answered_while_a_long_program_is_being_dry_run() {
+    let t = TestService::start(Options::default()).await;
+    t.wait_online().await;
+    // Never ends: the dry run goes to the interpreter's limit (seconds in a
+    // debug build), on its own thread.
+    let src = "DEF cyc2()\n  LOOP\n    PTP {A1 10}\n    PTP {A1 -10}\n  ENDLOOP\nEND\n";
+    t.post_json("/api/v1/programs", &json!({"name": "cyc2", "src": src}))
+        .await;
+    let (status, job) = t
+        .post_json("/api/v1/programs/cyc2/run", &json!({"wait": false}))
+        .await;
+    assert_eq!(status, 202, "{job}");
+    let started = std::time::Instant::now();
+    let (status, v) = t.post("/api/v1/stop").await;
+    assert_eq!(status, 200, "{v}");
+    assert!(
+        started.elapsed() < std::time::Duration::from_millis(500),
+        "STOP waited {:?}",
+        started.elapsed()
+    );
+    let id = job["id"].as_u64().expect("id");
+    let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
+    assert_eq!(j["state"], "cancelled", "{j}");
+    // The controller stays online and serves the next request.
+    let (status, v) = t.post("/krl/getpos").await;
+    assert_eq!(status, 200, "{v}");
+}

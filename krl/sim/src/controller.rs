@@ -87,6 +87,53 @@ enum Advanced {
     NextPhase,
 }
 
+/// A RUN command whose program is being parsed and run ahead.
+struct Preparing {
+    cid: Cid,
+    rx: std::sync::mpsc::Receiver<Result<Vec<interp::Step>, (ResultCode, u32)>>,
+}
+
+/// Parses module `kbu<n>` and runs it ahead with the interpreter (on the
+/// program thread); the steps, or the result code and line of the error.
+fn prepare(
+    n: i32,
+    loaded: LoadedProgram,
+    model: &RobotModel,
+    axes: kuka_kinematics::Axes,
+    tool: Pose,
+    base: Pose,
+    speed: SpeedRecord,
+) -> Result<Vec<interp::Step>, (ResultCode, u32)> {
+    let module = format!("kbu{n}");
+    let (src, dat) = loaded.map_err(|why| {
+        tracing::warn!(%module, %why, "program cannot be read");
+        (ResultCode::RuntimeError, 0)
+    })?;
+    let program = kuka_krl::Program::parse(&src, dat.as_deref(), Some(&module)).map_err(|e| {
+        tracing::info!(%module, error = %e, "program does not parse");
+        (ResultCode::BadCommand, e.line().unwrap_or(0))
+    })?;
+    let start = interp::Start {
+        model,
+        axes,
+        tool,
+        base,
+        speed,
+    };
+    interp::check_subset(&program)
+        .map_err(RunError::from)
+        .and_then(|()| interp::run(&program, &module, &start))
+        .map_err(|e| {
+            tracing::info!(%module, error = %e, "program refused");
+            match &e {
+                RunError::Unsupported(u) => (ResultCode::Unsupported, u.line),
+                RunError::Runtime { line, .. } | RunError::TooLong { line, .. } => {
+                    (ResultCode::RuntimeError, *line)
+                }
+            }
+        })
+}
+
 /// An uploaded program as the runner read it from the program folder:
 /// `(src, dat)`, or why it could not be read.
 pub(crate) type LoadedProgram = Result<(String, Option<String>), String>;
@@ -108,6 +155,8 @@ pub(crate) struct Controller {
     pub(crate) trace: VecDeque<TraceSample>,
     pub(crate) trace_capacity: usize,
     active: Option<Active>,
+    /// A RUN command being prepared on its thread.
+    preparing: Option<Preparing>,
 }
 
 /// What handling a command changed, so the runner knows whether to write
@@ -210,6 +259,7 @@ impl Controller {
             trace: VecDeque::new(),
             trace_capacity,
             active: None,
+            preparing: None,
         }
     }
 
@@ -224,7 +274,7 @@ impl Controller {
     }
 
     pub(crate) fn is_busy(&self) -> bool {
-        self.active.is_some()
+        self.active.is_some() || self.preparing.is_some()
     }
 
     /// Wall-clock instant when the next sample of the active batch is due.
@@ -282,12 +332,16 @@ impl Controller {
             self.push_result(cid, ResultCode::ControllerError, 0, 0, None);
             return Changes::results();
         }
-        if self.active.is_some() && !matches!(command, Command::Stop) {
+        if self.is_busy() && !matches!(command, Command::Stop) {
             self.push_result(cid, ResultCode::Busy, 0, 0, None);
             return Changes::results();
         }
         match command {
             Command::Stop => {
+                if let Some(p) = self.preparing.take() {
+                    // Nothing moved yet; the program thread's answer is dropped.
+                    self.push_result(p.cid, ResultCode::Cancelled, 0, 0, None);
+                }
                 if let Some(active) = self.active.take() {
                     // Brake where the robot is now (the sample reached last).
                     let elapsed = active
@@ -371,60 +425,62 @@ impl Controller {
     /// RUN: parses the uploaded module, runs it through the interpreter
     /// and plays the result phase by phase. Errors are answered with the
     /// failing source line in `done`.
-    fn run_program(&mut self, cid: Cid, n: i32, loaded: LoadedProgram, now: Instant) {
-        let module = format!("kbu{n}");
-        let (src, dat) = match loaded {
-            Ok(files) => files,
-            Err(why) => {
-                tracing::warn!(cid, %module, %why, "program cannot be read");
+    fn run_program(&mut self, cid: Cid, n: i32, loaded: LoadedProgram, _now: Instant) {
+        // Parsing and running a program ahead can take a while (up to the
+        // interpreter's limits): it happens on a thread of its own, so the
+        // heartbeat goes on and STOP is answered meanwhile. The controller
+        // is busy with the command until the steps are there.
+        let (tx, rx) = std::sync::mpsc::channel();
+        let model = self.model.clone();
+        let (axes, tool, base, speed) = (self.axes, self.tool, self.base, self.speed);
+        let spawned = std::thread::Builder::new()
+            .name(format!("kuka-sim-kbu{n}"))
+            .spawn(move || {
+                let _ = tx.send(prepare(n, loaded, &model, axes, tool, base, speed));
+            });
+        match spawned {
+            Ok(_) => self.preparing = Some(Preparing { cid, rx }),
+            Err(e) => {
+                tracing::error!(cid, error = %e, "cannot start the program thread");
                 self.push_result(cid, ResultCode::RuntimeError, 0, 0, None);
-                return;
-            }
-        };
-        let program = match kuka_krl::Program::parse(&src, dat.as_deref(), Some(&module)) {
-            Ok(p) => p,
-            Err(e) => {
-                tracing::info!(cid, %module, error = %e, "program does not parse");
-                self.push_result(cid, ResultCode::BadCommand, e.line().unwrap_or(0), 0, None);
-                return;
-            }
-        };
-        let start = interp::Start {
-            model: &self.model,
-            axes: self.axes,
-            tool: self.tool,
-            base: self.base,
-            speed: self.speed,
-        };
-        let steps = interp::check_subset(&program)
-            .map_err(RunError::from)
-            .and_then(|()| interp::run(&program, &module, &start));
-        let steps = match steps {
-            Ok(steps) => steps,
-            Err(e) => {
-                let (code, line) = match &e {
-                    RunError::Unsupported(u) => (ResultCode::Unsupported, u.line),
-                    RunError::Runtime { line, .. } | RunError::TooLong { line, .. } => {
-                        (ResultCode::RuntimeError, *line)
-                    }
-                };
-                tracing::info!(cid, %module, error = %e, "program refused");
-                self.push_result(cid, code, line, 0, None);
-                return;
-            }
-        };
-        let mut rest = phases(steps);
-        match rest.pop_front() {
-            None => self.push_result(cid, ResultCode::Ok, 0, 0, None),
-            Some(first) => {
-                let run = ProgramRun {
-                    lines: Vec::new(),
-                    rest,
-                    steps_before: 0,
-                };
-                self.start_phase(cid, first, run, now);
             }
         }
+    }
+
+    /// Takes the prepared program's steps, if ready: starts its first
+    /// phase, or answers its error.
+    fn poll_preparing(&mut self, now: Instant) -> Changes {
+        let Some(p) = &self.preparing else {
+            return Changes::default();
+        };
+        let cid = p.cid;
+        let outcome = match p.rx.try_recv() {
+            Ok(o) => o,
+            Err(std::sync::mpsc::TryRecvError::Empty) => return Changes::default(),
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => Err((ResultCode::RuntimeError, 0)),
+        };
+        self.preparing = None;
+        match outcome {
+            Err((code, line)) => self.push_result(cid, code, line, 0, None),
+            Ok(steps) => {
+                let mut rest = phases(steps);
+                match rest.pop_front() {
+                    None => self.push_result(cid, ResultCode::Ok, 0, 0, None),
+                    Some(first) => {
+                        let run = ProgramRun {
+                            lines: Vec::new(),
+                            rest,
+                            steps_before: 0,
+                        };
+                        self.start_phase(cid, first, run, now);
+                        if self.active.is_some() {
+                            return Changes::default();
+                        }
+                    }
+                }
+            }
+        }
+        Changes::results()
     }
 
     /// Starts one phase of a program run (or answers its pre-check error).
@@ -521,6 +577,12 @@ impl Controller {
     /// Plays the active batch (and, for a program, the phases after it)
     /// up to `now`; returns what changed.
     pub(crate) fn advance(&mut self, now: Instant, time_scale: f64) -> Changes {
+        if self.preparing.is_some() {
+            let c = self.poll_preparing(now);
+            if self.active.is_none() {
+                return c;
+            }
+        }
         loop {
             match self.advance_phase(now, time_scale) {
                 Advanced::Changes(c) => return c,
@@ -614,10 +676,12 @@ impl Controller {
     /// What the service must learn at once rather than at the next
     /// heartbeat: idle/busy/error and the command being executed.
     pub(crate) fn status_key(&self) -> (Cid, bool) {
-        (
-            self.active.as_ref().map_or(0, |a| a.cid),
-            self.error.is_some(),
-        )
+        let cid = match (&self.active, &self.preparing) {
+            (Some(a), _) => a.cid,
+            (None, Some(p)) => p.cid,
+            (None, None) => 0,
+        };
+        (cid, self.error.is_some())
     }
 
     /// The heartbeat record (increments the sequence number).
@@ -627,7 +691,10 @@ impl Controller {
         let (status, busy_cid, busy_index) = match (&self.active, &self.error) {
             (_, Some(_)) => (ControllerStatus::Error, 0, 0),
             (Some(a), None) => (ControllerStatus::Busy, a.cid, a.progress() as u32),
-            (None, None) => (ControllerStatus::Idle, 0, 0),
+            (None, None) => match &self.preparing {
+                Some(p) => (ControllerStatus::Busy, p.cid, 0),
+                None => (ControllerStatus::Idle, 0, 0),
+            },
         };
         StateFile {
             seq: self.seq,

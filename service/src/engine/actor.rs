@@ -89,6 +89,11 @@ pub(crate) struct Actor {
     program_dir: Option<std::path::PathBuf>,
     /// Generated modules kept in it.
     keep_modules: usize,
+    /// The program job whose dry run is running on its own thread (the
+    /// queue waits behind it; STOP and cancel do not).
+    checking: Option<JobId>,
+    /// The engine's own queue, for answers from helper threads.
+    events: Option<std::sync::mpsc::Sender<Msg>>,
 }
 
 fn result_error(r: &ResultRecord) -> Option<BridgeError> {
@@ -246,6 +251,8 @@ impl Actor {
             cfg: config.channel.clone(),
             program_dir: config.program_dir(),
             keep_modules: config.programs.keep_modules,
+            checking: None,
+            events: None,
             default_approx_mm: config.motion.default_batch_approx_mm,
             rx,
             queue: VecDeque::new(),
@@ -261,6 +268,7 @@ impl Actor {
     /// The engine thread: blocks on its queue until a request, a file event,
     /// the next poll or a pending retry is due.
     pub(crate) fn run(mut self, events: std::sync::mpsc::Sender<Msg>) {
+        self.events = Some(events.clone());
         let _watcher = self.channel.watch(move |changed| {
             let _ = events.send(Msg::Files(changed));
         });
@@ -332,6 +340,7 @@ impl Actor {
                 let _ = reply.send(result);
             }
             Msg::Stop(reply) => self.stop(reply),
+            Msg::ProgramChecked(job, result) => self.program_checked(job, result),
             Msg::Shutdown(done) => {
                 tracing::info!(
                     queued = self.queue.len(),
@@ -339,6 +348,7 @@ impl Actor {
                     "engine shutting down"
                 );
                 self.cancel_queue("the service is shutting down");
+                self.cancel_checking("the service is shutting down");
                 self.drop_pending_job(
                     JobState::Cancelled,
                     BridgeError::new(ErrorCode::Cancelled, "the service is shutting down"),
@@ -384,8 +394,22 @@ impl Actor {
         } else if self.inflight.as_ref().is_some_and(|f| f.id == id) {
             // The controller answers the running command with CANCELLED.
             self.request_stop(None);
+        } else if self.checking == Some(id) {
+            self.cancel_checking("cancelled by request");
         }
         self.shared_job(id)
+    }
+
+    /// Ends the program job whose dry run is running; its answer is
+    /// ignored when it comes.
+    fn cancel_checking(&mut self, why: &str) {
+        if let Some(id) = self.checking.take() {
+            self.shared.finish(
+                id,
+                JobState::Cancelled,
+                BridgeError::new(ErrorCode::Cancelled, format!("{why}; nothing was sent")),
+            );
+        }
     }
 
     fn shared_job(&self, id: JobId) -> Result<Job> {
@@ -399,6 +423,7 @@ impl Actor {
 
     fn stop(&mut self, reply: oneshot::Sender<Result<()>>) {
         self.cancel_queue("cancelled by stop");
+        self.cancel_checking("cancelled by stop");
         if !self.ctl.online {
             // Still leave a STOP on the channel: a controller that comes back
             // reads the newest command first.
@@ -889,7 +914,11 @@ impl Actor {
 
     /// Sends the next queued job when the controller is free.
     fn dispatch(&mut self) {
-        while self.inflight.is_none() && self.stop.is_none() && self.pending.is_none() {
+        while self.inflight.is_none()
+            && self.stop.is_none()
+            && self.pending.is_none()
+            && self.checking.is_none()
+        {
             if !self.ctl.online {
                 if !self.queue.is_empty() {
                     let e = BridgeError::new(
@@ -952,36 +981,30 @@ impl Actor {
                 cp_velocity: self.speeds.cp_velocity_m_s,
                 cp_acceleration_pct: self.speeds.cp_acceleration_pct,
             };
-            let check = self
-                .shared
-                .safety
-                .check_program(program, &start, &tool, &base, speed)?;
-            if check.checked && !check.complete {
-                tracing::warn!(
-                    program = %program.info.name,
-                    steps = check.steps,
-                    "program does not end within the dry run's limits; checked up to there"
-                );
-            }
-            if let Some(n) = check.steps.filter(|_| check.complete) {
-                self.shared.update(job.id, |j| j.motions = n);
-            }
-            if !check.checked {
-                tracing::info!(
-                    program = %program.info.name,
-                    "program sent without a dry run (no robot model, or KRL beyond the simulator's subset)"
-                );
-            }
-            let cid = self.next_cid()?;
-            self.write_module(&dir, cid, program)?;
-            let timeout = job.timeout.unwrap_or(self.cfg.command_timeout());
-            self.write(
-                CommandFile {
-                    cid,
-                    command: Command::Run(cid),
-                },
-                Some((job, timeout)),
-            );
+            // The dry run may take a while (a long program, up to the
+            // interpreter's limits): it runs on a thread of its own and
+            // answers with Msg::ProgramChecked; meanwhile the engine keeps
+            // serving state, STOP and cancel, and the queue waits.
+            let _ = dir;
+            let safety = self.shared.safety.clone();
+            let events = self.events.clone().ok_or_else(|| {
+                BridgeError::new(ErrorCode::Internal, "the engine queue is not set up")
+            })?;
+            let program = program.clone();
+            let id = job.id;
+            std::thread::Builder::new()
+                .name("kuka-dry-run".into())
+                .spawn(move || {
+                    let result = safety.check_program(&program, &start, &tool, &base, speed);
+                    let _ = events.send(Msg::ProgramChecked(job, result));
+                })
+                .map_err(|e| {
+                    BridgeError::new(
+                        ErrorCode::Internal,
+                        format!("cannot start the dry run: {e}"),
+                    )
+                })?;
+            self.checking = Some(id);
             return Ok(());
         }
         let command = match &job.op {
@@ -1018,6 +1041,61 @@ impl Actor {
         let timeout = job.timeout.unwrap_or(self.cfg.command_timeout());
         self.write(CommandFile { cid, command }, Some((job, timeout)));
         Ok(())
+    }
+
+    /// A program job's dry run has finished: send it, or fail it.
+    fn program_checked(&mut self, job: QueuedJob, result: Result<crate::safety::ProgramCheck>) {
+        if self.checking != Some(job.id) {
+            return; // cancelled meanwhile
+        }
+        self.checking = None;
+        let id = job.id;
+        let sent = result.and_then(|check| {
+            let Operation::RunProgram(program) = &job.op else {
+                return Err(BridgeError::new(ErrorCode::Internal, "not a program job"));
+            };
+            if check.checked && !check.complete {
+                tracing::warn!(
+                    program = %program.info.name,
+                    steps = check.steps,
+                    "program does not end within the dry run's limits; checked up to there"
+                );
+            }
+            if !check.checked {
+                tracing::info!(
+                    program = %program.info.name,
+                    "program sent without a dry run (no robot model, or KRL beyond the simulator's subset)"
+                );
+            }
+            if let Some(n) = check.steps.filter(|_| check.complete) {
+                self.shared.update(id, |j| j.motions = n);
+            }
+            if !self.ctl.online {
+                return Err(BridgeError::new(
+                    ErrorCode::ControllerOffline,
+                    "the controller went offline during the dry run; nothing was sent",
+                ));
+            }
+            let dir = self.program_dir.clone().ok_or_else(|| {
+                BridgeError::new(ErrorCode::ProgramsUnavailable, "no program folder is configured")
+            })?;
+            let program = program.clone();
+            let cid = self.next_cid()?;
+            self.write_module(&dir, cid, &program)?;
+            let timeout = job.timeout.unwrap_or(self.cfg.command_timeout());
+            self.write(
+                CommandFile {
+                    cid,
+                    command: Command::Run(cid),
+                },
+                Some((job, timeout)),
+            );
+            Ok(())
+        });
+        if let Err(e) = sent {
+            tracing::warn!(job = id, code = e.code.as_str(), detail = %e.detail, "job not sent");
+            self.shared.finish(id, JobState::Failed, e);
+        }
     }
 
     /// Writes module `kbu<cid>` into the program folder and deletes the

@@ -32,6 +32,8 @@ pub(crate) enum Msg {
     Cancel(JobId, oneshot::Sender<Result<Job>>),
     Stop(oneshot::Sender<Result<()>>),
     Shutdown(oneshot::Sender<()>),
+    /// The dry run of a program job has finished (on its own thread).
+    ProgramChecked(actor::QueuedJob, Result<crate::safety::ProgramCheck>),
 }
 
 pub(crate) struct JobTable {
