@@ -2,6 +2,7 @@
 //! shutdown), exit codes, and configuration errors that name the file and
 //! the key.
 
+#[cfg(unix)]
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -10,6 +11,7 @@ fn cli() -> &'static str {
     env!("CARGO_BIN_EXE_kuka-bridge-cli")
 }
 
+#[cfg(unix)]
 fn log_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
     std::fs::read_dir(dir)
         .map(|rd| rd.flatten().map(|e| e.path()).collect())
