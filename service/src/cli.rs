@@ -86,6 +86,8 @@ pub const EXIT_CONFIG: u8 = 78;
 struct Failure {
     code: u8,
     error: anyhow::Error,
+    /// Already logged (the service logs its own end).
+    logged: bool,
 }
 
 impl<E: Into<anyhow::Error>> From<E> for Failure {
@@ -100,7 +102,11 @@ impl<E: Into<anyhow::Error>> From<E> for Failure {
         } else {
             1
         };
-        Failure { code, error }
+        Failure {
+            code,
+            error,
+            logged: false,
+        }
     }
 }
 
@@ -173,24 +179,29 @@ fn console_logging(config: Option<&Config>) -> Option<crate::logging::LogGuard> 
 /// error, 1 for any other failure).
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
-    match real_main(cli) {
+    // The log writer lives until the last line is logged and flushed.
+    let mut log = None;
+    let code = match real_main(cli, &mut log) {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {
-            if tracing::dispatcher::has_been_set() {
+            if f.logged {
+            } else if tracing::dispatcher::has_been_set() {
                 tracing::error!(exit_code = f.code, "{:#}", f.error);
             } else {
                 eprintln!("kuka-bridge: {:#}", f.error);
             }
             ExitCode::from(f.code)
         }
-    }
+    };
+    drop(log);
+    code
 }
 
-fn real_main(cli: Cli) -> Result<(), Failure> {
+fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(), Failure> {
     match cli.command {
         Cmd::Run(args) => {
             let config = build_config(args)?;
-            let _log = console_logging(Some(&config));
+            *log = console_logging(Some(&config));
             let rt = tokio::runtime::Runtime::new().context("cannot start the async runtime")?;
             rt.block_on(async move {
                 let simulated = config.simulator.enabled;
@@ -218,7 +229,7 @@ fn real_main(cli: Cli) -> Result<(), Failure> {
             Ok(())
         }
         Cmd::Simulate(args) => {
-            let _log = console_logging(None);
+            *log = console_logging(None);
             let model = kuka_kinematics::RobotModel::by_name(&args.robot)
                 .with_context(|| format!("unknown robot model {:?}", args.robot))?;
             if !(args.time_scale.is_finite() && args.time_scale >= 0.0) {
@@ -240,7 +251,7 @@ fn real_main(cli: Cli) -> Result<(), Failure> {
             Ok(())
         }
         #[cfg(windows)]
-        Cmd::Service(cmd) => service_command(cmd),
+        Cmd::Service(cmd) => service_command(cmd, log),
         Cmd::DefaultConfig => {
             print!("{}", toml::to_string_pretty(&Config::default())?);
             Ok(())
@@ -334,18 +345,19 @@ pub(crate) fn service_config(path: Option<&std::path::Path>) -> anyhow::Result<C
 }
 
 #[cfg(windows)]
-fn service_command(cmd: ServiceCmd) -> Result<(), Failure> {
+fn service_command(
+    cmd: ServiceCmd,
+    log: &mut Option<crate::logging::LogGuard>,
+) -> Result<(), Failure> {
     use crate::winsvc::{manage, service};
     match cmd {
         ServiceCmd::Run { config } => {
             // Started by the service manager: no console; log files and the
             // Event Log. A configuration error is logged in the logs folder
             // beside the config file, the Event Log and the exit code.
-            let folder = config
-                .as_deref()
-                .and_then(std::path::Path::parent)
-                .map(std::path::Path::to_path_buf);
-            let config = service_config(config.as_deref());
+            let path = config.unwrap_or_else(crate::winsvc::config_path);
+            let folder = path.parent().map(std::path::Path::to_path_buf);
+            let config = service_config(Some(&path));
             let (level, files) = match &config {
                 Ok(c) => (
                     c.log.level.clone(),
@@ -357,26 +369,27 @@ fn service_command(cmd: ServiceCmd) -> Result<(), Failure> {
                     ("info".into(), Some((dir, d.log.retention_days)))
                 }
             };
-            let _log = crate::logging::init(&crate::logging::LogOptions {
+            *log = crate::logging::init(&crate::logging::LogOptions {
                 level,
                 console: false,
                 files,
                 event_log: true,
             })
             .ok();
-            service::run_dispatcher(config.map_err(|e| format!("{e:#}"))).context(
+            service::run_dispatcher(config.map_err(|e| format!("{e:#}")), path).context(
                 "not started by the service manager (use `kuka-bridge run` in a console)",
             )?;
             match service::outcome() {
                 Some(code) if code != 0 => Err(Failure {
                     code: u8::try_from(code).unwrap_or(1),
                     error: anyhow::anyhow!("the service stopped with exit code {code}"),
+                    logged: true,
                 }),
                 _ => Ok(()),
             }
         }
         other => {
-            let _log = console_logging(None);
+            *log = console_logging(None);
             match other {
                 ServiceCmd::Install { no_start, from_msi } => {
                     manage::install(!no_start && !from_msi, from_msi)?

@@ -73,36 +73,36 @@ pub enum LogError {
     },
 }
 
-/// Installs the global subscriber. Call once, at the start of `main`.
+/// Installs the global subscriber. Call once, at the start of `main`. If
+/// the log folder cannot be used, logging goes on without files (console,
+/// Event Log) and the first line logged says why.
 pub fn init(opts: &LogOptions) -> Result<LogGuard, LogError> {
+    use std::io::IsTerminal;
     let filter = EnvFilter::try_from_env("KUKA_BRIDGE_LOG")
         .or_else(|_| EnvFilter::try_new(&opts.level))
         .unwrap_or_else(|_| EnvFilter::new("info"));
     let console = opts.console.then(|| {
         tracing_subscriber::fmt::layer()
             .with_target(false)
+            .with_ansi(std::io::stderr().is_terminal())
             .with_writer(std::io::stderr)
     });
-    let (file, guard) = match &opts.files {
-        Some((dir, keep)) => {
-            let fail = |message: String| LogError::Files {
-                path: dir.display().to_string(),
-                message,
-            };
-            std::fs::create_dir_all(dir).map_err(|e| fail(e.to_string()))?;
-            let appender = tracing_appender::rolling::RollingFileAppender::builder()
-                .rotation(tracing_appender::rolling::Rotation::DAILY)
-                .filename_prefix("kuka-bridge")
-                .filename_suffix("log")
-                .max_log_files(*keep)
-                .build(dir)
-                .map_err(|e| fail(e.to_string()))?;
-            let (writer, guard) = tracing_appender::non_blocking(appender);
+    let mut file_error = None;
+    let (file, guard) = match opts
+        .files
+        .as_ref()
+        .map(|(dir, keep)| file_writer(dir, *keep))
+    {
+        Some(Ok((writer, guard))) => {
             let layer = tracing_subscriber::fmt::layer()
                 .with_ansi(false)
                 .with_target(true)
                 .with_writer(writer);
             (Some(layer), Some(guard))
+        }
+        Some(Err(e)) => {
+            file_error = Some(e);
+            (None, None)
         }
         None => (None, None),
     };
@@ -124,5 +124,33 @@ pub fn init(opts: &LogOptions) -> Result<LogGuard, LogError> {
         let _ = opts.event_log;
         registry.init();
     }
+    if let Some(e) = file_error {
+        tracing::error!(event_id = events::CONFIG_ERROR, "no log files: {e}");
+    }
     Ok(LogGuard { _file: guard })
+}
+
+fn file_writer(
+    dir: &std::path::Path,
+    keep: usize,
+) -> Result<
+    (
+        tracing_appender::non_blocking::NonBlocking,
+        tracing_appender::non_blocking::WorkerGuard,
+    ),
+    LogError,
+> {
+    let fail = |message: String| LogError::Files {
+        path: dir.display().to_string(),
+        message,
+    };
+    std::fs::create_dir_all(dir).map_err(|e| fail(e.to_string()))?;
+    let appender = tracing_appender::rolling::RollingFileAppender::builder()
+        .rotation(tracing_appender::rolling::Rotation::DAILY)
+        .filename_prefix("kuka-bridge")
+        .filename_suffix("log")
+        .max_log_files(keep)
+        .build(dir)
+        .map_err(|e| fail(e.to_string()))?;
+    Ok(tracing_appender::non_blocking(appender))
 }

@@ -110,7 +110,7 @@ pub fn install(start: bool, from_msi: bool) -> Result<()> {
         Ok(()) => println!("recovery: restart after 5 s, 30 s, 5 min; reset after 1 day"),
         // Wine does not implement failure actions (error 124); Windows does.
         Err(e) => {
-            tracing::warn!(error = %e, "cannot set the recovery actions; set them in services.msc")
+            tracing::warn!(error = %e, "cannot set the recovery actions (Wine does not implement them); set them in services.msc")
         }
     }
     register_event_source(&exe)?;
@@ -162,15 +162,27 @@ fn prepare_program_data() -> Result<()> {
             "# kuka-bridge service configuration (every key is optional; see README.md).\n\
              # Restart the service after a change: kuka-bridge service stop / start.\n",
         );
-        text.push_str(&toml::to_string_pretty(&Config::default()).context("default config")?);
+        let mut config = Config::default();
+        // On a KRC the channel is the controller's user files folder.
+        let krc = Path::new(r"C:\KRC\ROBOTER\UserFiles");
+        if krc.is_dir() {
+            config.channel.dir = Some(krc.to_path_buf());
+        } else {
+            println!(
+                "no {} here: set [channel] dir in the config to the controller's channel folder",
+                krc.display()
+            );
+        }
+        text.push_str(&toml::to_string_pretty(&config).context("default config")?);
         std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
         println!("default config written: {}", path.display());
     }
     Ok(())
 }
 
-/// Full control for SYSTEM and Administrators, read for Users (tokens and
-/// plugins will live here); best effort: a failure is logged.
+/// Full control for SYSTEM and Administrators only: configuration, tokens
+/// and plugins live here, and the service runs as SYSTEM. Best effort: a
+/// failure is logged.
 fn restrict(dir: &Path) {
     let out = std::process::Command::new("icacls")
         .arg(dir)
@@ -180,14 +192,12 @@ fn restrict(dir: &Path) {
             "*S-1-5-18:(OI)(CI)F",
             "/grant:r",
             "*S-1-5-32-544:(OI)(CI)F",
-            "/grant:r",
-            "*S-1-5-32-545:(OI)(CI)RX",
         ])
         .output();
     match out {
         Ok(o) if o.status.success() => {
             println!(
-                "permissions of {}: SYSTEM and Administrators full, Users read",
+                "permissions of {}: SYSTEM and Administrators only",
                 dir.display()
             )
         }

@@ -30,7 +30,8 @@ define_windows_service!(ffi_service_main, service_main);
 
 /// The configuration handed to the service thread (the dispatcher calls
 /// `service_main` without arguments of ours).
-static CONFIG: Mutex<Option<Result<crate::config::Config, String>>> = Mutex::new(None);
+static CONFIG: Mutex<Option<(Result<crate::config::Config, String>, std::path::PathBuf)>> =
+    Mutex::new(None);
 /// The exit code the service reported when it stopped.
 static OUTCOME: AtomicU32 = AtomicU32::new(0);
 
@@ -39,8 +40,9 @@ static OUTCOME: AtomicU32 = AtomicU32::new(0);
 /// the process was not started by the service manager.
 pub fn run_dispatcher(
     config: Result<crate::config::Config, String>,
+    path: std::path::PathBuf,
 ) -> windows_service::Result<()> {
-    *CONFIG.lock().unwrap_or_else(|p| p.into_inner()) = Some(config);
+    *CONFIG.lock().unwrap_or_else(|p| p.into_inner()) = Some((config, path));
     service_dispatcher::start(SERVICE_NAME, ffi_service_main)
 }
 
@@ -102,14 +104,20 @@ fn run_service() -> windows_service::Result<()> {
         .lock()
         .unwrap_or_else(|p| p.into_inner())
         .take()
-        .unwrap_or_else(|| Err("no configuration was handed to the service".into()));
+        .unwrap_or_else(|| {
+            (
+                Err("no configuration was handed to the service".into()),
+                super::config_path(),
+            )
+        });
+    let (config, path) = config;
     let config = match config {
         Ok(c) => c,
         Err(e) => {
             OUTCOME.store(EXIT_CONFIG, Ordering::SeqCst);
             tracing::error!(
                 event_id = events::CONFIG_ERROR,
-                config = %super::config_path().display(),
+                config = %path.display(),
                 "configuration error, the service cannot start: {e}"
             );
             handle.set_service_status(status(
