@@ -31,6 +31,21 @@ async fn thesis_base(t: &TestService) {
     assert_eq!(status, 200, "{v}");
 }
 
+/// POSTs a hand-made `multipart/form-data` body to `/krl/uploadfile`.
+async fn post_form(t: &TestService, boundary: &str, body: String) -> (u16, Value) {
+    let r = reqwest::Client::new()
+        .post(t.url("/krl/uploadfile"))
+        .header(
+            "content-type",
+            format!("multipart/form-data; boundary={boundary}"),
+        )
+        .body(body)
+        .send()
+        .await
+        .expect("request");
+    kuka_bridge_tests::decode(r).await
+}
+
 async fn post_text(t: &TestService, path: &str, body: String) -> (u16, Value) {
     let r = reqwest::Client::new()
         .post(t.url(path))
@@ -129,17 +144,7 @@ async fn the_thesis_upload_accepts_a_multipart_form() {
         "--{boundary}\r\nContent-Disposition: form-data; name=\"file\"; filename=\"up.src\"\r\nContent-Type: application/octet-stream\r\n\r\n{}\r\n--{boundary}--\r\n",
         thesis_spline(-20.0, 100.0)
     );
-    let r = reqwest::Client::new()
-        .post(t.url("/krl/uploadfile"))
-        .header(
-            "content-type",
-            format!("multipart/form-data; boundary={boundary}"),
-        )
-        .body(body)
-        .send()
-        .await
-        .expect("request");
-    let (status, v) = kuka_bridge_tests::decode(r).await;
+    let (status, v) = post_form(&t, boundary, body).await;
     assert_eq!(status, 200, "{v}");
     assert_eq!(v["statuscode"], 1);
 }
@@ -417,17 +422,7 @@ async fn uploads_as_old_clients_and_editors_make_them_are_handled() {
         "--{boundary}\r\nContent-Disposition: form-data; name=\"robot\"\r\n\r\nkr3\r\n--{boundary}\r\nContent-Disposition: form-data; name=\"upload\"; filename=\"up.src\"\r\n\r\n{}\r\n--{boundary}--\r\n",
         thesis_spline(-20.0, 100.0)
     );
-    let r = reqwest::Client::new()
-        .post(t.url("/krl/uploadfile"))
-        .header(
-            "content-type",
-            format!("multipart/form-data; boundary={boundary}"),
-        )
-        .body(body)
-        .send()
-        .await
-        .expect("request");
-    let (status, v) = kuka_bridge_tests::decode(r).await;
+    let (status, v) = post_form(&t, boundary, body).await;
     assert_eq!((status, &v["statuscode"]), (200, &json!(1)), "{v}");
 
     // A byte-order mark, CR LF line ends and a Windows-1252 comment (ü = 0xFC).

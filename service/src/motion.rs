@@ -228,6 +228,18 @@ impl SpeedSettings {
     }
 }
 
+impl From<SpeedSettings> for kuka_protocol::SpeedRecord {
+    fn from(s: SpeedSettings) -> Self {
+        kuka_protocol::SpeedRecord {
+            override_pct: s.override_pct,
+            ptp_velocity_pct: s.ptp_velocity_pct,
+            ptp_acceleration_pct: s.ptp_acceleration_pct,
+            cp_velocity: s.cp_velocity_m_s,
+            cp_acceleration_pct: s.cp_acceleration_pct,
+        }
+    }
+}
+
 fn pick(given: Option<f64>, relative: bool, previous: f64) -> f64 {
     match (given, relative) {
         (Some(v), true) => previous + v,

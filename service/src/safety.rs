@@ -9,7 +9,8 @@
 use kuka_kinematics::MotionKind;
 use kuka_kinematics::{IkError, MotionError, RobotModel, plan};
 use kuka_protocol::{Frame, MAX_REAL, MotionRecord, SpeedRecord};
-use kuka_sim::interp::{self, RunError, Start, Step};
+use kuka_sim::interp::{RunError, Start, Step};
+use kuka_sim::program::PrepareError;
 
 use crate::config::{MotionConfig, WorkspaceBox};
 use crate::error::{BridgeError, ErrorCode, Result};
@@ -272,13 +273,7 @@ impl Safety {
         // Dry-run exactly what the controller will run: the generated
         // module (with its BCO run); lines map back to the upload.
         let module = crate::programs::module_text(0, program);
-        let entry = &module.name;
         let up = crate::programs::upload_line;
-        let parsed = kuka_krl::Program::parse(&module.src, module.dat.as_deref(), Some(entry))
-            .map_err(|e| crate::programs::program_error(&e))?;
-        if interp::check_subset(&parsed).is_err() {
-            return Ok(unchecked);
-        }
         let st = Start {
             model,
             axes: start.axes,
@@ -286,21 +281,15 @@ impl Safety {
             base: kuka_sim::frame_to_pose(base),
             speed,
         };
-        let (steps, complete) = match interp::run(&parsed, entry, &st) {
+        let run =
+            kuka_sim::program::interpret(&module.src, module.dat.as_deref(), &module.name, &st);
+        let (steps, complete) = match run {
             Ok(steps) => (steps, true),
-            Err(RunError::TooLong { steps, .. }) => (steps, false),
-            Err(RunError::Unsupported(u)) => {
-                return Err(BridgeError::new(
-                    ErrorCode::ProgramUnsupported,
-                    format!(
-                        "line {}: {} is not supported by the simulator",
-                        up(u.line),
-                        u.what
-                    ),
-                )
-                .at_line("src", up(u.line)));
-            }
-            Err(RunError::Runtime { line, message }) => {
+            Err(PrepareError::Parse(e)) => return Err(crate::programs::program_error(&e)),
+            Err(PrepareError::Run(RunError::TooLong { steps, .. })) => (steps, false),
+            // Beyond the simulator's subset: only a real KRC can run it.
+            Err(PrepareError::Run(RunError::Unsupported(_))) => return Ok(unchecked),
+            Err(PrepareError::Run(RunError::Runtime { line, message })) => {
                 return Err(BridgeError::new(
                     ErrorCode::ProgramFailed,
                     format!(

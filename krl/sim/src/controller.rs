@@ -5,7 +5,7 @@ use std::collections::VecDeque;
 use std::time::Instant;
 
 use crate::interp::{self, RunError};
-use crate::program::{Phase, phases};
+use crate::program::{Phase, PrepareError, phases};
 use kuka_kinematics::{
     Axes, Execution, IkError, Motion, MotionError, MotionKind, PlanSettings, Pose, RobotModel,
 };
@@ -109,10 +109,6 @@ fn prepare(
         tracing::warn!(%module, %why, "program cannot be read");
         (ResultCode::RuntimeError, 0)
     })?;
-    let program = kuka_krl::Program::parse(&src, dat.as_deref(), Some(&module)).map_err(|e| {
-        tracing::info!(%module, error = %e, "program does not parse");
-        (ResultCode::BadCommand, e.line().unwrap_or(0))
-    })?;
     let start = interp::Start {
         model,
         axes,
@@ -120,18 +116,16 @@ fn prepare(
         base,
         speed,
     };
-    interp::check_subset(&program)
-        .map_err(RunError::from)
-        .and_then(|()| interp::run(&program, &module, &start))
-        .map_err(|e| {
-            tracing::info!(%module, error = %e, "program refused");
-            match &e {
-                RunError::Unsupported(u) => (ResultCode::Unsupported, u.line),
-                RunError::Runtime { line, .. } | RunError::TooLong { line, .. } => {
-                    (ResultCode::RuntimeError, *line)
-                }
+    crate::program::interpret(&src, dat.as_deref(), &module, &start).map_err(|e| {
+        tracing::info!(%module, error = %e, "program refused");
+        match &e {
+            PrepareError::Parse(p) => (ResultCode::BadCommand, p.line().unwrap_or(0)),
+            PrepareError::Run(RunError::Unsupported(u)) => (ResultCode::Unsupported, u.line),
+            PrepareError::Run(RunError::Runtime { line, .. } | RunError::TooLong { line, .. }) => {
+                (ResultCode::RuntimeError, *line)
             }
-        })
+        }
+    })
 }
 
 /// An uploaded program as the runner read it from the program folder:

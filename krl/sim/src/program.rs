@@ -10,7 +10,7 @@ use std::collections::VecDeque;
 use kuka_kinematics::plan::{self, PlanSettings};
 use kuka_kinematics::{Axes, Motion, MotionError, Pose, RobotModel};
 
-use crate::interp::Step;
+use crate::interp::{self, RunError, Start, Step};
 
 /// Steps that play as one execution.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,6 +33,31 @@ pub enum Phase {
         /// Source line.
         line: u32,
     },
+}
+
+/// Why a module could not be turned into steps.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PrepareError {
+    /// The module does not parse.
+    #[error(transparent)]
+    Parse(#[from] kuka_krl::ProgramError),
+    /// The interpreter refused or failed (outside the subset, runtime
+    /// error, or the run did not end within its limits).
+    #[error(transparent)]
+    Run(#[from] RunError),
+}
+
+/// Parses module `module` (its `.src` and optional `.dat`) and runs it
+/// ahead with the interpreter from `start`: what the simulated controller
+/// plays and what the service's dry run checks.
+pub fn interpret(
+    src: &str,
+    dat: Option<&str>,
+    module: &str,
+    start: &Start<'_>,
+) -> Result<Vec<Step>, PrepareError> {
+    let program = kuka_krl::Program::parse(src, dat, Some(module))?;
+    Ok(interp::run(&program, module, start)?)
 }
 
 /// Groups interpreter steps into phases, in order.

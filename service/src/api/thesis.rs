@@ -213,7 +213,21 @@ fn done(position: [f64; 6]) -> Response {
 }
 
 async fn run(app: &AppState, op: Operation, frame_result: bool) -> Response {
-    match app.engine.execute(op, None, app.request_timeout).await {
+    run_with(app, op, frame_result, None).await
+}
+
+/// [`run`] with a job timeout of its own (and a wait to match).
+async fn run_with(
+    app: &AppState,
+    op: Operation,
+    frame_result: bool,
+    timeout: Option<std::time::Duration>,
+) -> Response {
+    match app
+        .engine
+        .execute(op, timeout, app.wait_budget(timeout))
+        .await
+    {
         Ok(job) => done(job_position(&job, frame_result)),
         Err(e) => fail(app, &e),
     }
@@ -390,18 +404,7 @@ async fn uploadfile(
     };
     // Programs run longer than single motions: their own timeout.
     let timeout = app.programs.run_timeout();
-    match app
-        .engine
-        .execute(
-            Operation::RunProgram(program),
-            Some(timeout),
-            app.wait_budget(Some(timeout)),
-        )
-        .await
-    {
-        Ok(job) => done(job_position(&job, false)),
-        Err(e) => fail(&app, &e),
-    }
+    run_with(&app, Operation::RunProgram(program), false, Some(timeout)).await
 }
 
 /// The uploaded text from a multipart form (first field) or the raw body.

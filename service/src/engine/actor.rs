@@ -967,25 +967,19 @@ impl Actor {
     /// while the file is locked).
     fn send(&mut self, job: QueuedJob) -> Result<()> {
         if let Operation::RunProgram(program) = &job.op {
-            let dir = self.program_dir.clone().ok_or_else(|| {
-                BridgeError::new(
+            // Fail fast: nothing to dry-run for if the module cannot be written.
+            if self.program_dir.is_none() {
+                return Err(BridgeError::new(
                     ErrorCode::ProgramsUnavailable,
                     "no program folder is configured (programs.controller_dir)",
-                )
-            })?;
+                ));
+            }
             let (start, tool, base) = self.start_point()?;
-            let speed = SpeedRecord {
-                override_pct: self.speeds.override_pct,
-                ptp_velocity_pct: self.speeds.ptp_velocity_pct,
-                ptp_acceleration_pct: self.speeds.ptp_acceleration_pct,
-                cp_velocity: self.speeds.cp_velocity_m_s,
-                cp_acceleration_pct: self.speeds.cp_acceleration_pct,
-            };
+            let speed = SpeedRecord::from(self.speeds);
             // The dry run may take a while (a long program, up to the
             // interpreter's limits): it runs on a thread of its own and
             // answers with Msg::ProgramChecked; meanwhile the engine keeps
             // serving state, STOP and cancel, and the queue waits.
-            let _ = dir;
             let safety = self.shared.safety.clone();
             let events = self.events.clone().ok_or_else(|| {
                 BridgeError::new(ErrorCode::Internal, "the engine queue is not set up")
@@ -1022,13 +1016,7 @@ impl Actor {
             Operation::GetTool => Command::GetTool,
             Operation::SetBase(f) => Command::SetBase((*f).into()),
             Operation::GetBase => Command::GetBase,
-            Operation::SetSpeed(s) => Command::SetSpeed(SpeedRecord {
-                override_pct: s.override_pct,
-                ptp_velocity_pct: s.ptp_velocity_pct,
-                ptp_acceleration_pct: s.ptp_acceleration_pct,
-                cp_velocity: s.cp_velocity_m_s,
-                cp_acceleration_pct: s.cp_acceleration_pct,
-            }),
+            Operation::SetSpeed(s) => Command::SetSpeed((*s).into()),
             Operation::Reset => Command::Reset,
             Operation::RunProgram(_) => {
                 return Err(BridgeError::new(
