@@ -49,6 +49,9 @@ pub enum AppError {
         #[source]
         source: std::io::Error,
     },
+    /// The plugin host could not start.
+    #[error("plugins: {0}")]
+    Plugins(crate::error::BridgeError),
     /// The HTTP server failed.
     #[error("HTTP server")]
     Serve(#[source] std::io::Error),
@@ -124,13 +127,31 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
             source,
         })?,
     );
-    let router = crate::api::app(
-        engine.clone(),
-        sim.clone(),
-        Duration::from_millis(config.server.request_timeout_ms),
-        closing_rx,
+    let plugins = if config.plugins.enabled {
+        let registry = Arc::new(
+            crate::plugins::PluginRegistry::open(&config, engine.clone())
+                .map_err(AppError::Plugins)?,
+        );
+        // Installed plugins serve from the first request on.
+        registry.scan().await;
+        tokio::spawn(crate::plugins::watch::run(
+            registry.clone(),
+            Duration::from_millis(config.plugins.poll_interval_ms),
+            closing_rx.clone(),
+        ));
+        Some(registry)
+    } else {
+        None
+    };
+    let router = crate::api::app(crate::api::AppState {
+        engine: engine.clone(),
+        sim: sim.clone(),
+        request_timeout: Duration::from_millis(config.server.request_timeout_ms),
+        openapi: Arc::default(),
+        closing: closing_rx,
         programs,
-    );
+        plugins,
+    });
     let (stop_http, stop_rx) = oneshot::channel::<()>();
     // Small request/response pairs: send at once instead of waiting for
     // delayed ACKs (Nagle), which costs milliseconds per round trip.

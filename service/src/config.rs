@@ -59,6 +59,8 @@ pub struct Config {
     pub simulator: SimulatorConfig,
     /// Uploaded KRL programs.
     pub programs: ProgramsConfig,
+    /// WASM plugins.
+    pub plugins: PluginsConfig,
     /// Log files.
     pub log: LogConfig,
     /// Where the service keeps its own state (command id counter).
@@ -212,6 +214,47 @@ pub struct ProgramsConfig {
     pub run_timeout_ms: u64,
 }
 
+/// WASM plugins (`PUT /api/v1/plugins/{name}`, or a .wasm dropped into `dir`).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PluginsConfig {
+    /// Load and serve plugins at all.
+    pub enabled: bool,
+    /// The plugins folder, watched for `<name>.wasm` files (default
+    /// `<data_dir>/plugins`; compiled code is cached in its `.cache`).
+    pub dir: Option<PathBuf>,
+    /// How often the folder is re-scanned besides change events (ms).
+    pub poll_interval_ms: u64,
+    /// Largest accepted .wasm file in bytes (a Python plugin is ~19 MB).
+    pub max_wasm_bytes: usize,
+    /// Largest linear memory of a plugin, in MiB.
+    pub memory_mib: usize,
+    /// Guest CPU time per request (ms); time spent in motions is not counted.
+    pub cpu_time_ms: u64,
+    /// Wall time per request, motions included (ms).
+    pub request_timeout_ms: u64,
+    /// Most motions one plugin request may run.
+    pub max_motions: usize,
+    /// Largest request body passed to a plugin, in bytes.
+    pub max_body_bytes: usize,
+}
+
+impl Default for PluginsConfig {
+    fn default() -> Self {
+        PluginsConfig {
+            enabled: true,
+            dir: None,
+            poll_interval_ms: 2000,
+            max_wasm_bytes: 64 << 20,
+            memory_mib: 64,
+            cpu_time_ms: 500,
+            request_timeout_ms: 600_000,
+            max_motions: 1000,
+            max_body_bytes: 1 << 20,
+        }
+    }
+}
+
 impl Default for ProgramsConfig {
     fn default() -> Self {
         ProgramsConfig {
@@ -290,6 +333,7 @@ impl Default for Config {
             workspace: None,
             simulator: SimulatorConfig::default(),
             programs: ProgramsConfig::default(),
+            plugins: PluginsConfig::default(),
             log: LogConfig::default(),
             data_dir: default_data_dir(),
             source_name: "defaults".into(),
@@ -377,6 +421,14 @@ impl Config {
             .unwrap_or_else(|| self.data_dir.join("logs"))
     }
 
+    /// The plugins folder.
+    pub fn plugin_dir(&self) -> PathBuf {
+        self.plugins
+            .dir
+            .clone()
+            .unwrap_or_else(|| self.data_dir.join("plugins"))
+    }
+
     /// Where RUN modules are written, if anywhere (see [`ProgramsConfig`]).
     pub fn program_dir(&self) -> Option<PathBuf> {
         if let Some(d) = &self.programs.controller_dir {
@@ -431,10 +483,26 @@ impl Config {
             ("channel.command_timeout_ms", c.command_timeout_ms, 10),
             ("channel.lock_timeout_ms", c.lock_timeout_ms, 0),
             ("simulator.heartbeat_ms", self.simulator.heartbeat_ms, 1),
+            ("plugins.poll_interval_ms", self.plugins.poll_interval_ms, 10),
+            ("plugins.cpu_time_ms", self.plugins.cpu_time_ms, 10),
+            ("plugins.request_timeout_ms", self.plugins.request_timeout_ms, 100),
+            ("plugins.memory_mib", self.plugins.memory_mib as u64, 1),
+            ("plugins.max_motions", self.plugins.max_motions as u64, 1),
+            ("plugins.max_body_bytes", self.plugins.max_body_bytes as u64, 1024),
+            ("plugins.max_wasm_bytes", self.plugins.max_wasm_bytes as u64, 1024),
         ] {
             if v < min {
                 return Err(self.invalid(key, format!("{v} is below the minimum {min}")));
             }
+        }
+        if self.plugins.memory_mib > 4096 {
+            return Err(self.invalid(
+                "plugins.memory_mib",
+                format!(
+                    "{} MiB is more than a 32-bit WebAssembly memory can hold (4096)",
+                    self.plugins.memory_mib
+                ),
+            ));
         }
         if self.simulator.enabled
             && self.channel.offline_after_ms <= self.simulator.heartbeat_ms * 2

@@ -51,6 +51,18 @@ pub enum ErrorCode {
     ProgramFailed,
     /// No program folder is configured, so programs cannot be run.
     ProgramsUnavailable,
+    /// A plugin is not a valid component of the bridge's world, or its description is invalid.
+    PluginInvalid,
+    /// A plugin used up its CPU budget or its request time.
+    PluginTimeout,
+    /// A plugin tried to use more memory than allowed.
+    PluginMemory,
+    /// A plugin crashed (panic, abort, out-of-bounds access...).
+    PluginTrap,
+    /// A plugin answered with an invalid status or a body that is not JSON.
+    PluginBadResponse,
+    /// Plugins are switched off in the configuration.
+    PluginsUnavailable,
     /// The controller answered something this service does not understand.
     ProtocolError,
     /// A bug or an unexpected I/O failure.
@@ -70,7 +82,10 @@ impl ErrorCode {
             | ErrorCode::InvalidProgram
             | ErrorCode::ProgramUnsupported => 422,
             ErrorCode::ProgramFailed => 409,
-            ErrorCode::ProgramsUnavailable => 503,
+            ErrorCode::ProgramsUnavailable | ErrorCode::PluginsUnavailable => 503,
+            ErrorCode::PluginInvalid => 422,
+            ErrorCode::PluginTimeout => 504,
+            ErrorCode::PluginMemory | ErrorCode::PluginTrap | ErrorCode::PluginBadResponse => 502,
             ErrorCode::ControllerOffline | ErrorCode::ChannelLocked | ErrorCode::QueueFull => 503,
             ErrorCode::Timeout => 504,
             ErrorCode::ControllerError | ErrorCode::ControllerBusy | ErrorCode::Cancelled => 409,
@@ -107,6 +122,12 @@ impl ErrorCode {
             ErrorCode::ProgramUnsupported => "KRL not supported by the simulator",
             ErrorCode::ProgramFailed => "KRL program failed",
             ErrorCode::ProgramsUnavailable => "Programs unavailable",
+            ErrorCode::PluginInvalid => "Invalid plugin",
+            ErrorCode::PluginTimeout => "Plugin timeout",
+            ErrorCode::PluginMemory => "Plugin out of memory",
+            ErrorCode::PluginTrap => "Plugin crashed",
+            ErrorCode::PluginBadResponse => "Invalid plugin response",
+            ErrorCode::PluginsUnavailable => "Plugins unavailable",
             ErrorCode::ProtocolError => "Protocol error",
             ErrorCode::Internal => "Internal error",
         }
@@ -136,6 +157,12 @@ impl ErrorCode {
             ErrorCode::ProgramUnsupported => "program_unsupported",
             ErrorCode::ProgramFailed => "program_failed",
             ErrorCode::ProgramsUnavailable => "programs_unavailable",
+            ErrorCode::PluginInvalid => "plugin_invalid",
+            ErrorCode::PluginTimeout => "plugin_timeout",
+            ErrorCode::PluginMemory => "plugin_memory",
+            ErrorCode::PluginTrap => "plugin_trap",
+            ErrorCode::PluginBadResponse => "plugin_bad_response",
+            ErrorCode::PluginsUnavailable => "plugins_unavailable",
             ErrorCode::ProtocolError => "protocol_error",
             ErrorCode::Internal => "internal",
         }

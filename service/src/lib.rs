@@ -16,6 +16,7 @@ pub mod engine;
 pub mod error;
 pub mod logging;
 pub mod motion;
+pub mod plugins;
 pub mod programs;
 pub mod safety;
 #[cfg(windows)]

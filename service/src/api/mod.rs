@@ -1,8 +1,10 @@
 //! The HTTP API: thesis-compatible `/krl/*` endpoints, the versioned JSON
-//! API under `/api/v1`, Server-Sent Events, `/health`, `/openapi.json` and
-//! Swagger UI at `/docs` (served from the binary, no internet needed).
+//! API under `/api/v1`, plugin management and plugin routes, Server-Sent
+//! Events, `/health`, `/openapi.json` and Swagger UI at `/docs` (served from
+//! the binary, no internet needed).
 
 mod events;
+mod plugins;
 pub mod problem;
 mod programs;
 mod sim;
@@ -37,12 +39,15 @@ pub struct AppState {
     pub sim: Option<Arc<kuka_sim::SimController>>,
     /// Longest a synchronous request waits beyond its job's own timeout.
     pub request_timeout: Duration,
-    /// The OpenAPI document served at `/openapi.json`.
-    pub openapi: Arc<utoipa::openapi::OpenApi>,
+    /// The OpenAPI document of the built-in routes (plugin routes are added
+    /// per request by `/openapi.json`).
+    pub openapi: Arc<serde_json::Value>,
     /// Becomes true when the service shuts down (ends event streams).
     pub closing: tokio::sync::watch::Receiver<bool>,
     /// Uploaded KRL programs.
     pub programs: Arc<crate::programs::ProgramStore>,
+    /// Installed WASM plugins (`None` when switched off).
+    pub plugins: Option<Arc<crate::plugins::PluginRegistry>>,
 }
 
 impl AppState {
@@ -70,6 +75,7 @@ impl AppState {
         (name = "robot", description = "State, position, frames and speeds."),
         (name = "motion", description = "Motions, jobs and stop."),
         (name = "programs", description = "Upload and run KRL programs."),
+        (name = "plugins", description = "Install, list and remove WASM plugins; each plugin's own routes follow under `plugin: <name>`."),
         (name = "events", description = "Server-Sent Events."),
         (name = "simulator", description = "Only in `--simulate` mode."),
         (name = "service", description = "Health and documentation.")
@@ -105,7 +111,14 @@ async fn health(State(app): State<AppState>) -> axum::Json<Health> {
 }
 
 async fn openapi_json(State(app): State<AppState>) -> Response {
-    problem::json_response(200, "application/json", app.openapi.as_ref())
+    match &app.plugins {
+        Some(registry) => {
+            let mut doc = app.openapi.as_ref().clone();
+            plugins::add_plugin_paths(&mut doc, &registry.active());
+            problem::json_response(200, "application/json", &doc)
+        }
+        None => problem::json_response(200, "application/json", app.openapi.as_ref()),
+    }
 }
 
 /// Thesis clients read `statuscode`: answer `/krl/*` errors in their format.
@@ -140,6 +153,7 @@ fn documented() -> OpenApiRouter<AppState> {
         .merge(thesis::router())
         .merge(v1::router())
         .merge(programs::router())
+        .merge(plugins::router())
         .merge(events::router())
         .merge(sim::router())
 }
@@ -149,25 +163,17 @@ pub fn openapi() -> utoipa::openapi::OpenApi {
     documented().into_openapi()
 }
 
-/// Builds the whole HTTP application.
-pub fn app(
-    engine: Engine,
-    sim: Option<Arc<kuka_sim::SimController>>,
-    request_timeout: Duration,
-    closing: tokio::sync::watch::Receiver<bool>,
-    programs: Arc<crate::programs::ProgramStore>,
-) -> Router {
+/// Builds the whole HTTP application; `state.openapi` is replaced by the
+/// document of the routes built here.
+pub fn app(mut state: AppState) -> Router {
     let (router, doc) = documented().split_for_parts();
-    let state = AppState {
-        engine,
-        sim,
-        request_timeout,
-        openapi: Arc::new(doc),
-        closing,
-        programs,
-    };
+    state.openapi = Arc::new(serde_json::to_value(&doc).unwrap_or_default());
     router
         .route("/openapi.json", axum::routing::get(openapi_json))
+        .route(
+            "/api/v1/plugins/{name}/{*path}",
+            axum::routing::any(plugins::call),
+        )
         .merge(SwaggerUi::new("/docs").config(utoipa_swagger_ui::Config::from("/openapi.json")))
         .route(
             "/",

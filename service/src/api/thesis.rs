@@ -185,6 +185,12 @@ pub fn statuscode(code: ErrorCode) -> i32 {
         ErrorCode::ProgramUnsupported => 13,
         ErrorCode::ProgramFailed => 40,
         ErrorCode::ProgramsUnavailable => 58,
+        ErrorCode::PluginsUnavailable => 59,
+        ErrorCode::PluginInvalid => 60,
+        ErrorCode::PluginTimeout => 61,
+        ErrorCode::PluginMemory => 62,
+        ErrorCode::PluginTrap => 63,
+        ErrorCode::PluginBadResponse => 64,
         ErrorCode::Internal => 99,
     }
 }

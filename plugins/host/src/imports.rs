@@ -1,0 +1,234 @@
+//! What a plugin may call: the `host` interface of the WIT, implemented by
+//! forwarding to a [`BridgeApi`] that the service provides through the same
+//! validation, safety checks and queue as its HTTP endpoints. Also the
+//! per-request store state (empty WASI, captured stderr, memory limiter,
+//! time spent in host calls, motions asked for).
+
+use std::future::Future;
+use std::pin::Pin;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use wasmtime::component::ResourceTable;
+use wasmtime::{ResourceLimiter, StoreLimits, StoreLimitsBuilder};
+use wasmtime_wasi::p2::pipe::MemoryOutputPipe;
+use wasmtime_wasi::{WasiCtx, WasiCtxBuilder, WasiCtxView, WasiView};
+
+use crate::PluginLimits;
+use crate::bindings::{Done, HostError, LogLevel, Motion, Pose, Position};
+
+/// A boxed future, as [`BridgeApi::run_motions`] returns it.
+pub type BoxFuture<'a, T> = Pin<Box<dyn Future<Output = T> + Send + 'a>>;
+
+/// Who is calling the bridge: the plugin, on behalf of one HTTP request.
+#[derive(Debug, Clone)]
+pub struct CallContext {
+    /// The plugin's name.
+    pub plugin: Arc<str>,
+    /// The plugin's version.
+    pub version: Arc<str>,
+}
+
+/// The bridge as a plugin sees it. The service implements it with the same
+/// code path as its REST API, so a plugin cannot do what a client could not.
+pub trait BridgeApi: Send + Sync + 'static {
+    /// Validates the motions and runs them as one continuous batch; resolves
+    /// when the batch has ended.
+    fn run_motions<'a>(
+        &'a self,
+        ctx: &'a CallContext,
+        motions: Vec<Motion>,
+    ) -> BoxFuture<'a, Result<Done, HostError>>;
+    /// The latest known position.
+    fn position(&self) -> Result<Position, HostError>;
+    /// The current tool frame.
+    fn tool(&self) -> Result<Pose, HostError>;
+    /// The current base frame.
+    fn base(&self) -> Result<Pose, HostError>;
+}
+
+/// Builds a [`HostError`].
+pub fn host_error(code: &str, detail: impl Into<String>, motion: Option<u32>) -> HostError {
+    HostError {
+        code: code.to_string(),
+        detail: detail.into(),
+        motion,
+    }
+}
+
+/// Most bytes of guest stderr kept per request.
+const STDERR_CAPACITY: usize = 64 * 1024;
+
+/// The state of one request's store.
+pub(crate) struct RequestState {
+    wasi: WasiCtx,
+    table: ResourceTable,
+    pub(crate) limiter: Limiter,
+    pub(crate) stderr: MemoryOutputPipe,
+    api: Option<Arc<dyn BridgeApi>>,
+    ctx: CallContext,
+    /// Wall time spent inside host calls, given back to the guest's CPU budget.
+    pub(crate) host_time: Duration,
+    /// Set by the epoch callback when the CPU budget ran out.
+    pub(crate) cpu_exhausted: bool,
+    motions_left: usize,
+}
+
+impl RequestState {
+    /// `api` is `None` while `describe()` runs: no motions, no state reads.
+    pub(crate) fn new(
+        limits: &PluginLimits,
+        api: Option<Arc<dyn BridgeApi>>,
+        ctx: CallContext,
+    ) -> Self {
+        let stderr = MemoryOutputPipe::new(STDERR_CAPACITY);
+        // No preopened folders, environment, arguments, network or stdin:
+        // the only way out of the sandbox is the `host` interface.
+        let wasi = WasiCtxBuilder::new().stderr(stderr.clone()).build();
+        RequestState {
+            wasi,
+            table: ResourceTable::new(),
+            limiter: Limiter::new(limits.memory_bytes),
+            stderr,
+            api,
+            ctx,
+            host_time: Duration::ZERO,
+            cpu_exhausted: false,
+            motions_left: limits.max_motions,
+        }
+    }
+
+    fn api(&self, what: &str) -> Result<Arc<dyn BridgeApi>, HostError> {
+        self.api.clone().ok_or_else(|| {
+            host_error(
+                "not_allowed",
+                format!("{what} is not available while the plugin describes itself"),
+                None,
+            )
+        })
+    }
+}
+
+impl WasiView for RequestState {
+    fn ctx(&mut self) -> WasiCtxView<'_> {
+        WasiCtxView {
+            ctx: &mut self.wasi,
+            table: &mut self.table,
+        }
+    }
+}
+
+/// Memory limits that remember a refusal (so the error is `plugin_memory`,
+/// whatever the guest's language does with a failed allocation).
+pub(crate) struct Limiter {
+    inner: StoreLimits,
+    pub(crate) refused: bool,
+}
+
+impl Limiter {
+    fn new(memory_bytes: usize) -> Self {
+        Limiter {
+            inner: StoreLimitsBuilder::new()
+                .memory_size(memory_bytes)
+                // Counts of *core* instances/tables/memories inside the
+                // component: a componentize-py guest needs more than 4.
+                .instances(64)
+                .tables(64)
+                .memories(8)
+                .trap_on_grow_failure(true)
+                .build(),
+            refused: false,
+        }
+    }
+}
+
+impl ResourceLimiter for Limiter {
+    fn memory_growing(
+        &mut self,
+        current: usize,
+        desired: usize,
+        maximum: Option<usize>,
+    ) -> wasmtime::Result<bool> {
+        let r = self.inner.memory_growing(current, desired, maximum);
+        if !matches!(r, Ok(true)) {
+            self.refused = true;
+        }
+        r
+    }
+
+    fn table_growing(
+        &mut self,
+        current: usize,
+        desired: usize,
+        maximum: Option<usize>,
+    ) -> wasmtime::Result<bool> {
+        self.inner.table_growing(current, desired, maximum)
+    }
+
+    fn instances(&self) -> usize {
+        self.inner.instances()
+    }
+
+    fn tables(&self) -> usize {
+        self.inner.tables()
+    }
+
+    fn memories(&self) -> usize {
+        self.inner.memories()
+    }
+}
+
+impl crate::bindings::kuka_bridge::plugin::types::Host for RequestState {}
+
+impl crate::bindings::kuka_bridge::plugin::host::Host for RequestState {
+    async fn run_motions(
+        &mut self,
+        motions: Vec<Motion>,
+    ) -> wasmtime::Result<Result<Done, HostError>> {
+        let api = match self.api("run-motions") {
+            Ok(api) => api,
+            Err(e) => return Ok(Err(e)),
+        };
+        if motions.len() > self.motions_left {
+            return Ok(Err(host_error(
+                "plugin_motion_limit",
+                format!(
+                    "this request may run {} more motions, the plugin asked for {}",
+                    self.motions_left,
+                    motions.len()
+                ),
+                None,
+            )));
+        }
+        self.motions_left -= motions.len();
+        tracing::debug!(plugin = %self.ctx.plugin, motions = motions.len(), "plugin runs motions");
+        let started = Instant::now();
+        let result = api.run_motions(&self.ctx, motions).await;
+        self.host_time += started.elapsed();
+        Ok(result)
+    }
+
+    async fn get_position(&mut self) -> wasmtime::Result<Result<Position, HostError>> {
+        Ok(self.api("get-position").and_then(|api| api.position()))
+    }
+
+    async fn get_tool(&mut self) -> wasmtime::Result<Result<Pose, HostError>> {
+        Ok(self.api("get-tool").and_then(|api| api.tool()))
+    }
+
+    async fn get_base(&mut self) -> wasmtime::Result<Result<Pose, HostError>> {
+        Ok(self.api("get-base").and_then(|api| api.base()))
+    }
+
+    async fn log(&mut self, level: LogLevel, message: String) -> wasmtime::Result<()> {
+        let message = crate::error::first_chars(&message, 4000);
+        let plugin = &*self.ctx.plugin;
+        match level {
+            LogLevel::Debug => tracing::debug!(plugin, "{message}"),
+            LogLevel::Info => tracing::info!(plugin, "{message}"),
+            LogLevel::Warn => tracing::warn!(plugin, "{message}"),
+            LogLevel::Error => tracing::error!(plugin, "{message}"),
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,89 @@
+//! The wasmtime side that every plugin shares: one engine with epoch
+//! interruption, the thread that advances its epoch, and the linker that
+//! offers a component the `host` interface and an empty WASI.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use wasmtime::component::{Component, HasSelf, Linker};
+use wasmtime::{Config, Engine};
+
+use crate::PluginError;
+use crate::bindings::{BridgePlugin, BridgePluginPre};
+use crate::imports::RequestState;
+
+/// Period of the epoch ticker: CPU budgets are checked at this granularity.
+pub(crate) const TICK: Duration = Duration::from_millis(10);
+
+/// Engine, linker and epoch ticker.
+pub(crate) struct Runtime {
+    engine: Engine,
+    linker: Linker<RequestState>,
+    ticker_stop: Arc<AtomicBool>,
+}
+
+impl Runtime {
+    pub(crate) fn new() -> Result<Self, PluginError> {
+        let mut config = Config::new();
+        config.epoch_interruption(true);
+        let engine = Engine::new(&config).map_err(|e| PluginError::Host(format!("{e:#}")))?;
+        let mut linker = Linker::<RequestState>::new(&engine);
+        // A std guest imports wasi:cli/io; the context behind it is empty
+        // (no files, env, args, network), so linking it grants nothing.
+        wasmtime_wasi::p2::add_to_linker_async(&mut linker)
+            .and_then(|()| {
+                BridgePlugin::add_to_linker::<RequestState, HasSelf<RequestState>>(
+                    &mut linker,
+                    |s| s,
+                )
+            })
+            .map_err(|e| PluginError::Host(format!("linker: {e:#}")))?;
+        let ticker_stop = Arc::new(AtomicBool::new(false));
+        let (e, stop) = (engine.clone(), ticker_stop.clone());
+        std::thread::Builder::new()
+            .name("plugin-epoch".into())
+            .spawn(move || {
+                while !stop.load(Ordering::Relaxed) {
+                    std::thread::sleep(TICK);
+                    e.increment_epoch();
+                }
+            })
+            .map_err(|e| PluginError::Host(format!("epoch thread: {e}")))?;
+        Ok(Runtime {
+            engine,
+            linker,
+            ticker_stop,
+        })
+    }
+
+    pub(crate) fn engine(&self) -> &Engine {
+        &self.engine
+    }
+
+    /// Links a component against the host; refuses components of another world.
+    pub(crate) fn link(
+        &self,
+        component: &Component,
+    ) -> Result<BridgePluginPre<RequestState>, PluginError> {
+        let pre = self.linker.instantiate_pre(component).map_err(|e| {
+            PluginError::WrongWorld(format!(
+                "{} (this bridge implements {}: was the plugin built against another version of plugin.wit?)",
+                crate::error::one_line(&format!("{e:#}")),
+                crate::WIT_VERSION
+            ))
+        })?;
+        BridgePluginPre::new(pre).map_err(|e| {
+            PluginError::WrongWorld(format!(
+                "{} (a plugin exports the interface kuka-bridge:plugin/plugin)",
+                crate::error::one_line(&format!("{e:#}"))
+            ))
+        })
+    }
+}
+
+impl Drop for Runtime {
+    fn drop(&mut self) {
+        self.ticker_stop.store(true, Ordering::Relaxed);
+    }
+}

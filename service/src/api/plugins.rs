@@ -1,0 +1,246 @@
+//! Plugin management (`PUT/GET/DELETE /api/v1/plugins/{name}`,
+//! `GET /api/v1/plugins`), the catch-all route that serves every plugin's
+//! own routes under `/api/v1/plugins/{name}/...`, and the plugin part of
+//! `/openapi.json` (added per request from the live registry, so routes
+//! appear when a plugin is installed and disappear when it is removed).
+
+use std::sync::Arc;
+
+use axum::body::Body;
+use axum::extract::{Path, RawQuery, State};
+use axum::http::{Method, StatusCode};
+use axum::response::Response;
+use kuka_plugin_host::{LoadedPlugin, Request};
+use serde_json::{Value, json};
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
+
+use super::problem::{PROBLEM_JSON, Problem, ProblemDetails, json_response};
+use super::{AppState, ok_json};
+use crate::error::{BridgeError, ErrorCode};
+use crate::plugins::{Installed, PluginInfo, PluginRegistry, plugin_error};
+
+fn registry(app: &AppState) -> Result<&Arc<PluginRegistry>, Problem> {
+    app.plugins.as_ref().ok_or_else(|| {
+        BridgeError::new(
+            ErrorCode::PluginsUnavailable,
+            "plugins are switched off (plugins.enabled = false in the configuration)",
+        )
+        .into()
+    })
+}
+
+async fn read_body(body: Body, limit: usize, what: &str) -> Result<axum::body::Bytes, Problem> {
+    axum::body::to_bytes(body, limit).await.map_err(|e| {
+        let too_large = std::error::Error::source(&e)
+            .is_some_and(|s| s.is::<http_body_util::LengthLimitError>());
+        if too_large {
+            BridgeError::new(
+                ErrorCode::PayloadTooLarge,
+                format!("the {what} is larger than {limit} bytes"),
+            )
+        } else {
+            BridgeError::invalid(format!("cannot read the {what}: {e}"))
+        }
+        .into()
+    })
+}
+
+/// Install or replace a plugin.
+///
+/// The body is the plugin's `.wasm` (a WebAssembly component of the world
+/// `kuka-bridge:plugin/bridge-plugin@0.1.0`, see docs/PLUGINS.md). It is
+/// compiled, linked and described before it is activated: a component of
+/// another world, a description with invalid routes or schemas, or a name
+/// other than `{name}` is refused and changes nothing. A new version replaces
+/// the old one atomically; requests in flight finish on the old one. The
+/// file is kept in the plugins folder and loads again at the next start.
+#[utoipa::path(put, path = "/api/v1/plugins/{name}", tag = "plugins",
+    params(("name" = String, Path, description = "The plugin's name (as it describes itself)")),
+    request_body(content = Vec<u8>, content_type = "application/wasm", description = "The component"),
+    responses(
+        (status = 201, description = "Installed", body = PluginInfo),
+        (status = 200, description = "Replaced an installed version", body = PluginInfo),
+        (status = 413, body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = 422, description = "Not a valid plugin (`plugin_invalid`)", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn install(
+    State(app): State<AppState>,
+    Path(name): Path<String>,
+    body: Body,
+) -> Result<Response, Problem> {
+    let registry = registry(&app)?;
+    let wasm = read_body(body, registry.max_wasm_bytes(), "plugin").await?;
+    let (status, info) = match registry.install(&name, wasm.to_vec()).await? {
+        Installed::Created(info) => (201, info),
+        Installed::Replaced(info) => (200, info),
+    };
+    Ok(json_response(status, "application/json", &info))
+}
+
+/// Installed plugins with their versions, routes and status.
+#[utoipa::path(get, path = "/api/v1/plugins", tag = "plugins",
+    responses((status = 200, body = [PluginInfo]), (status = 503, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn list(State(app): State<AppState>) -> Result<Response, Problem> {
+    Ok(ok_json(&registry(&app)?.list()))
+}
+
+fn not_installed(name: &str) -> BridgeError {
+    BridgeError::new(
+        ErrorCode::NotFound,
+        format!("no plugin named {name:?} is installed; see GET /api/v1/plugins"),
+    )
+}
+
+/// One installed plugin.
+#[utoipa::path(get, path = "/api/v1/plugins/{name}", tag = "plugins",
+    params(("name" = String, Path, description = "Plugin name")),
+    responses((status = 200, body = PluginInfo), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_one(
+    State(app): State<AppState>,
+    Path(name): Path<String>,
+) -> Result<Response, Problem> {
+    let info = registry(&app)?
+        .info(&name)
+        .ok_or_else(|| not_installed(&name))?;
+    Ok(ok_json(&info))
+}
+
+/// Remove a plugin: its routes disappear at once (requests in flight finish)
+/// and its file is deleted from the plugins folder.
+#[utoipa::path(delete, path = "/api/v1/plugins/{name}", tag = "plugins",
+    params(("name" = String, Path, description = "Plugin name")),
+    responses((status = 204, description = "Removed"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn remove(
+    State(app): State<AppState>,
+    Path(name): Path<String>,
+) -> Result<StatusCode, Problem> {
+    registry(&app)?.remove(&name).await?;
+    Ok(StatusCode::NO_CONTENT)
+}
+
+/// Serves `/api/v1/plugins/{name}/{*path}`: finds the plugin and its route,
+/// and runs the request in the plugin's sandbox.
+pub(super) async fn call(
+    State(app): State<AppState>,
+    Path((name, path)): Path<(String, String)>,
+    method: Method,
+    RawQuery(query): RawQuery,
+    body: Body,
+) -> Result<Response, Problem> {
+    let registry = registry(&app)?;
+    let plugin = registry.get(&name).ok_or_else(|| not_installed(&name))?;
+    let path = format!("/{path}");
+    if plugin.route(method.as_str(), &path).is_none() {
+        let routes: Vec<String> = plugin
+            .routes
+            .iter()
+            .map(|r| format!("{} /api/v1/plugins/{name}{}", r.method, r.path))
+            .collect();
+        let code = if plugin.routes.iter().any(|r| r.path == path) {
+            ErrorCode::MethodNotAllowed
+        } else {
+            ErrorCode::NotFound
+        };
+        return Err(BridgeError::new(
+            code,
+            format!(
+                "plugin {name} has no route {method} {path}; its routes: {}",
+                routes.join(", ")
+            ),
+        )
+        .into());
+    }
+    let body = read_body(body, registry.max_body_bytes(), "request body").await?;
+    let body = String::from_utf8(body.to_vec())
+        .map_err(|_| BridgeError::invalid("the request body is not UTF-8 text (JSON expected)"))?;
+    let query: Vec<(String, String)> = serde_urlencoded::from_str(query.as_deref().unwrap_or(""))
+        .map_err(|e| BridgeError::invalid(format!("query string: {e}")))?;
+    let request = Request {
+        method: method.as_str().to_string(),
+        path,
+        query,
+        body,
+    };
+    let response = registry
+        .host()
+        .call(&plugin, request)
+        .await
+        .map_err(|e| plugin_error(&e))?;
+    let mut out = Response::new(Body::from(response.body));
+    *out.status_mut() = StatusCode::from_u16(response.status).map_err(|_| {
+        BridgeError::new(ErrorCode::PluginBadResponse, "invalid HTTP status")
+    })?;
+    out.headers_mut().insert(
+        axum::http::header::CONTENT_TYPE,
+        axum::http::HeaderValue::from_static("application/json"),
+    );
+    Ok(out)
+}
+
+/// Adds the routes of the active plugins to an OpenAPI document (as JSON):
+/// each route becomes an operation under `/api/v1/plugins/{name}{path}`
+/// with the plugin's JSON schemas (OpenAPI 3.1 schemas are JSON Schema).
+pub(super) fn add_plugin_paths(doc: &mut Value, plugins: &[Arc<LoadedPlugin>]) {
+    for plugin in plugins {
+        let tag = format!("plugin: {}", plugin.name);
+        if let Some(tags) = doc.get_mut("tags").and_then(Value::as_array_mut) {
+            tags.push(json!({
+                "name": tag,
+                "description": format!("WASM plugin {} {} (installed at runtime)", plugin.name, plugin.version),
+            }));
+        }
+        for route in &plugin.routes {
+            let url = format!("/api/v1/plugins/{}{}", plugin.name, route.path);
+            let mut op = json!({
+                "tags": [tag],
+                "summary": route.summary,
+                "operationId": format!("plugin_{}_{}_{}", plugin.name, route.method.to_lowercase(), route.path.trim_start_matches('/').replace('/', "_")),
+                "responses": {
+                    "200": {"description": "The plugin's answer", "content": {"application/json": {"schema": route.response_schema}}},
+                    "default": {"description": "An error of the plugin or of the bridge (plugin_timeout, plugin_trap, ...)",
+                        "content": {PROBLEM_JSON: {"schema": {"$ref": "#/components/schemas/ProblemDetails"}}}}
+                }
+            });
+            if route.method == "POST" {
+                op["requestBody"] = json!({
+                    "required": true,
+                    "content": {"application/json": {"schema": route.request_schema}}
+                });
+            } else {
+                op["parameters"] = Value::Array(query_parameters(&route.request_schema));
+            }
+            let Some(paths) = doc.get_mut("paths").and_then(Value::as_object_mut) else {
+                return;
+            };
+            let entry = paths.entry(url).or_insert_with(|| json!({}));
+            entry[route.method.to_lowercase()] = op;
+        }
+    }
+}
+
+/// A GET route's request schema (an object) as query parameters.
+fn query_parameters(schema: &Value) -> Vec<Value> {
+    let required: Vec<&str> = schema
+        .get("required")
+        .and_then(Value::as_array)
+        .map(|r| r.iter().filter_map(Value::as_str).collect())
+        .unwrap_or_default();
+    schema
+        .get("properties")
+        .and_then(Value::as_object)
+        .map(|props| {
+            props
+                .iter()
+                .map(|(name, s)| {
+                    json!({"name": name, "in": "query", "required": required.contains(&name.as_str()), "schema": s})
+                })
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+pub(super) fn router() -> OpenApiRouter<AppState> {
+    OpenApiRouter::new()
+        .routes(routes!(list))
+        .routes(routes!(install, get_one, remove))
+}

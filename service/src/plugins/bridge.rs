@@ -1,0 +1,184 @@
+//! The bridge as plugins see it: [`EngineBridge`] implements the plugin
+//! host's `BridgeApi` with the engine's own `execute` path, so every motion
+//! a plugin asks for is validated, safety-checked, queued and logged exactly
+//! like a `POST /api/v1/motions` (a plugin cannot do what a client could not).
+
+use std::time::Duration;
+
+use kuka_plugin_host as host;
+
+use crate::engine::{CartesianFrame, Engine, Operation, Position};
+use crate::error::{BridgeError, ErrorCode};
+use crate::motion::{AuxPoint, AxesSpec, MotionRequest, TargetSpec};
+
+/// Forwards plugin host calls to the engine.
+pub struct EngineBridge {
+    /// The engine.
+    pub engine: Engine,
+    /// Longest wait for one batch (the plugin request time).
+    pub max_wait: Duration,
+}
+
+fn host_error(e: BridgeError) -> host::HostError {
+    host::host_error(
+        e.code.as_str(),
+        e.detail,
+        e.motion.and_then(|m| u32::try_from(m).ok()),
+    )
+}
+
+fn target(p: &host::Pose, s: Option<u8>, t: Option<u8>) -> TargetSpec {
+    TargetSpec {
+        x: Some(p.x),
+        y: Some(p.y),
+        z: Some(p.z),
+        a: Some(p.a),
+        b: Some(p.b),
+        c: Some(p.c),
+        s: s.map(i64::from),
+        t: t.map(i64::from),
+    }
+}
+
+/// A plugin motion as the REST API's motion request.
+pub fn motion_request(m: host::Motion) -> MotionRequest {
+    match m {
+        host::Motion::Ptp(m) => MotionRequest::Ptp {
+            target: target(&m.target, m.s, m.t),
+            relative: false,
+            velocity_pct: m.params.velocity,
+            acceleration_pct: m.params.acceleration_pct,
+            approx_mm: m.params.approx_mm,
+        },
+        host::Motion::PtpAxes(m) => MotionRequest::PtpAxes {
+            axes: AxesSpec {
+                a1: Some(m.target.a1),
+                a2: Some(m.target.a2),
+                a3: Some(m.target.a3),
+                a4: Some(m.target.a4),
+                a5: Some(m.target.a5),
+                a6: Some(m.target.a6),
+            },
+            relative: false,
+            velocity_pct: m.params.velocity,
+            acceleration_pct: m.params.acceleration_pct,
+            approx_mm: m.params.approx_mm,
+        },
+        host::Motion::Lin(m) => MotionRequest::Lin {
+            target: target(&m.target, None, None),
+            relative: false,
+            velocity_m_s: m.params.velocity,
+            acceleration_pct: m.params.acceleration_pct,
+            approx_mm: m.params.approx_mm,
+        },
+        host::Motion::Circ(m) => MotionRequest::Circ {
+            aux: AuxPoint {
+                x: Some(m.aux.x),
+                y: Some(m.aux.y),
+                z: Some(m.aux.z),
+            },
+            target: target(&m.target, None, None),
+            relative: false,
+            velocity_m_s: m.params.velocity,
+            acceleration_pct: m.params.acceleration_pct,
+            approx_mm: m.params.approx_mm,
+        },
+    }
+}
+
+fn pose(f: &CartesianFrame) -> host::Pose {
+    host::Pose {
+        x: f.x,
+        y: f.y,
+        z: f.z,
+        a: f.a,
+        b: f.b,
+        c: f.c,
+    }
+}
+
+fn position(p: &Position, axes: Option<&crate::engine::AxisAngles>) -> host::Position {
+    let axes = axes.map_or(
+        host::Axes {
+            a1: f64::NAN,
+            a2: f64::NAN,
+            a3: f64::NAN,
+            a4: f64::NAN,
+            a5: f64::NAN,
+            a6: f64::NAN,
+        },
+        |a| host::Axes {
+            a1: a.a1,
+            a2: a.a2,
+            a3: a.a3,
+            a4: a.a4,
+            a5: a.a5,
+            a6: a.a6,
+        },
+    );
+    host::Position {
+        pose: host::Pose {
+            x: p.x,
+            y: p.y,
+            z: p.z,
+            a: p.a,
+            b: p.b,
+            c: p.c,
+        },
+        s: p.s,
+        t: p.t,
+        axes,
+    }
+}
+
+fn unknown(what: &str) -> host::HostError {
+    host::host_error(
+        ErrorCode::ControllerOffline.as_str(),
+        format!("the {what} is not known yet (no heartbeat from the controller)"),
+        None,
+    )
+}
+
+impl host::BridgeApi for EngineBridge {
+    fn run_motions<'a>(
+        &'a self,
+        ctx: &'a host::CallContext,
+        motions: Vec<host::Motion>,
+    ) -> host::BoxFuture<'a, Result<host::Done, host::HostError>> {
+        Box::pin(async move {
+            let requests: Vec<MotionRequest> = motions.into_iter().map(motion_request).collect();
+            let count = requests.len();
+            tracing::info!(plugin = %ctx.plugin, version = %ctx.version, motions = count, "plugin motion batch");
+            let job = self
+                .engine
+                .execute(Operation::Move(requests), None, self.max_wait)
+                .await
+                .map_err(host_error)?;
+            let state = self.engine.state();
+            let at = job
+                .position
+                .or(state.position)
+                .ok_or_else(|| unknown("position"))?;
+            Ok(host::Done {
+                completed: u32::try_from(job.completed).unwrap_or(u32::MAX),
+                position: position(&at, job.axes.as_ref().or(state.axes.as_ref())),
+            })
+        })
+    }
+
+    fn position(&self) -> Result<host::Position, host::HostError> {
+        let state = self.engine.state();
+        let p = state.position.ok_or_else(|| unknown("position"))?;
+        Ok(position(&p, state.axes.as_ref()))
+    }
+
+    fn tool(&self) -> Result<host::Pose, host::HostError> {
+        let state = self.engine.state();
+        state.tool.as_ref().map(pose).ok_or_else(|| unknown("tool"))
+    }
+
+    fn base(&self) -> Result<host::Pose, host::HostError> {
+        let state = self.engine.state();
+        state.base.as_ref().map(pose).ok_or_else(|| unknown("base"))
+    }
+}
