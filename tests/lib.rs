@@ -167,6 +167,19 @@ impl TestService {
         decode(r).await
     }
 
+    /// PUT raw bytes (a plugin's .wasm).
+    pub async fn put_bytes(&self, path: &str, body: Vec<u8>) -> (u16, Value) {
+        let r = self
+            .http
+            .put(self.url(path))
+            .header("content-type", "application/wasm")
+            .body(body)
+            .send()
+            .await
+            .expect("request");
+        decode(r).await
+    }
+
     /// POST /api/v1/motions with these motions (wait = true).
     pub async fn motions(&self, motions: Value) -> (u16, Value) {
         self.post_json(
@@ -214,4 +227,34 @@ pub fn thesis_position(v: &Value) -> [f64; 6] {
 /// Asserts two numbers agree within `tol`.
 pub fn assert_close(a: f64, b: f64, tol: f64, what: &str) {
     assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tolerance {tol})");
+}
+
+/// Builds the example and fixture plugins (`plugins/examples/build.sh`)
+/// once per test binary into `out` (pass `env!("CARGO_TARGET_TMPDIR")`);
+/// `python` adds the componentize-py example (needs `python3` with `venv`
+/// and PyPI). Returns the folder holding `<name>.wasm`.
+pub fn example_plugins(target_tmp: &Path, python: bool) -> PathBuf {
+    use std::sync::Mutex;
+    static BUILT: Mutex<(bool, bool)> = Mutex::new((false, false));
+    let out = target_tmp.join("plugin-examples");
+    let mut built = BUILT.lock().unwrap_or_else(|p| p.into_inner());
+    let need = if python { !built.1 } else { !built.0 };
+    if need {
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../plugins/examples/build.sh");
+        let mut cmd = std::process::Command::new("bash");
+        cmd.arg(&script).arg(&out);
+        if python {
+            cmd.arg("--python");
+        }
+        // The guests are their own workspace with their own target folder.
+        cmd.env("CARGO_TARGET_DIR", out.join("target"));
+        let status = cmd.status().expect("run plugins/examples/build.sh");
+        assert!(
+            status.success(),
+            "plugins/examples/build.sh failed: {status}"
+        );
+        built.0 = true;
+        built.1 |= python;
+    }
+    out
 }

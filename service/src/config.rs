@@ -483,13 +483,29 @@ impl Config {
             ("channel.command_timeout_ms", c.command_timeout_ms, 10),
             ("channel.lock_timeout_ms", c.lock_timeout_ms, 0),
             ("simulator.heartbeat_ms", self.simulator.heartbeat_ms, 1),
-            ("plugins.poll_interval_ms", self.plugins.poll_interval_ms, 10),
+            (
+                "plugins.poll_interval_ms",
+                self.plugins.poll_interval_ms,
+                10,
+            ),
             ("plugins.cpu_time_ms", self.plugins.cpu_time_ms, 10),
-            ("plugins.request_timeout_ms", self.plugins.request_timeout_ms, 100),
+            (
+                "plugins.request_timeout_ms",
+                self.plugins.request_timeout_ms,
+                100,
+            ),
             ("plugins.memory_mib", self.plugins.memory_mib as u64, 1),
             ("plugins.max_motions", self.plugins.max_motions as u64, 1),
-            ("plugins.max_body_bytes", self.plugins.max_body_bytes as u64, 1024),
-            ("plugins.max_wasm_bytes", self.plugins.max_wasm_bytes as u64, 1024),
+            (
+                "plugins.max_body_bytes",
+                self.plugins.max_body_bytes as u64,
+                1024,
+            ),
+            (
+                "plugins.max_wasm_bytes",
+                self.plugins.max_wasm_bytes as u64,
+                1024,
+            ),
         ] {
             if v < min {
                 return Err(self.invalid(key, format!("{v} is below the minimum {min}")));

@@ -153,8 +153,9 @@ pub(super) async fn call(
     let body = read_body(body, registry.max_body_bytes(), "request body").await?;
     let body = String::from_utf8(body.to_vec())
         .map_err(|_| BridgeError::invalid("the request body is not UTF-8 text (JSON expected)"))?;
-    let query: Vec<(String, String)> = serde_urlencoded::from_str(query.as_deref().unwrap_or(""))
-        .map_err(|e| BridgeError::invalid(format!("query string: {e}")))?;
+    let query: Vec<(String, String)> =
+        serde_urlencoded::from_str(query.as_deref().unwrap_or(""))
+            .map_err(|e| BridgeError::invalid(format!("query string: {e}")))?;
     let request = Request {
         method: method.as_str().to_string(),
         path,
@@ -166,15 +167,47 @@ pub(super) async fn call(
         .call(&plugin, request)
         .await
         .map_err(|e| plugin_error(&e))?;
-    let mut out = Response::new(Body::from(response.body));
-    *out.status_mut() = StatusCode::from_u16(response.status).map_err(|_| {
-        BridgeError::new(ErrorCode::PluginBadResponse, "invalid HTTP status")
-    })?;
-    out.headers_mut().insert(
-        axum::http::header::CONTENT_TYPE,
-        axum::http::HeaderValue::from_static("application/json"),
-    );
-    Ok(out)
+    Ok(plugin_response(&name, response.status, response.body))
+}
+
+/// The plugin's answer as an HTTP response. Error answers (4xx/5xx) become
+/// `application/problem+json` like every other error of the API: the
+/// plugin's JSON object gains `status`, `title`, `type` and `plugin` when it
+/// lacks them; anything but an object becomes the `detail` of a
+/// `plugin_error`.
+fn plugin_response(plugin: &str, status: u16, body: String) -> Response {
+    let http = StatusCode::from_u16(status).unwrap_or(StatusCode::BAD_GATEWAY);
+    if status < 400 {
+        let mut out = Response::new(Body::from(body));
+        *out.status_mut() = http;
+        out.headers_mut().insert(
+            axum::http::header::CONTENT_TYPE,
+            axum::http::HeaderValue::from_static("application/json"),
+        );
+        return out;
+    }
+    let mut problem = match serde_json::from_str::<Value>(&body) {
+        Ok(Value::Object(map)) => map,
+        other => {
+            let detail = match other {
+                Ok(Value::String(s)) => s,
+                _ => body,
+            };
+            let mut map = serde_json::Map::new();
+            map.insert("code".into(), json!("plugin_error"));
+            map.insert("detail".into(), json!(detail));
+            map
+        }
+    };
+    problem
+        .entry("type")
+        .or_insert_with(|| json!("about:blank"));
+    problem
+        .entry("title")
+        .or_insert_with(|| json!(http.canonical_reason().unwrap_or("Plugin error")));
+    problem.entry("status").or_insert_with(|| json!(status));
+    problem.entry("plugin").or_insert_with(|| json!(plugin));
+    json_response(status, PROBLEM_JSON, &Value::Object(problem))
 }
 
 /// Adds the routes of the active plugins to an OpenAPI document (as JSON):

@@ -150,8 +150,8 @@ impl PluginRegistry {
             engine,
             max_wait: limits.request_time,
         });
-        let host = PluginHost::new(limits, Some(dir.join(".cache")), api)
-            .map_err(|e| plugin_error(&e))?;
+        let host =
+            PluginHost::new(limits, Some(dir.join(".cache")), api).map_err(|e| plugin_error(&e))?;
         Ok(PluginRegistry {
             host,
             dir,

@@ -1,0 +1,321 @@
+//! `draw-circle`: a kuka-bridge plugin that draws a horizontal circle.
+//!
+//! `POST /api/v1/plugins/draw-circle/circle` with
+//! `{"x": 200, "y": 0, "z": 70, "radius": 40}` (mm, the centre and the height;
+//! optional `"speed_m_s"`, `"mode": "circ" | "lin"` and `"segments"`) reads the
+//! robot's position, keeps its orientation (A, B, C) and runs ONE blended batch:
+//! a PTP to the start point (x + radius, y, z), then the circle — two CIRC half
+//! circles, or `segments` LINs in `lin` mode — back to the start point.
+//!
+//! Every motion goes through the bridge's own checks (reachability, limits,
+//! singularities, speed caps), exactly as a `POST /api/v1/motions` would.
+//!
+//! Build: `cargo build --release --target wasm32-wasip2` (or `../build.sh OUT`).
+
+wit_bindgen::generate!({
+    path: "../../wit",
+    world: "bridge-plugin",
+    // `MotionParams { approx_mm: .., ..Default::default() }`: all three fields are options.
+    additional_type_attributes: {
+        "kuka-bridge:plugin/types@0.1.0/motion-params": [#[derive(Default)]],
+    },
+});
+
+use exports::kuka_bridge::plugin::plugin::{Description, Guest, Request, Response, Route};
+use kuka_bridge::plugin::host::{self, LogLevel};
+use kuka_bridge::plugin::types::{
+    CircMotion, HostError, LinMotion, Motion, MotionParams, Point, Pose, Position, PtpMotion,
+};
+use serde::Deserialize;
+use serde_json::json;
+
+/// The version this plugin describes (`0.2.0` with the `next-version` feature).
+const VERSION: &str = if cfg!(feature = "next-version") {
+    "0.2.0"
+} else {
+    "0.1.0"
+};
+
+/// Blending between the segments of the circle (mm).
+const APPROX_MM: f64 = 1.0;
+
+/// How the circle is drawn.
+#[derive(Deserialize, Clone, Copy, Default, PartialEq, Debug)]
+#[serde(rename_all = "lowercase")]
+enum Mode {
+    /// Two CIRC motions (half circles).
+    #[default]
+    Circ,
+    /// `segments` LIN motions (a regular polygon).
+    Lin,
+}
+
+/// The request body of `POST /circle`.
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct CircleRequest {
+    /// Centre X (mm, current base).
+    x: f64,
+    /// Centre Y (mm).
+    y: f64,
+    /// Height of the circle (mm).
+    z: f64,
+    /// Radius (mm), in (0, 500].
+    radius: f64,
+    /// Path speed of the circle (m/s).
+    #[serde(default = "default_speed")]
+    speed_m_s: f64,
+    /// `circ` (default) or `lin`.
+    #[serde(default)]
+    mode: Mode,
+    /// Number of LINs in `lin` mode, 8..=720.
+    #[serde(default = "default_segments")]
+    segments: u32,
+}
+
+fn default_speed() -> f64 {
+    0.1
+}
+
+fn default_segments() -> u32 {
+    36
+}
+
+/// The plugin; its trait implementation is exported with `export!` below.
+struct DrawCircle;
+
+impl Guest for DrawCircle {
+    fn describe() -> Description {
+        Description {
+            name: "draw-circle".into(),
+            version: VERSION.into(),
+            routes: vec![Route {
+                method: "POST".into(),
+                path: "/circle".into(),
+                summary: "Draw a horizontal circle (PTP to its start, then 2 CIRCs or n LINs), \
+                          keeping the current orientation"
+                    .into(),
+                request_schema: request_schema().to_string(),
+                response_schema: response_schema().to_string(),
+            }],
+        }
+    }
+
+    fn handle(req: Request) -> Response {
+        if (req.method.as_str(), req.path.as_str()) != ("POST", "/circle") {
+            let detail = format!("draw-circle has no route {} {}", req.method, req.path);
+            return error(404, "not_found", &detail);
+        }
+        let circle = match parse(&req.body) {
+            Ok(c) => c,
+            Err(detail) => return error(400, "bad_request", &detail),
+        };
+        // Keep the tool's current orientation: the pen stays as it is held now.
+        let here = match host::get_position() {
+            Ok(p) => p,
+            Err(e) => return host_error(&e),
+        };
+        let motions = circle_motions(&circle, &here.pose);
+        host::log(
+            LogLevel::Info,
+            &format!(
+                "circle r={} mm at ({}, {}, {}), {:?} mode, {} motions",
+                circle.radius,
+                circle.x,
+                circle.y,
+                circle.z,
+                circle.mode,
+                motions.len()
+            ),
+        );
+        match host::run_motions(&motions) {
+            Ok(done) => Response {
+                status: 200,
+                body: json!({
+                    "completed": done.completed,
+                    "motions": motions.len(),
+                    "position": position_json(&done.position),
+                })
+                .to_string(),
+            },
+            Err(e) => host_error(&e),
+        }
+    }
+}
+
+/// Parses and checks the request body; the error is a sentence for the client.
+fn parse(body: &str) -> Result<CircleRequest, String> {
+    let c: CircleRequest = serde_json::from_str(body)
+        .map_err(|e| format!("The request body is not a valid circle: {e}."))?;
+    if !(c.radius > 0.0 && c.radius <= 500.0) {
+        return Err(format!(
+            "radius must be more than 0 and at most 500 mm, not {}.",
+            c.radius
+        ));
+    }
+    if c.speed_m_s <= 0.0 {
+        return Err(format!(
+            "speed_m_s must be more than 0, not {}.",
+            c.speed_m_s
+        ));
+    }
+    if c.mode == Mode::Lin && !(8..=720).contains(&c.segments) {
+        return Err(format!(
+            "segments must be between 8 and 720, not {}.",
+            c.segments
+        ));
+    }
+    Ok(c)
+}
+
+/// The batch: a PTP to the start point (angle 0°, that is +X of the centre),
+/// then the circle counter-clockwise seen from above (from +X towards +Y).
+fn circle_motions(c: &CircleRequest, orientation: &Pose) -> Vec<Motion> {
+    // The point of the circle at `deg` degrees, with the kept orientation.
+    let at = |deg: f64| {
+        let rad = deg.to_radians();
+        Pose {
+            x: c.x + c.radius * rad.cos(),
+            y: c.y + c.radius * rad.sin(),
+            z: c.z,
+            ..*orientation
+        }
+    };
+    let aux = |deg: f64| {
+        let p = at(deg);
+        Point {
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        }
+    };
+    let start = at(0.0);
+    let blend = MotionParams {
+        velocity: Some(c.speed_m_s),
+        approx_mm: Some(APPROX_MM),
+        ..Default::default()
+    };
+    let exact = MotionParams {
+        approx_mm: Some(0.0),
+        ..blend
+    };
+
+    // The PTP stops exactly on the start point (bridge's default PTP speed,
+    // Status and Turn kept), so the circle begins where it should.
+    let mut motions = vec![Motion::Ptp(PtpMotion {
+        target: start,
+        s: None,
+        t: None,
+        params: MotionParams {
+            approx_mm: Some(0.0),
+            ..Default::default()
+        },
+    })];
+    match c.mode {
+        Mode::Circ => {
+            motions.push(Motion::Circ(CircMotion {
+                aux: aux(90.0),
+                target: at(180.0),
+                params: blend,
+            }));
+            motions.push(Motion::Circ(CircMotion {
+                aux: aux(270.0),
+                target: start,
+                params: exact,
+            }));
+        }
+        Mode::Lin => {
+            let n = c.segments;
+            for i in 1..n {
+                let target = at(360.0 * f64::from(i) / f64::from(n));
+                motions.push(Motion::Lin(LinMotion {
+                    target,
+                    params: blend,
+                }));
+            }
+            // Close the circle exactly on the start point, and stop there.
+            motions.push(Motion::Lin(LinMotion {
+                target: start,
+                params: exact,
+            }));
+        }
+    }
+    motions
+}
+
+/// `{"x","y","z","a","b","c","s","t"}` of a position.
+fn position_json(p: &Position) -> serde_json::Value {
+    let q = &p.pose;
+    json!({"x": q.x, "y": q.y, "z": q.z, "a": q.a, "b": q.b, "c": q.c, "s": p.s, "t": p.t})
+}
+
+/// An error response `{"code", "detail"}`.
+fn error(status: u16, code: &str, detail: &str) -> Response {
+    Response {
+        status,
+        body: json!({"code": code, "detail": detail}).to_string(),
+    }
+}
+
+/// A failed host call as a response: 503 when the controller is offline or
+/// timed out (try again later), 422 for everything else (the motion is wrong).
+fn host_error(e: &HostError) -> Response {
+    let status = match e.code.as_str() {
+        "controller_offline" | "timeout" => 503,
+        _ => 422,
+    };
+    Response {
+        status,
+        body: json!({"code": e.code, "detail": e.detail, "motion": e.motion}).to_string(),
+    }
+}
+
+/// JSON Schema of the request body.
+fn request_schema() -> serde_json::Value {
+    json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": "Circle",
+        "type": "object",
+        "required": ["x", "y", "z", "radius"],
+        "additionalProperties": false,
+        "properties": {
+            "x": {"type": "number", "description": "centre X (mm, current base)"},
+            "y": {"type": "number", "description": "centre Y (mm)"},
+            "z": {"type": "number", "description": "height of the circle (mm)"},
+            "radius": {"type": "number", "exclusiveMinimum": 0, "maximum": 500, "description": "mm"},
+            "speed_m_s": {"type": "number", "exclusiveMinimum": 0, "default": 0.1,
+                          "description": "path speed (m/s)"},
+            "mode": {"enum": ["circ", "lin"], "default": "circ",
+                     "description": "two CIRC half circles, or `segments` LINs"},
+            "segments": {"type": "integer", "minimum": 8, "maximum": 720, "default": 36,
+                         "description": "number of LINs in lin mode"}
+        },
+        "examples": [{"x": 200, "y": 0, "z": 70, "radius": 40}]
+    })
+}
+
+/// JSON Schema of the 200 response body.
+fn response_schema() -> serde_json::Value {
+    json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": "CircleDone",
+        "type": "object",
+        "required": ["completed", "motions", "position"],
+        "properties": {
+            "completed": {"type": "integer", "description": "motions the bridge completed"},
+            "motions": {"type": "integer", "description": "motions in the batch (PTP included)"},
+            "position": {
+                "type": "object",
+                "description": "where the robot stopped (mm, degrees, Status, Turn)",
+                "required": ["x", "y", "z", "a", "b", "c", "s", "t"],
+                "properties": {
+                    "x": {"type": "number"}, "y": {"type": "number"}, "z": {"type": "number"},
+                    "a": {"type": "number"}, "b": {"type": "number"}, "c": {"type": "number"},
+                    "s": {"type": "integer"}, "t": {"type": "integer"}
+                }
+            }
+        }
+    })
+}
+
+export!(DrawCircle);
