@@ -82,7 +82,12 @@ pub(crate) async fn describe(
     };
     match result {
         Err(_) => Err(PluginError::timeout(wall, "request time")),
-        Ok(Err(e)) => Err(classify(&e, symptoms(&store), &stderr_text(&store), &limits)),
+        Ok(Err(e)) => Err(classify(
+            &e,
+            symptoms(&store),
+            &stderr_text(&store),
+            &limits,
+        )),
         Ok(Ok(d)) => Ok(d),
     }
 }

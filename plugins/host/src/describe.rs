@@ -108,10 +108,7 @@ pub(crate) fn check(expected_name: &str, d: &Description) -> Result<Vec<RouteSpe
         problems.push("the plugin declares no routes".into());
     }
     if d.routes.len() > MAX_ROUTES {
-        problems.push(format!(
-            "{} routes; at most {MAX_ROUTES}",
-            d.routes.len()
-        ));
+        problems.push(format!("{} routes; at most {MAX_ROUTES}", d.routes.len()));
     }
     let mut routes: Vec<RouteSpec> = Vec::new();
     for r in d.routes.iter().take(MAX_ROUTES) {
@@ -186,7 +183,10 @@ mod tests {
 
     #[test]
     fn a_good_description_passes() {
-        let d = desc("draw-circle", vec![route("POST", "/circle", r#"{"type":"object"}"#)]);
+        let d = desc(
+            "draw-circle",
+            vec![route("POST", "/circle", r#"{"type":"object"}"#)],
+        );
         let routes = check("draw-circle", &d).expect("valid");
         assert_eq!(routes.len(), 1);
         assert_eq!(routes[0].request_schema["type"], "object");
@@ -226,11 +226,27 @@ mod tests {
         for good in ["a", "draw-circle", "py-square2", "console", "com10"] {
             assert!(check_name(good).is_ok(), "{good}");
         }
-        for bad in ["", "-a", "a-", "A", "a_b", "1a", "a.b", &"a".repeat(65), "con/x", "con", "com1", "lpt9"] {
+        for bad in [
+            "",
+            "-a",
+            "a-",
+            "A",
+            "a_b",
+            "1a",
+            "a.b",
+            &"a".repeat(65),
+            "con/x",
+            "con",
+            "com1",
+            "lpt9",
+        ] {
             assert!(check_name(bad).is_err(), "{bad}");
         }
         let d = desc("draw-circle", vec![route("GET", "/x", "{}")]);
         let problems = check("circle", &d).expect_err("name mismatch");
-        assert!(problems[0].contains("installed as \"circle\""), "{problems:?}");
+        assert!(
+            problems[0].contains("installed as \"circle\""),
+            "{problems:?}"
+        );
     }
 }
