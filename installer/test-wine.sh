@@ -318,6 +318,29 @@ if [ -n "$svc_port" ]; then
     echo "      motion: ${m:0:160}"
     check "simulated motion done (POST /api/v1/motions, a1=10)" \
         bash -c 'grep -q "\"state\":\"done\"" <<<"$1" && grep -q "\"a1\":10.0" <<<"$1"' _ "$m"
+
+    # A WASM plugin under Windows: wasmtime compiles it, the artifact cache
+    # keeps it (checked again after the restart below), its route draws.
+    plugin=""
+    if "$here/../plugins/examples/build.sh" "$tmp/plugins" >"$logs/plugin-build.log" 2>&1; then
+        plugin="$tmp/plugins/draw-circle.wasm"
+    fi
+    if [ -n "$plugin" ]; then
+        p=$(curl -sS -m 60 -X PUT -H 'content-type: application/wasm' --data-binary "@$plugin" \
+            "http://127.0.0.1:$svc_port/api/v1/plugins/draw-circle" 2>&1)
+        echo "      plugin: ${p:0:160}"
+        check "plugin installed (PUT /api/v1/plugins/draw-circle, compiled)" \
+            bash -c 'grep -q "\"status\":\"active\"" <<<"$1" && grep -q "\"from_cache\":false" <<<"$1"' _ "$p"
+        c=$(curl -sS -m 60 -X POST -H 'content-type: application/json' \
+            -d '{"x": 300, "y": 20, "z": 100, "radius": 40}' \
+            "http://127.0.0.1:$svc_port/api/v1/plugins/draw-circle/circle" 2>&1)
+        echo "      circle: ${c:0:160}"
+        check "plugin route drew its circle (POST /api/v1/plugins/draw-circle/circle)" \
+            bash -c 'grep -q "\"completed\":3" <<<"$1"' _ "$c"
+    else
+        msg="WASM plugin (plugins/examples/build.sh failed: see $logs/plugin-build.log)"
+        if [ -n "${CI:-}" ]; then fail "$msg"; else skip "$msg"; fi
+    fi
 fi
 
 # ----------------------------------------------------- service manager
@@ -336,6 +359,11 @@ check "net start -> RUNNING" wait_state RUNNING 30
 check "restarted service uses the new config (/health on :$port_b)" wait_health "$port_b" 20
 check "old port :$svc_port closed" bash -c "! (exec 3<>/dev/tcp/127.0.0.1/$svc_port) 2>/dev/null"
 svc_port=$port_b
+if [ -n "${plugin:-}" ]; then
+    p=$(curl -sS -m 10 "http://127.0.0.1:$svc_port/api/v1/plugins/draw-circle" 2>&1)
+    check "plugin loaded again at start from the compiled cache (from_cache true)" \
+        bash -c 'grep -q "\"from_cache\":true" <<<"$1"' _ "$p"
+fi
 
 phase "sc stop / sc start"
 W sc stop kuka-bridge >/dev/null

@@ -229,32 +229,199 @@ pub fn assert_close(a: f64, b: f64, tol: f64, what: &str) {
     assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tolerance {tol})");
 }
 
-/// Builds the example and fixture plugins (`plugins/examples/build.sh`)
-/// once per test binary into `out` (pass `env!("CARGO_TARGET_TMPDIR")`);
-/// `python` adds the componentize-py example (needs `python3` with `venv`
-/// and PyPI). Returns the folder holding `<name>.wasm`.
+/// Builds the example and fixture plugins once per test binary into
+/// `<target_tmp>/plugin-examples` (pass `env!("CARGO_TARGET_TMPDIR")`) and
+/// returns that folder, holding `<name>.wasm`: the same files as
+/// `plugins/examples/build.sh`, built from Rust so the tests need no shell.
+/// `python` adds `py-square.wasm` (componentize-py from PyPI in a venv,
+/// `KB_PY_VENV` or `~/.cache/kuka-bridge/venv`; needs `python3` with `venv`).
 pub fn example_plugins(target_tmp: &Path, python: bool) -> PathBuf {
     use std::sync::Mutex;
     static BUILT: Mutex<(bool, bool)> = Mutex::new((false, false));
     let out = target_tmp.join("plugin-examples");
     let mut built = BUILT.lock().unwrap_or_else(|p| p.into_inner());
-    let need = if python { !built.1 } else { !built.0 };
-    if need {
-        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../plugins/examples/build.sh");
-        let mut cmd = std::process::Command::new("bash");
-        cmd.arg(&script).arg(&out);
-        if python {
-            cmd.arg("--python");
-        }
-        // The guests are their own workspace with their own target folder.
-        cmd.env("CARGO_TARGET_DIR", out.join("target"));
-        let status = cmd.status().expect("run plugins/examples/build.sh");
-        assert!(
-            status.success(),
-            "plugins/examples/build.sh failed: {status}"
-        );
+    if !built.0 {
+        build_rust_plugins(&out);
         built.0 = true;
-        built.1 |= python;
+    }
+    if python && !built.1 {
+        build_python_plugin(&out);
+        built.1 = true;
     }
     out
+}
+
+fn examples_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../plugins/examples")
+}
+
+fn run(cmd: &mut std::process::Command) {
+    let status = cmd
+        .status()
+        .unwrap_or_else(|e| panic!("cannot run {cmd:?}: {e}"));
+    assert!(status.success(), "{cmd:?} failed: {status}");
+}
+
+fn build_rust_plugins(out: &Path) {
+    let target = out.join("target");
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let manifest = examples_dir().join("Cargo.toml");
+    let build = |target_dir: &Path, extra: &[&str]| {
+        run(std::process::Command::new(&cargo)
+            .args(["build", "--quiet", "--release", "--target", "wasm32-wasip2"])
+            .arg("--manifest-path")
+            .arg(&manifest)
+            .arg("--target-dir")
+            .arg(target_dir)
+            .args(extra));
+    };
+    build(&target, &["--workspace"]);
+    // draw-circle again as version 0.2.0, in a target folder of its own.
+    let next = target.join("next-version");
+    build(&next, &["-p", "draw-circle", "--features", "next-version"]);
+    let release = |t: &Path| t.join("wasm32-wasip2/release");
+    for (from, to) in [
+        (
+            release(&target).join("draw_circle.wasm"),
+            "draw-circle.wasm",
+        ),
+        (
+            release(&next).join("draw_circle.wasm"),
+            "draw-circle-0.2.0.wasm",
+        ),
+        (
+            release(&target).join("draw_smiley.wasm"),
+            "draw-smiley.wasm",
+        ),
+        (release(&target).join("misbehave.wasm"), "misbehave.wasm"),
+        (
+            release(&target).join("bad_describe.wasm"),
+            "bad-describe.wasm",
+        ),
+        (
+            release(&target).join("other_world.wasm"),
+            "other-world.wasm",
+        ),
+    ] {
+        std::fs::copy(&from, out.join(to))
+            .unwrap_or_else(|e| panic!("copy {}: {e}", from.display()));
+    }
+}
+
+fn build_python_plugin(out: &Path) {
+    let venv = std::env::var_os("KB_PY_VENV").map_or_else(
+        || {
+            let home = std::env::var_os("HOME")
+                .or_else(|| std::env::var_os("USERPROFILE"))
+                .expect("HOME or USERPROFILE");
+            PathBuf::from(home).join(".cache/kuka-bridge/venv")
+        },
+        PathBuf::from,
+    );
+    let bin = if cfg!(windows) {
+        venv.join("Scripts")
+    } else {
+        venv.join("bin")
+    };
+    let exe = |name: &str| bin.join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
+    if !exe("python").exists() {
+        let python = if cfg!(windows) { "python" } else { "python3" };
+        run(std::process::Command::new(python)
+            .args(["-m", "venv"])
+            .arg(&venv));
+    }
+    let has_cpy = std::process::Command::new(exe("componentize-py"))
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).contains("0.25.1"));
+    if !has_cpy {
+        run(std::process::Command::new(exe("python")).args([
+            "-m",
+            "pip",
+            "install",
+            "--quiet",
+            "--disable-pip-version-check",
+            "componentize-py==0.25.1",
+        ]));
+    }
+    let app = examples_dir().join("python/draw-square");
+    let work = tempfile::tempdir().expect("tempdir");
+    // componentize-py imports app.py: build from a copy, so no bytecode
+    // lands in the source tree.
+    std::fs::copy(app.join("app.py"), work.path().join("app.py")).expect("copy app.py");
+    run(std::process::Command::new(exe("componentize-py"))
+        .current_dir(work.path())
+        .arg("-d")
+        .arg(examples_dir().join("../wit"))
+        .args(["-w", "bridge-plugin", "componentize", "app", "-o"])
+        .arg(out.join("py-square.wasm")));
+}
+
+/// Helpers of the benchmark binaries (`tests/benches`).
+pub mod bench {
+    use std::time::{Duration, Instant};
+
+    /// The `p` quantile of sorted samples.
+    pub fn percentile(sorted: &[Duration], p: f64) -> Duration {
+        let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;
+        sorted[i.min(sorted.len() - 1)]
+    }
+
+    /// Prints p50/p90/p99/max of the samples on one line.
+    pub fn report(name: &str, mut samples: Vec<Duration>) {
+        samples.sort();
+        let us = |d: Duration| d.as_secs_f64() * 1e6;
+        println!(
+            "{name:<34} n={:<6} p50={:>7.1} µs  p90={:>7.1} µs  p99={:>7.1} µs  max={:>8.1} µs",
+            samples.len(),
+            us(percentile(&samples, 0.50)),
+            us(percentile(&samples, 0.90)),
+            us(percentile(&samples, 0.99)),
+            us(*samples.last().unwrap_or(&Duration::ZERO)),
+        );
+    }
+
+    /// Sequential keep-alive requests over a plain TCP socket (a minimal
+    /// HTTP/1.1 client, like curl's): separates the bridge's latency from the
+    /// cost of a full-featured async client.
+    pub fn raw_round_trips(addr: std::net::SocketAddr, request: &str, n: usize) -> Vec<Duration> {
+        use std::io::{Read, Write};
+        let mut sock = std::net::TcpStream::connect(addr).expect("connect");
+        sock.set_nodelay(true).expect("nodelay");
+        let mut buf = vec![0u8; 64 * 1024];
+        let mut one = |sock: &mut std::net::TcpStream| {
+            sock.write_all(request.as_bytes()).expect("send");
+            let mut have = 0;
+            loop {
+                let got = sock.read(&mut buf[have..]).expect("read");
+                assert!(got > 0, "connection closed");
+                have += got;
+                let text = String::from_utf8_lossy(&buf[..have]);
+                if let Some(end) = text.find("\r\n\r\n") {
+                    let len: usize = text[..end]
+                        .lines()
+                        .find_map(|l| {
+                            l.to_ascii_lowercase()
+                                .strip_prefix("content-length:")
+                                .map(|v| v.trim().parse().unwrap_or(0))
+                        })
+                        .unwrap_or(0);
+                    if have >= end + 4 + len {
+                        assert!(text.starts_with("HTTP/1.1 200"), "{text}");
+                        return;
+                    }
+                }
+            }
+        };
+        for _ in 0..200 {
+            one(&mut sock);
+        }
+        (0..n)
+            .map(|_| {
+                let start = Instant::now();
+                one(&mut sock);
+                start.elapsed()
+            })
+            .collect()
+    }
 }

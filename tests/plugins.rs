@@ -610,7 +610,8 @@ async fn installed_plugins_load_at_start_from_the_compiled_cache() {
 async fn python_plugin_built_with_componentize_py_draws_a_square() {
     // componentize-py comes from PyPI; on a machine without python3/venv
     // this test says so and passes, except under CI where it must run.
-    let have_python = std::process::Command::new("python3")
+    let python = if cfg!(windows) { "python" } else { "python3" };
+    let have_python = std::process::Command::new(python)
         .args(["-c", "import venv, ensurepip"])
         .status()
         .is_ok_and(|s| s.success());

@@ -15,26 +15,9 @@
 
 use std::time::{Duration, Instant};
 
+use kuka_bridge_tests::bench::{raw_round_trips, report};
 use kuka_bridge_tests::{Options, TestService};
 use serde_json::{Value, json};
-
-fn percentile(sorted: &[Duration], p: f64) -> Duration {
-    let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;
-    sorted[i.min(sorted.len() - 1)]
-}
-
-fn report(name: &str, mut samples: Vec<Duration>) {
-    samples.sort();
-    let us = |d: Duration| d.as_secs_f64() * 1e6;
-    println!(
-        "{name:<34} n={:<6} p50={:>7.1} µs  p90={:>7.1} µs  p99={:>7.1} µs  max={:>8.1} µs",
-        samples.len(),
-        us(percentile(&samples, 0.50)),
-        us(percentile(&samples, 0.90)),
-        us(percentile(&samples, 0.99)),
-        us(*samples.last().unwrap_or(&Duration::ZERO)),
-    );
-}
 
 async fn round_trips(
     t: &TestService,
@@ -61,50 +44,6 @@ async fn round_trips(
         assert!(ok);
     }
     out
-}
-
-/// Sequential keep-alive requests over a plain TCP socket (a minimal
-/// HTTP/1.1 client, like curl's): separates the bridge's latency from the
-/// cost of a full-featured async client.
-fn raw_round_trips(addr: std::net::SocketAddr, request: &str, n: usize) -> Vec<Duration> {
-    use std::io::{Read, Write};
-    let mut sock = std::net::TcpStream::connect(addr).expect("connect");
-    sock.set_nodelay(true).expect("nodelay");
-    let mut buf = vec![0u8; 64 * 1024];
-    let mut one = |sock: &mut std::net::TcpStream| {
-        sock.write_all(request.as_bytes()).expect("send");
-        let mut have = 0;
-        loop {
-            let got = sock.read(&mut buf[have..]).expect("read");
-            assert!(got > 0, "connection closed");
-            have += got;
-            let text = String::from_utf8_lossy(&buf[..have]);
-            if let Some(end) = text.find("\r\n\r\n") {
-                let len: usize = text[..end]
-                    .lines()
-                    .find_map(|l| {
-                        l.to_ascii_lowercase()
-                            .strip_prefix("content-length:")
-                            .map(|v| v.trim().parse().unwrap_or(0))
-                    })
-                    .unwrap_or(0);
-                if have >= end + 4 + len {
-                    assert!(text.starts_with("HTTP/1.1 200"), "{text}");
-                    return;
-                }
-            }
-        }
-    };
-    for _ in 0..200 {
-        one(&mut sock);
-    }
-    (0..n)
-        .map(|_| {
-            let start = Instant::now();
-            one(&mut sock);
-            start.elapsed()
-        })
-        .collect()
 }
 
 fn circle_polyline(segments: usize, radius: f64) -> Vec<[f64; 2]> {

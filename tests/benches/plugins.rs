@@ -1,0 +1,208 @@
+//! Benchmark of the WASM plugin host through the running service (results
+//! in docs/BENCHMARKS.md):
+//!
+//! 1. overhead of a plugin endpoint over a native one: `POST
+//!    /api/v1/plugins/misbehave/ok` (fresh instance, `handle`, JSON answer)
+//!    against `GET /health`, sequential keep-alive requests from a plain
+//!    TCP client; p50/p90/p99/max;
+//! 2. install of a plugin compiled from scratch (`PUT`, new bytes each time),
+//!    for the Rust draw-circle (and the Python py-square with `--python`);
+//! 3. reinstall of the same bytes, which loads the compiled artifact from
+//!    the cache (the path of a restart or a reload);
+//! 4. resident memory of the process before and after installing 10
+//!    plugins (Linux: VmRSS from /proc/self/status).
+//!
+//! Run: `cargo bench -p kuka-bridge-tests --bench plugins [-- N] [-- --python]`
+//! (N round trips, default 5000). The ten plugins are copies of draw-circle
+//! whose 11-byte name string is replaced in place (`bench-pl-00` ...), so
+//! each is a distinct component with its own compiled code.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use kuka_bridge_tests::bench::{raw_round_trips, report};
+use kuka_bridge_tests::{Options, TestService};
+use serde_json::Value;
+
+/// Resident set size in MiB (Linux), for the memory figure.
+fn rss_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kb: f64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmRSS:"))?
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kb / 1024.0)
+}
+
+/// `wasm` with every occurrence of `from` replaced by `to` (same length).
+fn renamed(wasm: &[u8], from: &str, to: &str) -> Vec<u8> {
+    assert_eq!(from.len(), to.len());
+    let mut out = wasm.to_vec();
+    let mut i = 0;
+    while let Some(pos) = out[i..]
+        .windows(from.len())
+        .position(|w| w == from.as_bytes())
+    {
+        out[i + pos..i + pos + from.len()].copy_from_slice(to.as_bytes());
+        i += pos + from.len();
+    }
+    out
+}
+
+async fn put(t: &TestService, name: &str, wasm: Vec<u8>) -> (Duration, Value) {
+    let start = Instant::now();
+    let (status, v) = t.put_bytes(&format!("/api/v1/plugins/{name}"), wasm).await;
+    let took = start.elapsed();
+    assert!(
+        status == 200 || status == 201,
+        "install {name}: {status} {v}"
+    );
+    (took, v)
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1000.0
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let n: usize = args.iter().find_map(|a| a.parse().ok()).unwrap_or(5000);
+    let python = args.iter().any(|a| a == "--python");
+    let examples =
+        kuka_bridge_tests::example_plugins(Path::new(env!("CARGO_TARGET_TMPDIR")), python);
+    let read =
+        |name: &str| std::fs::read(examples.join(format!("{name}.wasm"))).expect("built plugin");
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .expect("runtime");
+    rt.block_on(async move {
+        let t = TestService::start(Options {
+            time_scale: 0.0,
+            tweak: Box::new(|c| {
+                c.simulator.heartbeat_ms = 50;
+                c.channel.offline_after_ms = 2000;
+            }),
+            ..Options::default()
+        })
+        .await;
+        println!(
+            "kuka-bridge plugin benchmark ({} CPUs)",
+            std::thread::available_parallelism().map_or(0, |n| n.get())
+        );
+        let rss_start = rss_mib();
+
+        println!("-- install compiled from scratch (PUT, new bytes each time), then 10 plugins resident");
+        let circle = read("draw-circle");
+        let (mut http_ms, mut load_ms) = (Vec::new(), Vec::new());
+        for i in 0..10 {
+            let name = format!("bench-pl-{i:02}");
+            let (took, v) = put(&t, &name, renamed(&circle, "draw-circle", &name)).await;
+            assert_eq!(v["from_cache"], false, "{v}");
+            http_ms.push(ms(took));
+            load_ms.push(v["load_ms"].as_f64().expect("load_ms"));
+        }
+        println!(
+            "draw-circle ({} KB)  install p50 {:.1} ms (HTTP), load p50 {:.1} ms (compile + link + describe), n=10",
+            circle.len() / 1024,
+            median(http_ms),
+            median(load_ms)
+        );
+        // Every plugin serves once, so their code is really resident.
+        for i in 0..10 {
+            let body = serde_json::json!({"x": 300, "y": 20, "z": 100, "radius": 10});
+            let (status, v) = t.post_json(&format!("/api/v1/plugins/bench-pl-{i:02}/circle"), &body).await;
+            assert_eq!(status, 200, "{v}");
+        }
+        let rss_10 = rss_mib();
+        match (rss_start, rss_10) {
+            (Some(a), Some(b)) => println!(
+                "RSS: {a:.1} MiB with no plugin, {b:.1} MiB with 10 installed and called once ({:.2} MiB per plugin)",
+                (b - a) / 10.0
+            ),
+            _ => println!("RSS: not measured on this OS"),
+        }
+
+        println!("-- reinstall of the same bytes: compiled code from the cache");
+        let (mut http_ms, mut load_ms) = (Vec::new(), Vec::new());
+        for _ in 0..20 {
+            let (took, v) = put(&t, "bench-pl-00", renamed(&circle, "draw-circle", "bench-pl-00")).await;
+            assert_eq!(v["from_cache"], true, "{v}");
+            http_ms.push(ms(took));
+            load_ms.push(v["load_ms"].as_f64().expect("load_ms"));
+        }
+        println!(
+            "draw-circle reload  p50 {:.2} ms (HTTP, 165 KB upload), load p50 {:.2} ms (deserialize + link + describe), n=20",
+            median(http_ms),
+            median(load_ms)
+        );
+
+        if python {
+            let py = read("py-square");
+            let (took, v) = put(&t, "py-square", py.clone()).await;
+            println!(
+                "py-square ({:.1} MB) install {:.0} ms (HTTP), load {:.0} ms, from_cache {}",
+                py.len() as f64 / 1e6,
+                ms(took),
+                v["load_ms"].as_f64().unwrap_or(f64::NAN),
+                v["from_cache"]
+            );
+            let (took, v) = put(&t, "py-square", py).await;
+            println!(
+                "py-square reload {:.0} ms (HTTP), load {:.1} ms, from_cache {}",
+                ms(took),
+                v["load_ms"].as_f64().unwrap_or(f64::NAN),
+                v["from_cache"]
+            );
+            let body = serde_json::json!({"x": 300, "y": 0, "z": 100, "side": 20});
+            let start = Instant::now();
+            let (status, v) = t.post_json("/api/v1/plugins/py-square/square", &body).await;
+            assert_eq!(status, 200, "{v}");
+            println!("py-square call (5 motions, instant simulator) {:.1} ms", ms(start.elapsed()));
+        }
+
+        println!("-- plugin endpoint vs native endpoint, plain TCP client, sequential");
+        let (status, v) = t.put_bytes("/api/v1/plugins/misbehave", read("misbehave")).await;
+        assert_eq!(status, 201, "{v}");
+        let addr = t.service.addr;
+        let native = tokio::task::spawn_blocking(move || {
+            raw_round_trips(addr, "GET /health HTTP/1.1\r\nHost: bench\r\n\r\n", n)
+        })
+        .await
+        .expect("raw client");
+        let plugin = tokio::task::spawn_blocking(move || {
+            raw_round_trips(
+                addr,
+                "POST /api/v1/plugins/misbehave/ok HTTP/1.1\r\nHost: bench\r\nContent-Type: application/json\r\nContent-Length: 2\r\n\r\n{}",
+                n,
+            )
+        })
+        .await
+        .expect("raw client");
+        let p50 = |v: &[Duration]| {
+            let mut v = v.to_vec();
+            v.sort();
+            v[v.len() / 2]
+        };
+        let overhead = p50(&plugin).saturating_sub(p50(&native));
+        report("GET /health (native)", native);
+        report("POST /api/v1/plugins/misbehave/ok", plugin);
+        println!("plugin overhead (p50 difference): {:.1} µs", overhead.as_secs_f64() * 1e6);
+        let rss_end = rss_mib();
+        if let Some(r) = rss_end {
+            println!("RSS at the end: {r:.1} MiB");
+        }
+        let TestService { service, .. } = t;
+        service.shutdown().await.expect("shutdown");
+    });
+}
