@@ -39,6 +39,9 @@ pub enum PluginError {
     /// The guest answered, but not with a valid response.
     #[error("the plugin's response is invalid: {0}")]
     BadResponse(String),
+    /// All instance slots are taken by requests in flight.
+    #[error("{0} plugin requests are already running; try again later")]
+    Busy(u32),
     /// Anything else on the host side (a bug, an I/O error of the cache...).
     #[error("plugin host: {0}")]
     Host(String),
@@ -55,6 +58,7 @@ impl PluginError {
             PluginError::Memory { .. } => "plugin_memory",
             PluginError::Trap(_) => "plugin_trap",
             PluginError::BadResponse(_) => "plugin_bad_response",
+            PluginError::Busy(_) => "queue_full",
             PluginError::Host(_) => "plugin_host",
         }
     }
@@ -84,6 +88,11 @@ pub(crate) fn classify(
     stderr: &str,
     limits: &crate::PluginLimits,
 ) -> PluginError {
+    if e.downcast_ref::<wasmtime::PoolConcurrencyLimitError>()
+        .is_some()
+    {
+        return PluginError::Busy(crate::runtime::MAX_CONCURRENT_REQUESTS);
+    }
     if symptoms.memory_refused {
         return PluginError::Memory {
             limit_mib: limits.memory_bytes >> 20,

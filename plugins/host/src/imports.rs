@@ -83,8 +83,16 @@ impl RequestState {
     ) -> Self {
         let stderr = MemoryOutputPipe::new(STDERR_CAPACITY);
         // No preopened folders, environment, arguments, network or stdin:
-        // the only way out of the sandbox is the `host` interface.
-        let wasi = WasiCtxBuilder::new().stderr(stderr.clone()).build();
+        // the only way out of the sandbox is the `host` interface. (Sockets
+        // are denied by wasmtime's default address check already; switched
+        // off here explicitly.) Clocks and random numbers stay: a guest
+        // language runtime needs them and they reach nothing.
+        let wasi = WasiCtxBuilder::new()
+            .stderr(stderr.clone())
+            .allow_tcp(false)
+            .allow_udp(false)
+            .allow_ip_name_lookup(false)
+            .build();
         RequestState {
             wasi,
             table: ResourceTable::new(),

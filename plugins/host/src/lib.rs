@@ -119,7 +119,7 @@ impl PluginHost {
         cache_dir: Option<PathBuf>,
         api: Arc<dyn BridgeApi>,
     ) -> Result<Self, PluginError> {
-        let runtime = runtime::Runtime::new()?;
+        let runtime = runtime::Runtime::new(limits.memory_bytes)?;
         let cache = cache::ArtifactCache::new(cache_dir, runtime.engine());
         Ok(PluginHost {
             runtime,

@@ -104,6 +104,7 @@ pub fn plugin_error(e: &PluginError) -> BridgeError {
         PluginError::Memory { .. } => ErrorCode::PluginMemory,
         PluginError::Trap(_) => ErrorCode::PluginTrap,
         PluginError::BadResponse(_) => ErrorCode::PluginBadResponse,
+        PluginError::Busy(_) => ErrorCode::QueueFull,
         PluginError::Host(_) => ErrorCode::Internal,
     };
     BridgeError::new(code, e.to_string())
