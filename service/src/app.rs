@@ -133,7 +133,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
                 .map_err(AppError::Plugins)?,
         );
         // Installed plugins serve from the first request on.
-        registry.scan().await;
+        registry.scan(false).await;
         tokio::spawn(crate::plugins::watch::run(
             registry.clone(),
             Duration::from_millis(config.plugins.poll_interval_ms),

@@ -87,11 +87,20 @@ struct FileStamp {
     len: u64,
 }
 
+/// A `<name>.wasm` file as last seen.
+#[derive(Debug, Clone)]
+struct FileSeen {
+    stamp: FileStamp,
+    /// SHA-256 of the content last read.
+    sha256: String,
+    /// Why that content could not be loaded.
+    error: Option<ErrorBody>,
+}
+
 #[derive(Default)]
 struct Table {
     active: BTreeMap<String, Arc<LoadedPlugin>>,
-    /// The files as last seen, with the load error of that version if any.
-    files: BTreeMap<String, (FileStamp, Option<ErrorBody>)>,
+    files: BTreeMap<String, FileSeen>,
 }
 
 /// Plugin failures as the API's errors.
@@ -209,7 +218,7 @@ impl PluginRegistry {
     pub fn info(&self, name: &str) -> Option<PluginInfo> {
         let table = self.table();
         let active = table.active.get(name);
-        let file_error = table.files.get(name).and_then(|(_, e)| e.clone());
+        let file_error = table.files.get(name).and_then(|f| f.error.clone());
         if active.is_none() && file_error.is_none() {
             return None;
         }
@@ -287,10 +296,14 @@ impl PluginRegistry {
                 format!("cannot write {}: {e}", path.display()),
             )
         })?;
-        let stamp = stamp(&path);
+        let seen = FileSeen {
+            stamp: stamp(&path),
+            sha256: plugin.sha256.clone(),
+            error: None,
+        };
         let replaced = {
             let mut table = self.table_mut();
-            table.files.insert(name.to_string(), (stamp, None));
+            table.files.insert(name.to_string(), seen);
             table
                 .active
                 .insert(name.to_string(), Arc::new(plugin))
@@ -344,9 +357,11 @@ impl PluginRegistry {
     }
 
     /// Brings the registry in line with the folder: loads new and changed
-    /// `<name>.wasm` files, unloads plugins whose file is gone. Returns the
-    /// number of changes.
-    pub async fn scan(&self) -> usize {
+    /// `<name>.wasm` files, unloads plugins whose file is gone. A file counts
+    /// as changed when its modification time or size changed, or, with
+    /// `deep` (after change events), when its content did (file times can
+    /// be coarse). Returns the number of changes.
+    pub async fn scan(&self, deep: bool) -> usize {
         let _guard = self.changes.lock().await;
         let on_disk = list_folder(&self.dir);
         let mut changes = 0;
@@ -369,12 +384,13 @@ impl PluginRegistry {
             }
         }
         for (name, stamp) in on_disk {
-            let seen = self.table().files.get(&name).map(|(s, _)| s.clone());
-            if seen.as_ref() == Some(&stamp) {
+            let seen = self.table().files.get(&name).cloned();
+            if !deep && seen.as_ref().is_some_and(|s| s.stamp == stamp) {
                 continue;
             }
-            changes += 1;
-            self.load_file(&name, stamp).await;
+            if self.load_file(&name, stamp, seen).await {
+                changes += 1;
+            }
         }
         if changes > 0 {
             self.prune_cache();
@@ -382,9 +398,21 @@ impl PluginRegistry {
         changes
     }
 
-    async fn load_file(&self, name: &str, stamp: FileStamp) {
+    /// Loads a file unless its content is the one last seen; true when
+    /// something changed.
+    async fn load_file(&self, name: &str, stamp: FileStamp, seen: Option<FileSeen>) -> bool {
         let path = self.file_path(name);
-        let result = match std::fs::read(&path) {
+        let bytes = std::fs::read(&path);
+        let sha256 = bytes
+            .as_ref()
+            .map_or_else(|_| String::new(), |b| kuka_plugin_host::sha256_hex(b));
+        if let Some(seen) = seen.filter(|s| !sha256.is_empty() && s.sha256 == sha256) {
+            // Same content: only the file's times changed.
+            let seen = FileSeen { stamp, ..seen };
+            self.table_mut().files.insert(name.to_string(), seen);
+            return false;
+        }
+        let result = match bytes {
             Err(e) => Err(ErrorBody {
                 code: ErrorCode::Internal.as_str(),
                 detail: format!("cannot read {}: {e}", path.display()),
@@ -399,14 +427,14 @@ impl PluginRegistry {
                 ),
             }),
             Ok(bytes) => {
-                let same = self
-                    .get(name)
-                    .is_some_and(|p| p.sha256 == kuka_plugin_host::sha256_hex(&bytes));
-                if same {
-                    self.table_mut()
-                        .files
-                        .insert(name.to_string(), (stamp, None));
-                    return;
+                if self.get(name).is_some_and(|p| p.sha256 == sha256) {
+                    let seen = FileSeen {
+                        stamp,
+                        sha256,
+                        error: None,
+                    };
+                    self.table_mut().files.insert(name.to_string(), seen);
+                    return false;
                 }
                 self.host.load(name, bytes.into()).await.map_err(|e| {
                     let b = plugin_error(&e);
@@ -422,15 +450,26 @@ impl PluginRegistry {
             Ok(plugin) => {
                 tracing::info!(plugin = name, version = %plugin.version, file = %path.display(), "plugin loaded from the plugins folder");
                 table.active.insert(name.to_string(), Arc::new(plugin));
-                table.files.insert(name.to_string(), (stamp, None));
+                let seen = FileSeen {
+                    stamp,
+                    sha256,
+                    error: None,
+                };
+                table.files.insert(name.to_string(), seen);
             }
             Err(e) => {
                 let serving = table.active.get(name).map(|p| p.version.to_string());
                 tracing::warn!(plugin = name, file = %path.display(), code = e.code, error = %e.detail,
                     still_serving = ?serving, "plugin file not loaded");
-                table.files.insert(name.to_string(), (stamp, Some(e)));
+                let seen = FileSeen {
+                    stamp,
+                    sha256,
+                    error: Some(e),
+                };
+                table.files.insert(name.to_string(), seen);
             }
         }
+        true
     }
 
     fn prune_cache(&self) {

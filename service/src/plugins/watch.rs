@@ -15,6 +15,9 @@ use super::PluginRegistry;
 /// Quiet time after the last change event before scanning.
 const SETTLE: Duration = Duration::from_millis(150);
 
+/// Longest wait for quiet: a folder that never stops changing is scanned anyway.
+const MAX_SETTLE: Duration = Duration::from_secs(1);
+
 /// Scans the folder on every change and every `poll` (the first tick is at
 /// once), until `closing` turns true.
 pub async fn run(
@@ -24,8 +27,11 @@ pub async fn run(
 ) {
     let (tx, mut rx) = mpsc::channel::<()>(1);
     // Kept alive for as long as this task runs; without it the poll still works.
-    let _watcher = match notify::recommended_watcher(move |_event| {
-        let _ = tx.try_send(());
+    let _watcher = match notify::recommended_watcher(move |event: notify::Result<notify::Event>| {
+        // Reads (including the scan's own) are not changes.
+        if !matches!(&event, Ok(e) if matches!(e.kind, notify::EventKind::Access(_))) {
+            let _ = tx.try_send(());
+        }
     }) {
         Ok(mut w) => match w.watch(registry.dir(), notify::RecursiveMode::NonRecursive) {
             Ok(()) => Some(w),
@@ -42,14 +48,18 @@ pub async fn run(
     let mut tick = tokio::time::interval(poll);
     tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     loop {
-        tokio::select! {
+        let deep = tokio::select! {
             () = async { let _ = closing.wait_for(|c| *c).await; } => break,
-            _ = tick.tick() => {}
+            _ = tick.tick() => false,
             Some(()) = rx.recv() => {
                 // Let a copy finish: wait until events stop for SETTLE.
-                while tokio::time::timeout(SETTLE, rx.recv()).await.is_ok_and(|e| e.is_some()) {}
+                let until = tokio::time::Instant::now() + MAX_SETTLE;
+                while tokio::time::Instant::now() < until
+                    && tokio::time::timeout(SETTLE, rx.recv()).await.is_ok_and(|e| e.is_some())
+                {}
+                true
             }
-        }
-        registry.scan().await;
+        };
+        registry.scan(deep).await;
     }
 }
