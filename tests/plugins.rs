@@ -304,6 +304,51 @@ async fn install_list_openapi_and_remove() {
     assert_eq!(status, 404);
     let (_, list) = t.get("/api/v1/plugins").await;
     assert_eq!(list, json!([]));
+
+    // A name is never a path: nothing outside the plugins folder is touched.
+    let outside = t.dirs.path().join("data/keep.wasm");
+    std::fs::write(&outside, b"not a plugin").expect("write");
+    for name in ["..%2Fkeep", "%2E%2E%2Fkeep", "..%5Ckeep"] {
+        let (status, v) = t.delete(&format!("/api/v1/plugins/{name}")).await;
+        assert_eq!(
+            (status, v["code"].as_str()),
+            (422, Some("invalid_input")),
+            "{name}: {v}"
+        );
+    }
+    let abs =
+        format!("/api/v1/plugins/{}", outside.with_extension("").display()).replace('/', "%2F");
+    let (status, _) = t
+        .delete(&abs.replacen("%2Fapi%2Fv1%2Fplugins%2F", "/api/v1/plugins/", 1))
+        .await;
+    assert_eq!(status, 422);
+    assert!(
+        outside.exists(),
+        "a file outside the plugins folder was deleted"
+    );
+}
+
+#[tokio::test]
+async fn operation_ids_are_unique_with_plugins_installed() {
+    let t = TestService::start(Options::default()).await;
+    for name in ["draw-circle", "draw-smiley", "misbehave"] {
+        let (status, v) = install(&t, name, example_plugin(name)).await;
+        assert_eq!(status, 201, "{v}");
+    }
+    let (_, doc) = t.get("/openapi.json").await;
+    let mut ids = Vec::new();
+    for (path, item) in doc["paths"].as_object().expect("paths") {
+        for (method, op) in item.as_object().expect("path item") {
+            let id = op["operationId"]
+                .as_str()
+                .unwrap_or_else(|| panic!("{method} {path} has no operationId"));
+            ids.push(id.to_string());
+        }
+    }
+    let count = ids.len();
+    ids.sort();
+    ids.dedup();
+    assert_eq!(ids.len(), count, "duplicate operationIds in /openapi.json");
 }
 
 #[tokio::test]
@@ -384,6 +429,13 @@ async fn misbehaving_plugins_get_their_error_and_the_service_keeps_running() {
     };
     let (status, v) = call("ok").await;
     assert_eq!((status, v["ok"].as_bool()), (200, Some(true)), "{v}");
+    // The state a plugin reads is the REST API's.
+    let (status, state) = call("state").await;
+    assert_eq!(status, 200, "{state}");
+    let (_, rest) = t.get("/api/v1/state").await;
+    assert_eq!(state["connection"], "online", "{state}");
+    assert_eq!(state["speed"], rest["speed"], "{state}");
+    assert_eq!(state["model"], rest["model"], "{state}");
     for (route, http, code, needle) in [
         ("loop", 504, "plugin_timeout", "300 ms"),
         ("alloc", 502, "plugin_memory", "16 MiB"),

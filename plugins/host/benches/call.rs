@@ -59,6 +59,9 @@ impl BridgeApi for Instant0 {
     fn position(&self) -> Result<Position, HostError> {
         Ok(here())
     }
+    fn state_json(&self) -> String {
+        "{}".into()
+    }
     fn tool(&self) -> Result<Pose, HostError> {
         Ok(POSE)
     }

@@ -41,6 +41,8 @@ pub trait BridgeApi: Send + Sync + 'static {
     ) -> BoxFuture<'a, Result<Done, HostError>>;
     /// The latest known position.
     fn position(&self) -> Result<Position, HostError>;
+    /// The state as `GET /api/v1/state` answers it (JSON text).
+    fn state_json(&self) -> String;
     /// The current tool frame.
     fn tool(&self) -> Result<Pose, HostError>;
     /// The current base frame.
@@ -218,6 +220,12 @@ impl crate::bindings::kuka_bridge::plugin::host::Host for RequestState {
 
     async fn get_position(&mut self) -> wasmtime::Result<Result<Position, HostError>> {
         Ok(self.api("get-position").and_then(|api| api.position()))
+    }
+
+    async fn get_state(&mut self) -> wasmtime::Result<String> {
+        Ok(self
+            .api("get-state")
+            .map_or_else(|_| "{}".to_string(), |api| api.state_json()))
     }
 
     async fn get_tool(&mut self) -> wasmtime::Result<Result<Pose, HostError>> {

@@ -55,7 +55,7 @@ async fn read_body(body: Body, limit: usize, what: &str) -> Result<axum::body::B
 /// other than `{name}` is refused and changes nothing. A new version replaces
 /// the old one atomically; requests in flight finish on the old one. The
 /// file is kept in the plugins folder and loads again at the next start.
-#[utoipa::path(put, path = "/api/v1/plugins/{name}", tag = "plugins",
+#[utoipa::path(put, path = "/api/v1/plugins/{name}", tag = "plugins", operation_id = "install_plugin",
     params(("name" = String, Path, description = "The plugin's name (as it describes itself)")),
     request_body(content = Vec<u8>, content_type = "application/wasm", description = "The component"),
     responses(
@@ -78,7 +78,7 @@ async fn install(
 }
 
 /// Installed plugins with their versions, routes and status.
-#[utoipa::path(get, path = "/api/v1/plugins", tag = "plugins",
+#[utoipa::path(get, path = "/api/v1/plugins", tag = "plugins", operation_id = "list_plugins",
     responses((status = 200, body = [PluginInfo]), (status = 503, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn list(State(app): State<AppState>) -> Result<Response, Problem> {
     Ok(ok_json(&registry(&app)?.list()))
@@ -92,7 +92,7 @@ fn not_installed(name: &str) -> BridgeError {
 }
 
 /// One installed plugin.
-#[utoipa::path(get, path = "/api/v1/plugins/{name}", tag = "plugins",
+#[utoipa::path(get, path = "/api/v1/plugins/{name}", tag = "plugins", operation_id = "get_plugin",
     params(("name" = String, Path, description = "Plugin name")),
     responses((status = 200, body = PluginInfo), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn get_one(
@@ -107,7 +107,7 @@ async fn get_one(
 
 /// Remove a plugin: its routes disappear at once (requests in flight finish)
 /// and its file is deleted from the plugins folder.
-#[utoipa::path(delete, path = "/api/v1/plugins/{name}", tag = "plugins",
+#[utoipa::path(delete, path = "/api/v1/plugins/{name}", tag = "plugins", operation_id = "remove_plugin",
     params(("name" = String, Path, description = "Plugin name")),
     responses((status = 204, description = "Removed"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn remove(
@@ -172,9 +172,9 @@ pub(super) async fn call(
 
 /// The plugin's answer as an HTTP response. Error answers (4xx/5xx) become
 /// `application/problem+json` like every other error of the API: the
-/// plugin's JSON object gains `status`, `title`, `type` and `plugin` when it
-/// lacks them; anything but an object becomes the `detail` of a
-/// `plugin_error`.
+/// plugin's JSON object gets the real `status`, `type: about:blank`, its
+/// `plugin` name and a `title` when it has none; anything but an object
+/// becomes the `detail` of a `plugin_error`.
 fn plugin_response(plugin: &str, status: u16, body: String) -> Response {
     let http = StatusCode::from_u16(status).unwrap_or(StatusCode::BAD_GATEWAY);
     if status < 400 {
@@ -199,14 +199,14 @@ fn plugin_response(plugin: &str, status: u16, body: String) -> Response {
             map
         }
     };
-    problem
-        .entry("type")
-        .or_insert_with(|| json!("about:blank"));
+    // The HTTP status, the type and the plugin's name are the bridge's to
+    // say: a plugin cannot make its problem contradict the response.
+    problem.insert("type".into(), json!("about:blank"));
     problem
         .entry("title")
         .or_insert_with(|| json!(http.canonical_reason().unwrap_or("Plugin error")));
-    problem.entry("status").or_insert_with(|| json!(status));
-    problem.entry("plugin").or_insert_with(|| json!(plugin));
+    problem.insert("status".into(), json!(status));
+    problem.insert("plugin".into(), json!(plugin));
     json_response(status, PROBLEM_JSON, &Value::Object(problem))
 }
 
@@ -222,12 +222,13 @@ pub(super) fn add_plugin_paths(doc: &mut Value, plugins: &[Arc<LoadedPlugin>]) {
                 "description": format!("WASM plugin {} {} (installed at runtime)", plugin.name, plugin.version),
             }));
         }
-        for route in &plugin.routes {
+        for (index, route) in plugin.routes.iter().enumerate() {
             let url = format!("/api/v1/plugins/{}{}", plugin.name, route.path);
             let mut op = json!({
                 "tags": [tag],
                 "summary": route.summary,
-                "operationId": format!("plugin_{}_{}_{}", plugin.name, route.method.to_lowercase(), route.path.trim_start_matches('/').replace('/', "_")),
+                // Unique: the route's index (paths may differ only in `/` vs `_`).
+                "operationId": format!("plugin_{}_{index}_{}", plugin.name, route.method.to_lowercase()),
                 "responses": {
                     "200": {"description": "The plugin's answer", "content": {"application/json": {"schema": route.response_schema}}},
                     "default": {"description": "An error of the plugin or of the bridge (plugin_timeout, plugin_trap, ...)",

@@ -151,7 +151,13 @@ impl host::BridgeApi for EngineBridge {
             tracing::info!(plugin = %ctx.plugin, version = %ctx.version, motions = count, "plugin motion batch");
             let job = self
                 .engine
-                .execute(Operation::Move(requests), None, self.max_wait)
+                // The batch may take as long as the plugin's request (a
+                // drawing can outlast `channel.command_timeout_ms`).
+                .execute(
+                    Operation::Move(requests),
+                    Some(self.max_wait),
+                    self.max_wait,
+                )
                 .await
                 .map_err(host_error)?;
             let state = self.engine.state();
@@ -170,6 +176,10 @@ impl host::BridgeApi for EngineBridge {
         let state = self.engine.state();
         let p = state.position.ok_or_else(|| unknown("position"))?;
         Ok(position(&p, state.axes.as_ref()))
+    }
+
+    fn state_json(&self) -> String {
+        serde_json::to_string(&self.engine.state()).unwrap_or_else(|_| "{}".into())
     }
 
     fn tool(&self) -> Result<host::Pose, host::HostError> {

@@ -87,6 +87,14 @@ struct FileStamp {
     len: u64,
 }
 
+impl FileStamp {
+    /// Matches no file: the next scan reads it again.
+    const UNSEEN: FileStamp = FileStamp {
+        modified: None,
+        len: u64::MAX,
+    };
+}
+
 /// A `<name>.wasm` file as last seen.
 #[derive(Debug, Clone)]
 struct FileSeen {
@@ -323,6 +331,8 @@ impl PluginRegistry {
 
     /// Unloads a plugin and deletes its file.
     pub async fn remove(&self, name: &str) -> Result<(), BridgeError> {
+        // The name becomes a file name: never let it leave the folder.
+        kuka_plugin_host::check_name(name).map_err(BridgeError::invalid)?;
         let _guard = self.changes.lock().await;
         let path = self.file_path(name);
         let known = {
@@ -461,9 +471,12 @@ impl PluginRegistry {
                 let serving = table.active.get(name).map(|p| p.version.to_string());
                 tracing::warn!(plugin = name, file = %path.display(), code = e.code, error = %e.detail,
                     still_serving = ?serving, "plugin file not loaded");
+                // A busy instance pool is no verdict on the file: forget
+                // what was seen, so the next scan tries again.
+                let transient = e.code == ErrorCode::QueueFull.as_str();
                 let seen = FileSeen {
-                    stamp,
-                    sha256,
+                    stamp: if transient { FileStamp::UNSEEN } else { stamp },
+                    sha256: if transient { String::new() } else { sha256 },
                     error: Some(e),
                 };
                 table.files.insert(name.to_string(), seen);
@@ -505,12 +518,25 @@ fn list_folder(dir: &Path) -> BTreeMap<String, FileStamp> {
             continue;
         }
         if let Err(e) = kuka_plugin_host::check_name(name) {
-            tracing::debug!(file = %path.display(), error = %e, "ignoring a file in the plugins folder");
+            warn_once(&path, &e);
             continue;
         }
         out.insert(name.to_string(), stamp(&path));
     }
     out
+}
+
+/// Says once per file (not every scan) that a `.wasm` with an invalid
+/// name is ignored (e.g. cargo's `my_plugin.wasm`: rename it `my-plugin.wasm`).
+fn warn_once(path: &Path, problem: &str) {
+    use std::collections::BTreeSet;
+    use std::sync::Mutex;
+    static WARNED: Mutex<BTreeSet<PathBuf>> = Mutex::new(BTreeSet::new());
+    let mut warned = WARNED.lock().unwrap_or_else(|p| p.into_inner());
+    if warned.insert(path.to_path_buf()) {
+        tracing::warn!(file = %path.display(), error = %problem,
+            "ignoring a file in the plugins folder: the file name (without .wasm) must be the plugin's name");
+    }
 }
 
 /// Writes through a temporary file and a rename, so the folder watcher
