@@ -501,6 +501,65 @@ async fn misbehaving_plugins_get_their_error_and_the_service_keeps_running() {
 }
 
 #[tokio::test]
+async fn limits_can_be_set_per_plugin() {
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.plugins.cpu_time_ms = 5000;
+            c.plugins.limits.insert(
+                "misbehave".into(),
+                kuka_bridge::config::PluginLimitsConfig {
+                    cpu_time_ms: Some(100),
+                    memory_mib: Some(8),
+                    ..Default::default()
+                },
+            );
+        }),
+        ..Options::default()
+    })
+    .await;
+    for name in ["misbehave", "draw-circle"] {
+        let (status, v) = install(&t, name, example_plugin(name)).await;
+        assert_eq!(status, 201, "{v}");
+    }
+    let (_, v) = t.get("/api/v1/plugins/misbehave").await;
+    assert_eq!(v["limits"]["cpu_time_ms"], 100, "{v}");
+    assert_eq!(v["limits"]["memory_mib"], 8, "{v}");
+    let (_, v) = t.get("/api/v1/plugins/draw-circle").await;
+    assert_eq!(v["limits"]["cpu_time_ms"], 5000, "{v}");
+    assert_eq!(v["limits"]["memory_mib"], 64, "{v}");
+    let started = Instant::now();
+    let (status, v) = t
+        .post_json("/api/v1/plugins/misbehave/loop", &json!({}))
+        .await;
+    assert_eq!(
+        (status, v["code"].as_str()),
+        (504, Some("plugin_timeout")),
+        "{v}"
+    );
+    assert!(
+        v["detail"].as_str().unwrap_or_default().contains("100 ms"),
+        "{v}"
+    );
+    assert!(
+        started.elapsed() < Duration::from_secs(3),
+        "{:?}",
+        started.elapsed()
+    );
+    let (status, v) = t
+        .post_json("/api/v1/plugins/misbehave/alloc", &json!({}))
+        .await;
+    assert_eq!(
+        (status, v["code"].as_str()),
+        (502, Some("plugin_memory")),
+        "{v}"
+    );
+    assert!(
+        v["detail"].as_str().unwrap_or_default().contains("8 MiB"),
+        "{v}"
+    );
+}
+
+#[tokio::test]
 async fn a_request_that_outlives_its_time_limit_is_answered_and_the_plugin_keeps_serving() {
     // Real time: the circle takes seconds; the request may take 300 ms.
     let t = TestService::start(Options {

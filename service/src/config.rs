@@ -237,6 +237,25 @@ pub struct PluginsConfig {
     pub max_motions: usize,
     /// Largest request body passed to a plugin, in bytes.
     pub max_body_bytes: usize,
+    /// Limits of single plugins, replacing the ones above for them:
+    /// `[plugins.limits.draw-smiley]` with any of `memory_mib` (at most
+    /// `plugins.memory_mib`), `cpu_time_ms`, `request_timeout_ms`,
+    /// `max_motions`.
+    pub limits: std::collections::BTreeMap<String, PluginLimitsConfig>,
+}
+
+/// Limits of one plugin; omitted ones are the global ones.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PluginLimitsConfig {
+    /// Largest linear memory, MiB.
+    pub memory_mib: Option<usize>,
+    /// Guest time per request, ms.
+    pub cpu_time_ms: Option<u64>,
+    /// Wall time per request, motions included, ms.
+    pub request_timeout_ms: Option<u64>,
+    /// Motions per request.
+    pub max_motions: Option<usize>,
 }
 
 impl Default for PluginsConfig {
@@ -251,6 +270,7 @@ impl Default for PluginsConfig {
             request_timeout_ms: 600_000,
             max_motions: 1000,
             max_body_bytes: 1 << 20,
+            limits: Default::default(),
         }
     }
 }
@@ -509,6 +529,32 @@ impl Config {
         ] {
             if v < min {
                 return Err(self.invalid(key, format!("{v} is below the minimum {min}")));
+            }
+        }
+        for (name, l) in &self.plugins.limits {
+            let key = "plugins.limits";
+            kuka_plugin_host::check_name(name).map_err(|e| self.invalid(key, e))?;
+            if l.memory_mib
+                .is_some_and(|m| m == 0 || m > self.plugins.memory_mib)
+            {
+                return Err(self.invalid(
+                    key,
+                    format!(
+                        "{name}: memory_mib must be 1 to plugins.memory_mib ({})",
+                        self.plugins.memory_mib
+                    ),
+                ));
+            }
+            let too_small = l.cpu_time_ms.is_some_and(|v| v < 10)
+                || l.request_timeout_ms.is_some_and(|v| v < 100)
+                || l.max_motions == Some(0);
+            if too_small {
+                return Err(self.invalid(
+                    key,
+                    format!(
+                        "{name}: cpu_time_ms >= 10, request_timeout_ms >= 100, max_motions >= 1"
+                    ),
+                ));
             }
         }
         if self.plugins.memory_mib > 4096 {

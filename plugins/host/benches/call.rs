@@ -87,7 +87,12 @@ fn main() {
         .build()
         .expect("runtime");
     rt.block_on(async {
-        let host = PluginHost::new(PluginLimits::default(), None, Arc::new(Instant0)).expect("host");
+        let host = PluginHost::new(
+            PluginLimits::default(),
+            Default::default(),
+            None,
+            Arc::new(Instant0),
+        ).expect("host");
         let plugin = host.load(name, wasm).await.expect("load");
         let request = || Request {
             method: "POST".into(),

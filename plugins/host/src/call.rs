@@ -65,6 +65,7 @@ pub(crate) async fn describe(
     let ctx = CallContext {
         plugin: name.into(),
         version: "".into(),
+        request_time: DESCRIBE_CPU * 2,
     };
     let mut store = new_store(runtime, limits, DESCRIBE_CPU, None, ctx);
     let wall = DESCRIBE_CPU * 2;
@@ -103,6 +104,7 @@ pub(crate) async fn handle(
     let ctx = CallContext {
         plugin: plugin.name.clone(),
         version: plugin.version.clone(),
+        request_time: limits.request_time,
     };
     let mut store = new_store(runtime, limits, limits.cpu_time, Some(api), ctx);
     let result = tokio::time::timeout(limits.request_time, async {

@@ -27,6 +27,8 @@ pub struct CallContext {
     pub plugin: Arc<str>,
     /// The plugin's version.
     pub version: Arc<str>,
+    /// How long the plugin's request may take (a batch may run as long).
+    pub request_time: std::time::Duration,
 }
 
 /// The bridge as a plugin sees it. The service implements it with the same

@@ -21,6 +21,7 @@ mod error;
 mod imports;
 mod runtime;
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -108,30 +109,43 @@ pub struct PluginHost {
     runtime: runtime::Runtime,
     cache: cache::ArtifactCache,
     limits: PluginLimits,
+    overrides: BTreeMap<String, PluginLimits>,
     api: Arc<dyn BridgeApi>,
 }
 
 impl PluginHost {
     /// A host whose plugins reach the robot through `api`; compiled code is
-    /// cached in `cache_dir` (`None`: compile on every load).
+    /// cached in `cache_dir` (`None`: compile on every load). `overrides`
+    /// replaces `limits` for the plugins it names; no memory limit may
+    /// exceed `limits.memory_bytes` (the size of the pool's memory slots).
     pub fn new(
         limits: PluginLimits,
+        overrides: BTreeMap<String, PluginLimits>,
         cache_dir: Option<PathBuf>,
         api: Arc<dyn BridgeApi>,
     ) -> Result<Self, PluginError> {
+        if let Some((name, _)) = overrides
+            .iter()
+            .find(|(_, l)| l.memory_bytes > limits.memory_bytes)
+        {
+            return Err(PluginError::Host(format!(
+                "the memory limit of plugin {name} is above the global one"
+            )));
+        }
         let runtime = runtime::Runtime::new(limits.memory_bytes)?;
         let cache = cache::ArtifactCache::new(cache_dir, runtime.engine());
         Ok(PluginHost {
             runtime,
             cache,
             limits,
+            overrides,
             api,
         })
     }
 
-    /// The limits applied to requests.
-    pub fn limits(&self) -> &PluginLimits {
-        &self.limits
+    /// The limits applied to the requests of one plugin.
+    pub fn limits(&self, plugin: &str) -> &PluginLimits {
+        self.overrides.get(plugin).unwrap_or(&self.limits)
     }
 
     /// Compiles `wasm` (or takes it from the cache), checks that it is a
@@ -182,7 +196,7 @@ impl PluginHost {
             &self.runtime,
             plugin,
             request,
-            &self.limits,
+            self.limits(&plugin.name),
             self.api.clone(),
         )
         .await

@@ -3,8 +3,6 @@
 //! a plugin asks for is validated, safety-checked, queued and logged exactly
 //! like a `POST /api/v1/motions` (a plugin cannot do what a client could not).
 
-use std::time::Duration;
-
 use kuka_plugin_host as host;
 
 use crate::engine::{CartesianFrame, Engine, Operation, Position};
@@ -15,8 +13,6 @@ use crate::motion::{AuxPoint, AxesSpec, MotionRequest, TargetSpec};
 pub struct EngineBridge {
     /// The engine.
     pub engine: Engine,
-    /// Longest wait for one batch (the plugin request time).
-    pub max_wait: Duration,
 }
 
 fn host_error(e: BridgeError) -> host::HostError {
@@ -155,8 +151,8 @@ impl host::BridgeApi for EngineBridge {
                 // drawing can outlast `channel.command_timeout_ms`).
                 .execute(
                     Operation::Move(requests),
-                    Some(self.max_wait),
-                    self.max_wait,
+                    Some(ctx.request_time),
+                    ctx.request_time,
                 )
                 .await
                 .map_err(host_error)?;

@@ -69,6 +69,22 @@ pub struct PluginInfo {
     /// any, is the previous one).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub file_error: Option<ErrorBody>,
+    /// The limits its requests run with (`[plugins]`, or
+    /// `[plugins.limits.<name>]` when set).
+    pub limits: LimitsInfo,
+}
+
+/// A plugin's limits, as listed.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct LimitsInfo {
+    /// Largest linear memory, MiB.
+    pub memory_mib: usize,
+    /// Guest time per request, ms.
+    pub cpu_time_ms: u128,
+    /// Wall time per request, motions included, ms.
+    pub request_timeout_ms: u128,
+    /// Motions per request.
+    pub max_motions: usize,
 }
 
 /// A plugin load error as listed.
@@ -157,19 +173,31 @@ impl PluginRegistry {
                 format!("cannot create the plugins folder {}: {e}", dir.display()),
             )
         })?;
+        let ms = std::time::Duration::from_millis;
         let limits = PluginLimits {
             memory_bytes: p.memory_mib << 20,
-            cpu_time: std::time::Duration::from_millis(p.cpu_time_ms),
-            request_time: std::time::Duration::from_millis(p.request_timeout_ms),
+            cpu_time: ms(p.cpu_time_ms),
+            request_time: ms(p.request_timeout_ms),
             max_motions: p.max_motions,
             max_response_bytes: 1 << 20,
         };
-        let api = Arc::new(EngineBridge {
-            engine,
-            max_wait: limits.request_time,
-        });
-        let host =
-            PluginHost::new(limits, Some(dir.join(".cache")), api).map_err(|e| plugin_error(&e))?;
+        let overrides = p
+            .limits
+            .iter()
+            .map(|(name, o)| {
+                let l = PluginLimits {
+                    memory_bytes: o.memory_mib.map_or(limits.memory_bytes, |m| m << 20),
+                    cpu_time: o.cpu_time_ms.map_or(limits.cpu_time, ms),
+                    request_time: o.request_timeout_ms.map_or(limits.request_time, ms),
+                    max_motions: o.max_motions.unwrap_or(limits.max_motions),
+                    max_response_bytes: limits.max_response_bytes,
+                };
+                (name.clone(), l)
+            })
+            .collect();
+        let api = Arc::new(EngineBridge { engine });
+        let host = PluginHost::new(limits, overrides, Some(dir.join(".cache")), api)
+            .map_err(|e| plugin_error(&e))?;
         Ok(PluginRegistry {
             host,
             dir,
@@ -227,6 +255,13 @@ impl PluginRegistry {
         let table = self.table();
         let active = table.active.get(name);
         let file_error = table.files.get(name).and_then(|f| f.error.clone());
+        let l = self.host.limits(name);
+        let limits = LimitsInfo {
+            memory_mib: l.memory_bytes >> 20,
+            cpu_time_ms: l.cpu_time.as_millis(),
+            request_timeout_ms: l.request_time.as_millis(),
+            max_motions: l.max_motions,
+        };
         if active.is_none() && file_error.is_none() {
             return None;
         }
@@ -249,6 +284,7 @@ impl PluginRegistry {
                 load_ms: Some(p.load_time.as_secs_f64() * 1000.0),
                 from_cache: Some(p.from_cache),
                 file_error,
+                limits,
             },
             None => PluginInfo {
                 name: name.to_string(),
@@ -260,6 +296,7 @@ impl PluginRegistry {
                 load_ms: None,
                 from_cache: None,
                 file_error,
+                limits,
             },
         })
     }
