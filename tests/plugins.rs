@@ -146,6 +146,10 @@ async fn draw_circle_plugin_draws_a_circle_in_both_modes() {
             "{mode}: a point is {worst:.3} mm off the circle"
         );
         let covered = coverage(&drawn, [cx, cy], r, None);
+        // The batch is a job like any other, marked with the plugin that asked.
+        let (_, jobs) = t.get("/api/v1/jobs?limit=1").await;
+        assert_eq!(jobs[0]["origin"], "plugin:draw-circle@0.1.0", "{jobs}");
+        assert_eq!(jobs[0]["state"], "done", "{jobs}");
         assert!(
             covered >= 0.99,
             "{mode}: only {:.0} % of the circle drawn",

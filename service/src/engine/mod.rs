@@ -195,6 +195,16 @@ impl Engine {
 
     /// Validates and queues an operation; returns the queued job.
     pub async fn submit(&self, op: Operation, timeout: Option<Duration>) -> Result<Job> {
+        self.submit_from(op, timeout, None).await
+    }
+
+    /// [`Self::submit`] on behalf of `origin` (recorded in the job).
+    pub async fn submit_from(
+        &self,
+        op: Operation,
+        timeout: Option<Duration>,
+        origin: Option<String>,
+    ) -> Result<Job> {
         if let Operation::Move(motions) = &op {
             self.shared.safety.check_request(motions)?;
         }
@@ -243,6 +253,7 @@ impl Engine {
             axes: None,
             frame: None,
             error: None,
+            origin,
         };
         {
             let mut table = self.shared.table();
@@ -306,7 +317,18 @@ impl Engine {
         timeout: Option<Duration>,
         max_wait: Duration,
     ) -> Result<Job> {
-        let job = self.submit(op, timeout).await?;
+        self.execute_from(op, timeout, max_wait, None).await
+    }
+
+    /// [`Self::execute`] on behalf of `origin` (recorded in the job).
+    pub async fn execute_from(
+        &self,
+        op: Operation,
+        timeout: Option<Duration>,
+        max_wait: Duration,
+        origin: Option<String>,
+    ) -> Result<Job> {
+        let job = self.submit_from(op, timeout, origin).await?;
         let job = self.wait(job.id, max_wait).await?;
         match (&job.state, &job.error) {
             (JobState::Done, _) => Ok(job),

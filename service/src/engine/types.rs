@@ -248,6 +248,9 @@ pub struct Job {
     pub frame: Option<CartesianFrame>,
     /// Why it failed or was cancelled.
     pub error: Option<BridgeError>,
+    /// Who asked for it when not an HTTP client directly: `plugin:<name>@<version>`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub origin: Option<String>,
 }
 
 /// Connection to the controller.

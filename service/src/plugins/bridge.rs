@@ -149,10 +149,11 @@ impl host::BridgeApi for EngineBridge {
                 .engine
                 // The batch may take as long as the plugin's request (a
                 // drawing can outlast `channel.command_timeout_ms`).
-                .execute(
+                .execute_from(
                     Operation::Move(requests),
                     Some(ctx.request_time),
                     ctx.request_time,
+                    Some(format!("plugin:{}@{}", ctx.plugin, ctx.version)),
                 )
                 .await
                 .map_err(host_error)?;
