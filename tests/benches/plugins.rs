@@ -1,10 +1,11 @@
 //! Benchmark of the WASM plugin host through the running service (results
 //! in docs/BENCHMARKS.md):
 //!
-//! 1. overhead of a plugin endpoint over a native one: `POST
-//!    /api/v1/plugins/misbehave/ok` (fresh instance, `handle`, JSON answer)
-//!    against `GET /health`, sequential keep-alive requests from a plain
-//!    TCP client; p50/p90/p99/max;
+//! 1. overhead of a plugin endpoint over a native one: `GET
+//!    /api/v1/plugins/misbehave/ping` (fresh instance, `handle`, JSON
+//!    answer) against `GET /health`, and the POST route `/ok` (with a body),
+//!    sequential keep-alive requests from a plain TCP client, interleaved
+//!    rounds; p50/p90/p99/max;
 //! 2. install of a plugin compiled from scratch (`PUT`, new bytes each time),
 //!    for the Rust draw-circle (and the Python py-square with `--python`);
 //! 3. reinstall of the same bytes, which loads the compiled artifact from
@@ -178,6 +179,7 @@ fn main() {
         let addr = t.service.addr;
         let rounds = 10;
         let (mut native, mut plugin, mut diffs) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut plugin_get, mut get_diffs) = (Vec::new(), Vec::new());
         let p50 = |v: &[Duration]| {
             let mut v = v.to_vec();
             v.sort();
@@ -198,19 +200,33 @@ fn main() {
             })
             .await
             .expect("raw client");
+            let c = tokio::task::spawn_blocking(move || {
+                raw_round_trips(
+                    addr,
+                    "GET /api/v1/plugins/misbehave/ping HTTP/1.1\r\nHost: bench\r\n\r\n",
+                    n / rounds,
+                )
+            })
+            .await
+            .expect("raw client");
             diffs.push(p50(&b).as_secs_f64() - p50(&a).as_secs_f64());
+            get_diffs.push(p50(&c).as_secs_f64() - p50(&a).as_secs_f64());
             native.extend(a);
             plugin.extend(b);
+            plugin_get.extend(c);
         }
-        diffs.sort_by(f64::total_cmp);
         report("GET /health (native)", native);
+        report("GET /api/v1/plugins/misbehave/ping", plugin_get);
         report("POST /api/v1/plugins/misbehave/ok", plugin);
-        println!(
-            "plugin overhead: median over {rounds} interleaved rounds of the p50 difference {:.1} µs (min {:.1}, max {:.1})",
-            diffs[rounds / 2] * 1e6,
-            diffs[0] * 1e6,
-            diffs[rounds - 1] * 1e6
-        );
+        for (what, mut d) in [("GET plugin route - GET /health", get_diffs), ("POST plugin route - GET /health", diffs)] {
+            d.sort_by(f64::total_cmp);
+            println!(
+                "{what}: median over {rounds} interleaved rounds of the p50 difference {:.1} µs (min {:.1}, max {:.1})",
+                d[rounds / 2] * 1e6,
+                d[0] * 1e6,
+                d[rounds - 1] * 1e6
+            );
+        }
         let rss_end = rss_mib();
         if let Some(r) = rss_end {
             println!("RSS at the end: {r:.1} MiB");
