@@ -106,7 +106,9 @@ async fn killed_controller_gives_timeout_and_service_recovers() {
         waited < Duration::from_secs(2),
         "failed within the offline threshold: {waited:?}"
     );
-    // The service keeps serving and reports the controller offline.
+    // The service keeps serving and reports the controller offline (the
+    // state is published just after the job's failure: wait for it).
+    t.wait_connection("offline").await;
     let (s, h) = t.get("/health").await;
     assert_eq!((s, &h["connection"]), (200, &json!("offline")));
     let (s, v) = t.post("/krl/getpos").await;
