@@ -361,6 +361,16 @@ fn build_python_plugin(out: &Path) {
 pub mod bench {
     use std::time::{Duration, Instant};
 
+    /// A multi-thread runtime with two workers, as the service runs on a
+    /// two-core controller PC.
+    pub fn runtime() -> tokio::runtime::Runtime {
+        tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(2)
+            .enable_all()
+            .build()
+            .expect("runtime")
+    }
+
     /// The `p` quantile of sorted samples.
     pub fn percentile(sorted: &[Duration], p: f64) -> Duration {
         let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;

@@ -54,6 +54,17 @@ async fn install(t: &TestService, name: &str, wasm: Vec<u8>) -> (u16, Value) {
     t.put_bytes(&format!("/api/v1/plugins/{name}"), wasm).await
 }
 
+/// The draw-circle plugin's route.
+async fn draw_circle(t: &TestService, body: Value) -> (u16, Value) {
+    t.post_json("/api/v1/plugins/draw-circle/circle", &body)
+        .await
+}
+
+/// A circle the KR 3 R540 reaches from its home orientation.
+fn circle_body() -> Value {
+    json!({"x": 300, "y": 20, "z": 100, "radius": 40})
+}
+
 /// Distance of a point (in the XY plane at height `z`) from a circle arc.
 fn arc_distance(p: P3, center: [f64; 2], radius: f64, z: f64, from_to: Option<(f64, f64)>) -> f64 {
     let (dx, dy) = (p[0] - center[0], p[1] - center[1]);
@@ -122,9 +133,7 @@ async fn draw_circle_plugin_draws_a_circle_in_both_modes() {
         clear_trace(&t).await;
         let (cx, cy, z, r) = (300.0, 20.0, 100.0, 40.0);
         let body = json!({"x": cx, "y": cy, "z": z, "radius": r, "mode": mode});
-        let (status, v) = t
-            .post_json("/api/v1/plugins/draw-circle/circle", &body)
-            .await;
+        let (status, v) = draw_circle(&t, body).await;
         assert_eq!(status, 200, "{mode}: {v}");
         let motions = v["motions"].as_u64().expect("motions");
         assert_eq!(v["completed"], motions, "{v}");
@@ -282,9 +291,7 @@ async fn install_list_openapi_and_remove() {
         "{v}"
     );
     // Bad input is the plugin's own 400.
-    let (status, v) = t
-        .post_json("/api/v1/plugins/draw-circle/circle", &json!({"x": "far"}))
-        .await;
+    let (status, v) = draw_circle(&t, json!({"x": "far"})).await;
     assert_eq!(status, 400, "{v}");
 
     let (status, _) = t.delete("/api/v1/plugins/draw-circle").await;
@@ -296,9 +303,7 @@ async fn install_list_openapi_and_remove() {
             .is_none(),
         "route still documented"
     );
-    let (status, v) = t
-        .post_json("/api/v1/plugins/draw-circle/circle", &json!({}))
-        .await;
+    let (status, v) = draw_circle(&t, json!({})).await;
     assert_eq!(
         (status, v["code"].as_str()),
         (404, Some("not_found")),
@@ -476,31 +481,20 @@ async fn misbehaving_plugins_get_their_error_and_the_service_keeps_running() {
     assert_eq!(status, 422, "{v}");
     assert_eq!(v["code"], "plugin_motion_limit", "{v}");
     // A plugin's motions go through the same safety checks as a client's.
-    let (status, v) = t
-        .post_json(
-            "/api/v1/plugins/draw-circle/circle",
-            &json!({"x": 2000, "y": 0, "z": 100, "radius": 40}),
-        )
-        .await;
+    let (status, v) = draw_circle(&t, json!({"x": 2000, "y": 0, "z": 100, "radius": 40})).await;
     assert_eq!(status, 422, "{v}");
     assert_eq!(v["code"], "unreachable", "{v}");
-    let (status, v) = t
-        .post_json(
-            "/api/v1/plugins/draw-circle/circle",
-            &json!({"x": 300, "y": 0, "z": 100, "radius": 40, "speed_m_s": 50}),
-        )
-        .await;
+    let (status, v) = draw_circle(
+        &t,
+        json!({"x": 300, "y": 0, "z": 100, "radius": 40, "speed_m_s": 50}),
+    )
+    .await;
     assert_eq!(
         (status, v["code"].as_str()),
         (422, Some("speed_limit")),
         "{v}"
     );
-    let (status, v) = t
-        .post_json(
-            "/api/v1/plugins/draw-circle/circle",
-            &json!({"x": 300, "y": 20, "z": 100, "radius": 40}),
-        )
-        .await;
+    let (status, v) = draw_circle(&t, circle_body()).await;
     assert_eq!(status, 200, "{v}");
 }
 
@@ -575,12 +569,7 @@ async fn a_request_that_outlives_its_time_limit_is_answered_and_the_plugin_keeps
     let (status, _) = install(&t, "draw-circle", example_plugin("draw-circle")).await;
     assert_eq!(status, 201);
     let started = Instant::now();
-    let (status, v) = t
-        .post_json(
-            "/api/v1/plugins/draw-circle/circle",
-            &json!({"x": 300, "y": 20, "z": 100, "radius": 40}),
-        )
-        .await;
+    let (status, v) = draw_circle(&t, circle_body()).await;
     assert_eq!(
         (status, v["code"].as_str()),
         (504, Some("plugin_timeout")),
@@ -669,12 +658,7 @@ async fn the_plugins_folder_installs_reloads_and_removes() {
     assert_eq!(v["status"], "active", "{v}");
     assert_eq!(v["version"], "0.1.0");
     assert_eq!(v["file_error"]["code"], "plugin_invalid", "{v}");
-    let (status, v) = t
-        .post_json(
-            "/api/v1/plugins/draw-circle/circle",
-            &json!({"x": 300, "y": 20, "z": 100, "radius": 40}),
-        )
-        .await;
+    let (status, v) = draw_circle(&t, circle_body()).await;
     assert_eq!(status, 200, "{v}");
     // Hot reload of a new version.
     std::fs::write(&file, example_plugin("draw-circle-0.2.0")).expect("write");
@@ -712,12 +696,7 @@ async fn installed_plugins_load_at_start_from_the_compiled_cache() {
     let (status, v) = t.get("/api/v1/plugins/draw-circle").await;
     assert_eq!(status, 200, "{v}");
     assert_eq!(v["from_cache"], true, "{v}");
-    let (status, v) = t
-        .post_json(
-            "/api/v1/plugins/draw-circle/circle",
-            &json!({"x": 300, "y": 20, "z": 100, "radius": 40}),
-        )
-        .await;
+    let (status, v) = draw_circle(&t, circle_body()).await;
     assert_eq!(status, 200, "{v}");
 }
 

@@ -65,11 +65,7 @@ fn main() {
         .skip(1)
         .find_map(|a| a.parse().ok())
         .unwrap_or(5000);
-    let rt = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .expect("runtime");
+    let rt = kuka_bridge_tests::bench::runtime();
     rt.block_on(async move {
         let t = TestService::start(Options {
             time_scale: 0.0,

@@ -82,11 +82,7 @@ fn main() {
         kuka_bridge_tests::example_plugins(Path::new(env!("CARGO_TARGET_TMPDIR")), python);
     let read =
         |name: &str| std::fs::read(examples.join(format!("{name}.wasm"))).expect("built plugin");
-    let rt = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .expect("runtime");
+    let rt = kuka_bridge_tests::bench::runtime();
     rt.block_on(async move {
         let t = TestService::start(Options {
             time_scale: 0.0,

@@ -82,48 +82,31 @@ pub fn motion_request(m: host::Motion) -> MotionRequest {
     }
 }
 
-fn pose(f: &CartesianFrame) -> host::Pose {
-    host::Pose {
-        x: f.x,
-        y: f.y,
-        z: f.z,
-        a: f.a,
-        b: f.b,
-        c: f.c,
-    }
+/// `[x, y, z, a, b, c]` as a plugin pose.
+fn pose([x, y, z, a, b, c]: [f64; 6]) -> host::Pose {
+    host::Pose { x, y, z, a, b, c }
 }
 
+fn frame_pose(f: &CartesianFrame) -> host::Pose {
+    pose([f.x, f.y, f.z, f.a, f.b, f.c])
+}
+
+/// A position; axes the controller has not reported yet are NaN.
 fn position(p: &Position, axes: Option<&crate::engine::AxisAngles>) -> host::Position {
-    let axes = axes.map_or(
-        host::Axes {
-            a1: f64::NAN,
-            a2: f64::NAN,
-            a3: f64::NAN,
-            a4: f64::NAN,
-            a5: f64::NAN,
-            a6: f64::NAN,
-        },
-        |a| host::Axes {
-            a1: a.a1,
-            a2: a.a2,
-            a3: a.a3,
-            a4: a.a4,
-            a5: a.a5,
-            a6: a.a6,
-        },
-    );
+    let [a1, a2, a3, a4, a5, a6] =
+        axes.map_or([f64::NAN; 6], |a| [a.a1, a.a2, a.a3, a.a4, a.a5, a.a6]);
     host::Position {
-        pose: host::Pose {
-            x: p.x,
-            y: p.y,
-            z: p.z,
-            a: p.a,
-            b: p.b,
-            c: p.c,
-        },
+        pose: pose(p.xyzabc()),
         s: p.s,
         t: p.t,
-        axes,
+        axes: host::Axes {
+            a1,
+            a2,
+            a3,
+            a4,
+            a5,
+            a6,
+        },
     }
 }
 
@@ -181,11 +164,19 @@ impl host::BridgeApi for EngineBridge {
 
     fn tool(&self) -> Result<host::Pose, host::HostError> {
         let state = self.engine.state();
-        state.tool.as_ref().map(pose).ok_or_else(|| unknown("tool"))
+        state
+            .tool
+            .as_ref()
+            .map(frame_pose)
+            .ok_or_else(|| unknown("tool"))
     }
 
     fn base(&self) -> Result<host::Pose, host::HostError> {
         let state = self.engine.state();
-        state.base.as_ref().map(pose).ok_or_else(|| unknown("base"))
+        state
+            .base
+            .as_ref()
+            .map(frame_pose)
+            .ok_or_else(|| unknown("base"))
     }
 }

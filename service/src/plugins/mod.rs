@@ -265,39 +265,27 @@ impl PluginRegistry {
         if active.is_none() && file_error.is_none() {
             return None;
         }
-        Some(match active {
-            Some(p) => PluginInfo {
-                name: name.to_string(),
-                version: Some(p.version.to_string()),
-                status: "active",
-                routes: p
-                    .routes
-                    .iter()
-                    .map(|r| PluginRouteInfo {
-                        method: r.method.clone(),
-                        url: format!("/api/v1/plugins/{name}{}", r.path),
-                        summary: r.summary.clone(),
-                    })
-                    .collect(),
-                sha256: Some(p.sha256.clone()),
-                wasm_bytes: Some(p.wasm_bytes),
-                load_ms: Some(p.load_time.as_secs_f64() * 1000.0),
-                from_cache: Some(p.from_cache),
-                file_error,
-                limits,
-            },
-            None => PluginInfo {
-                name: name.to_string(),
-                version: None,
-                status: "failed",
-                routes: Vec::new(),
-                sha256: None,
-                wasm_bytes: None,
-                load_ms: None,
-                from_cache: None,
-                file_error,
-                limits,
-            },
+        let routes = active.map_or_else(Vec::new, |p| {
+            p.routes
+                .iter()
+                .map(|r| PluginRouteInfo {
+                    method: r.method.clone(),
+                    url: format!("/api/v1/plugins/{name}{}", r.path),
+                    summary: r.summary.clone(),
+                })
+                .collect()
+        });
+        Some(PluginInfo {
+            name: name.to_string(),
+            version: active.map(|p| p.version.to_string()),
+            status: if active.is_some() { "active" } else { "failed" },
+            routes,
+            sha256: active.map(|p| p.sha256.clone()),
+            wasm_bytes: active.map(|p| p.wasm_bytes),
+            load_ms: active.map(|p| p.load_time.as_secs_f64() * 1000.0),
+            from_cache: active.map(|p| p.from_cache),
+            file_error,
+            limits,
         })
     }
 
