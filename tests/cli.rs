@@ -12,9 +12,15 @@ fn cli() -> &'static str {
 }
 
 #[cfg(unix)]
+/// The service's log files (not the audit trail beside them).
 fn log_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
     std::fs::read_dir(dir)
-        .map(|rd| rd.flatten().map(|e| e.path()).collect())
+        .map(|rd| {
+            rd.flatten()
+                .map(|e| e.path())
+                .filter(|p| p.extension().is_some_and(|x| x == "log"))
+                .collect()
+        })
         .unwrap_or_default()
 }
 

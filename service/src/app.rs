@@ -52,6 +52,21 @@ pub enum AppError {
     /// The plugin host could not start.
     #[error("plugins: {0}")]
     Plugins(crate::error::BridgeError),
+    /// The token file cannot be used.
+    #[error("access control")]
+    Tokens(#[from] crate::access::TokenError),
+    /// The audit trail cannot be opened.
+    #[error("audit trail in {path}")]
+    Audit {
+        /// Its folder.
+        path: String,
+        /// Cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The TLS certificate or key cannot be used.
+    #[error("HTTPS")]
+    Tls(#[from] crate::server::TlsError),
     /// The HTTP server failed.
     #[error("HTTP server")]
     Serve(#[source] std::io::Error),
@@ -65,6 +80,13 @@ pub struct Service {
     pub engine: Engine,
     /// The embedded simulator (in `--simulate` mode).
     pub sim: Option<Arc<SimController>>,
+    /// True when requests need a token.
+    pub auth: bool,
+    /// True when serving HTTPS.
+    pub tls: bool,
+    /// Set when this start created the first admin token: the file its
+    /// secret was written to.
+    pub admin_token_file: Option<std::path::PathBuf>,
     closing: watch::Sender<bool>,
     stop_http: Option<oneshot::Sender<()>>,
     /// The HTTP server task; `None` once it has ended.
@@ -115,6 +137,11 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         source,
     })?;
     let (closing, closing_rx) = watch::channel(false);
+    let tls = match &config.server.tls {
+        Some(t) => Some(crate::server::tls_acceptor(t)?),
+        None => None,
+    };
+    let (access, admin_token_file) = open_access(&config, closing_rx.clone())?;
     let programs = Arc::new(
         crate::programs::ProgramStore::open(
             &config.data_dir.join("programs"),
@@ -129,7 +156,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
     );
     let plugins = if config.plugins.enabled {
         let registry = Arc::new(
-            crate::plugins::PluginRegistry::open(&config, engine.clone())
+            crate::plugins::PluginRegistry::open(&config, engine.clone(), access.control.clone())
                 .map_err(AppError::Plugins)?,
         );
         // Installed plugins serve from the first request on.
@@ -151,29 +178,27 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         closing: closing_rx,
         programs,
         plugins,
+        access: access.clone(),
+        server: Arc::new(config.server.clone()),
     });
     let (stop_http, stop_rx) = oneshot::channel::<()>();
-    // Small request/response pairs: send at once instead of waiting for
-    // delayed ACKs (Nagle), which costs milliseconds per round trip.
-    use axum::serve::ListenerExt;
-    let listener = listener.tap_io(|tcp| {
-        if let Err(e) = tcp.set_nodelay(true) {
-            tracing::debug!(error = %e, "cannot set TCP_NODELAY");
-        }
-    });
+    let server_config = config.server.clone();
+    let https = tls.is_some();
     let server = tokio::spawn(async move {
-        axum::serve(listener, router)
-            .with_graceful_shutdown(async move {
-                let _ = stop_rx.await;
-            })
-            .await
-            .map_err(AppError::Serve)
+        crate::server::serve(listener, router, &server_config, tls, async move {
+            let _ = stop_rx.await;
+        })
+        .await
+        .map_err(AppError::Serve)
     });
-    tracing::info!(%addr, channel = %dir.display(), simulated = sim.is_some(), "kuka-bridge listening");
+    tracing::info!(%addr, channel = %dir.display(), simulated = sim.is_some(), auth = access.enabled, https, "kuka-bridge listening");
     Ok(Service {
         addr,
         engine,
         sim,
+        auth: access.enabled,
+        tls: https,
+        admin_token_file,
         closing,
         stop_http: Some(stop_http),
         server: Some(server),
@@ -181,10 +206,63 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
     })
 }
 
+/// Opens the token file (creating the first admin token when auth is on
+/// and there is none), the audit trail and the control lease, and starts
+/// watching the token file.
+fn open_access(
+    config: &Config,
+    closing: watch::Receiver<bool>,
+) -> Result<(Arc<crate::access::Access>, Option<std::path::PathBuf>), AppError> {
+    use crate::access;
+    let tokens = Arc::new(access::TokenStore::open(&config.data_dir)?);
+    let enabled = config.auth_required();
+    let admin_token_file = if enabled {
+        access::ensure_admin(&tokens, &config.data_dir)?
+    } else {
+        None
+    };
+    if let Some(path) = &admin_token_file {
+        // The path, never the secret.
+        tracing::warn!(
+            event_id = crate::logging::events::ADMIN_TOKEN_CREATED,
+            file = %path.display(),
+            "access control is on and no admin token existed: created token `admin`; its secret is in the file (readable by administrators only)"
+        );
+    }
+    let audit_dir = config.log_dir();
+    let audit =
+        access::audit::AuditLog::open(&audit_dir, config.log.retention_days).map_err(|source| {
+            AppError::Audit {
+                path: audit_dir.display().to_string(),
+                source,
+            }
+        })?;
+    tokio::spawn(access::watch_tokens(
+        tokens.clone(),
+        Duration::from_millis(250),
+        closing,
+    ));
+    let access = Arc::new(access::Access {
+        enabled,
+        tokens,
+        control: Arc::new(access::Control::new(Duration::from_millis(
+            config.auth.lease_ms,
+        ))),
+        audit,
+        limiter: access::AttemptLimiter::new(
+            config.auth.max_failures,
+            Duration::from_millis(config.auth.failure_window_ms),
+        ),
+        query_token: config.auth.query_token,
+    });
+    Ok((access, admin_token_file))
+}
+
 impl Service {
-    /// `http://ADDR`.
+    /// `http://ADDR` (or `https://`).
     pub fn base_url(&self) -> String {
-        format!("http://{}", self.addr)
+        let scheme = if self.tls { "https" } else { "http" };
+        format!("{scheme}://{}", self.addr)
     }
 
     /// Graceful shutdown: stop accepting requests, end event streams, let the

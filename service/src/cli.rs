@@ -26,6 +26,10 @@ enum Cmd {
     /// Run only a simulated controller on a channel directory (for tests and
     /// for a service started elsewhere).
     Simulate(SimArgs),
+    /// Manage access tokens (works whether the service runs or not;
+    /// revocation takes effect on the running service within a second).
+    #[command(subcommand)]
+    Token(TokenCmd),
     /// Print the default configuration as TOML.
     DefaultConfig,
     /// Print the OpenAPI document.
@@ -77,6 +81,100 @@ enum ServiceCmd {
         #[arg(long)]
         config: Option<PathBuf>,
     },
+}
+
+/// `kuka-bridge token …`.
+#[derive(Debug, Subcommand)]
+enum TokenCmd {
+    /// Create a token and print its secret (shown only this once).
+    Create {
+        /// Unique name (appears in the audit trail): letters, digits, `.`, `_`, `-`, `@`.
+        #[arg(long)]
+        name: String,
+        /// viewer (read), operator (move the robot) or admin (install, manage).
+        #[arg(long, value_parser = ["viewer", "operator", "admin"])]
+        role: String,
+        #[command(flatten)]
+        place: TokenPlace,
+    },
+    /// List tokens (names, roles, creation times; never secrets).
+    List {
+        #[command(flatten)]
+        place: TokenPlace,
+    },
+    /// Revoke a token.
+    Revoke {
+        /// The token's name.
+        name: String,
+        #[command(flatten)]
+        place: TokenPlace,
+    },
+}
+
+/// Which service's tokens: the same `--config` / `--data-dir` as `run`.
+#[derive(Debug, clap::Args)]
+struct TokenPlace {
+    /// Configuration file of the service (its `data_dir` holds the tokens).
+    #[arg(long, short, env = "KUKA_BRIDGE_CONFIG")]
+    config: Option<PathBuf>,
+    /// Data directory of the service (overrides the config's).
+    #[arg(long)]
+    data_dir: Option<PathBuf>,
+}
+
+impl TokenPlace {
+    /// The data directory the service uses with these options.
+    fn data_dir(&self) -> anyhow::Result<PathBuf> {
+        if let Some(d) = &self.data_dir {
+            return Ok(d.clone());
+        }
+        #[cfg(windows)]
+        {
+            Ok(service_config(self.config.as_deref())?.data_dir)
+        }
+        #[cfg(not(windows))]
+        {
+            Ok(match &self.config {
+                Some(p) => Config::load(p)?.data_dir,
+                None => Config::default().data_dir,
+            })
+        }
+    }
+}
+
+fn token_command(cmd: TokenCmd) -> anyhow::Result<()> {
+    use crate::access::{Role, TokenStore};
+    match cmd {
+        TokenCmd::Create { name, role, place } => {
+            let dir = place.data_dir()?;
+            let role = Role::parse(&role).context("role must be viewer, operator or admin")?;
+            let store = TokenStore::open(&dir)?;
+            let (info, secret) = store.create(&name, role)?;
+            eprintln!(
+                "created {} token {:?} in {}; the secret below is shown only once:",
+                info.role,
+                info.name,
+                store.path().display()
+            );
+            println!("{secret}");
+        }
+        TokenCmd::List { place } => {
+            let store = TokenStore::open(&place.data_dir()?)?;
+            let list = store.list();
+            if list.is_empty() {
+                eprintln!("no tokens in {}", store.path().display());
+            }
+            for t in list {
+                println!("{:<32} {:<8} created {}", t.name, t.role, t.created_ms);
+            }
+        }
+        TokenCmd::Revoke { name, place } => {
+            let store = TokenStore::open(&place.data_dir()?)?;
+            let t = store.revoke(&name)?;
+            println!("revoked {} token {:?}", t.role, t.name);
+        }
+    }
+    Ok(())
 }
 
 /// Exit code for a configuration that cannot be used (`EX_CONFIG`).
@@ -133,6 +231,10 @@ struct RunArgs {
     /// Simulated seconds per wall second (0 = instant).
     #[arg(long)]
     time_scale: Option<f64>,
+    /// Require tokens on a loopback address too (beyond loopback they are
+    /// always required).
+    #[arg(long)]
+    require_auth: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -213,6 +315,17 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
                 );
                 println!("  Swagger UI:   {url}/docs/");
                 println!("  OpenAPI:      {url}/openapi.json");
+                if service.auth {
+                    println!("  Access:       tokens required (kuka-bridge token create --name NAME --role ROLE)");
+                } else {
+                    println!("  Access:       no tokens (loopback only; --require-auth to require them)");
+                }
+                if let Some(f) = &service.admin_token_file {
+                    println!(
+                        "  First admin token created: its secret is in {} (readable by administrators only)",
+                        f.display()
+                    );
+                }
                 if simulated {
                     println!(
                         "  Controller:   simulated ({})",
@@ -252,6 +365,7 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
         }
         #[cfg(windows)]
         Cmd::Service(cmd) => service_command(cmd, log),
+        Cmd::Token(cmd) => Ok(token_command(cmd)?),
         Cmd::DefaultConfig => {
             print!("{}", toml::to_string_pretty(&Config::default())?);
             Ok(())
@@ -292,7 +406,8 @@ fn build_config(args: RunArgs) -> anyhow::Result<Config> {
         || args.channel_dir.is_some()
         || args.data_dir.is_some()
         || args.robot.is_some()
-        || args.time_scale.is_some();
+        || args.time_scale.is_some()
+        || args.require_auth;
     if from_flags {
         config.source_name = match &args.config {
             Some(_) => format!("{} with command-line options", config.source_name),
@@ -316,6 +431,9 @@ fn build_config(args: RunArgs) -> anyhow::Result<Config> {
     }
     if let Some(t) = args.time_scale {
         config.simulator.time_scale = t;
+    }
+    if args.require_auth {
+        config.auth.require_on_loopback = true;
     }
     config.validate()?;
     Ok(config)

@@ -63,6 +63,8 @@ pub struct Config {
     pub plugins: PluginsConfig,
     /// Log files.
     pub log: LogConfig,
+    /// Tokens, roles, control lease.
+    pub auth: AuthConfig,
     /// Where the service keeps its own state (command id counter).
     pub data_dir: PathBuf,
     /// Where the config was loaded from (for messages); not a key.
@@ -78,6 +80,62 @@ pub struct ServerConfig {
     pub listen: SocketAddr,
     /// How long a synchronous request may wait for its job by default (ms).
     pub request_timeout_ms: u64,
+    /// No request may take longer than this (ms); event streams excepted.
+    /// Above the longest job a request can wait for (a program run).
+    pub max_request_ms: u64,
+    /// Requests served at once; more get 503 `overloaded` with `Retry-After`.
+    pub max_concurrent_requests: usize,
+    /// Largest request body (bytes); smaller limits apply per endpoint.
+    pub max_body_bytes: usize,
+    /// Largest request head (request line and headers), bytes.
+    pub max_header_bytes: usize,
+    /// A client must send its request head within this time (ms).
+    pub header_timeout_ms: u64,
+    /// Origins allowed to call the API from a browser page (CORS), e.g.
+    /// `["http://10.0.3.5:3000"]`; empty (the default) sends no CORS headers.
+    pub cors_origins: Vec<String>,
+    /// Serve HTTPS with this certificate and key (PEM files).
+    pub tls: Option<TlsConfig>,
+}
+
+/// HTTPS (rustls): a certificate chain and its private key, both PEM.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TlsConfig {
+    /// Certificate chain (PEM), server certificate first.
+    pub cert: PathBuf,
+    /// Private key (PEM: PKCS#8, PKCS#1 or SEC1).
+    pub key: PathBuf,
+}
+
+/// Access control (docs/SECURITY.md).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AuthConfig {
+    /// Require tokens on a loopback address too (`--require-auth`). Beyond
+    /// loopback they are always required.
+    pub require_on_loopback: bool,
+    /// A control lease lapses after this long without use (ms).
+    pub lease_ms: u64,
+    /// Failed token attempts allowed per client address and window.
+    pub max_failures: u32,
+    /// The window of `max_failures` (ms).
+    pub failure_window_ms: u64,
+    /// Accept `?access_token=` on the thesis endpoints and the event stream
+    /// (for clients that cannot set headers; weaker, see docs/SECURITY.md).
+    pub query_token: bool,
+}
+
+impl Default for AuthConfig {
+    fn default() -> Self {
+        AuthConfig {
+            require_on_loopback: false,
+            lease_ms: 30_000,
+            max_failures: 10,
+            failure_window_ms: 60_000,
+            query_token: true,
+        }
+    }
 }
 
 /// File channel settings.
@@ -291,6 +349,13 @@ impl Default for ServerConfig {
         ServerConfig {
             listen: SocketAddr::from(([127, 0, 0, 1], 8080)),
             request_timeout_ms: 120_000,
+            max_request_ms: 4 * 3_600_000,
+            max_concurrent_requests: 512,
+            max_body_bytes: 80 << 20,
+            max_header_bytes: 32 * 1024,
+            header_timeout_ms: 10_000,
+            cors_origins: Vec::new(),
+            tls: None,
         }
     }
 }
@@ -355,6 +420,7 @@ impl Default for Config {
             programs: ProgramsConfig::default(),
             plugins: PluginsConfig::default(),
             log: LogConfig::default(),
+            auth: AuthConfig::default(),
             data_dir: default_data_dir(),
             source_name: "defaults".into(),
         }
@@ -431,6 +497,12 @@ impl Config {
                 "channel"
             }),
         }
+    }
+
+    /// True when requests need a token: listening beyond loopback, or
+    /// asked for.
+    pub fn auth_required(&self) -> bool {
+        self.auth.require_on_loopback || !self.server.listen.ip().is_loopback()
     }
 
     /// The folder of the log files.
@@ -696,10 +768,61 @@ impl Config {
                 ),
             ));
         }
+        self.check_edge()?;
         if let Some(m) = &self.robot.custom {
             self.check_custom_model(m)?;
         }
         self.robot_model()?;
+        Ok(())
+    }
+
+    fn check_edge(&self) -> Result<(), ConfigError> {
+        let s = &self.server;
+        for (key, v, min) in [
+            ("server.max_request_ms", s.max_request_ms, 1000),
+            (
+                "server.max_concurrent_requests",
+                s.max_concurrent_requests as u64,
+                1,
+            ),
+            ("server.max_body_bytes", s.max_body_bytes as u64, 64 * 1024),
+            ("server.max_header_bytes", s.max_header_bytes as u64, 8192),
+            ("server.header_timeout_ms", s.header_timeout_ms, 100),
+            ("auth.lease_ms", self.auth.lease_ms, 1000),
+            ("auth.max_failures", u64::from(self.auth.max_failures), 1),
+            ("auth.failure_window_ms", self.auth.failure_window_ms, 1000),
+        ] {
+            if v < min {
+                return Err(self.invalid(key, format!("{v} is below the minimum {min}")));
+            }
+        }
+        if s.max_request_ms <= s.request_timeout_ms {
+            return Err(self.invalid(
+                "server.max_request_ms",
+                format!(
+                    "must be more than server.request_timeout_ms ({})",
+                    s.request_timeout_ms
+                ),
+            ));
+        }
+        for o in &s.cors_origins {
+            let ok = (o.starts_with("http://") || o.starts_with("https://"))
+                && axum::http::HeaderValue::from_str(o).is_ok()
+                && !o.ends_with('/');
+            if !ok {
+                return Err(self.invalid(
+                    "server.cors_origins",
+                    format!("{o:?} is not an origin such as \"https://host:port\" (no path, no trailing slash)"),
+                ));
+            }
+        }
+        if let Some(t) = &s.tls {
+            for (key, p) in [("server.tls.cert", &t.cert), ("server.tls.key", &t.key)] {
+                if !p.is_file() {
+                    return Err(self.invalid(key, format!("{} is not a file", p.display())));
+                }
+            }
+        }
         Ok(())
     }
 

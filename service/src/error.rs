@@ -63,6 +63,18 @@ pub enum ErrorCode {
     PluginBadResponse,
     /// Plugins are switched off in the configuration.
     PluginsUnavailable,
+    /// No valid token was presented (auth is on).
+    Unauthenticated,
+    /// The token's role does not allow this operation.
+    Forbidden,
+    /// Another client holds control of the robot.
+    ControlHeld,
+    /// Too many failed authentication attempts from this address.
+    TooManyAttempts,
+    /// Too many requests are in progress; retry after `Retry-After`.
+    Overloaded,
+    /// The request took longer than `server.max_request_ms`.
+    RequestTimeout,
     /// The controller answered something this service does not understand.
     ProtocolError,
     /// A bug or an unexpected I/O failure.
@@ -93,6 +105,12 @@ impl ErrorCode {
             ErrorCode::MethodNotAllowed => 405,
             ErrorCode::PayloadTooLarge => 413,
             ErrorCode::UnsupportedMediaType => 415,
+            ErrorCode::Unauthenticated => 401,
+            ErrorCode::Forbidden => 403,
+            ErrorCode::ControlHeld => 409,
+            ErrorCode::TooManyAttempts => 429,
+            ErrorCode::Overloaded => 503,
+            ErrorCode::RequestTimeout => 504,
             ErrorCode::ProtocolError => 502,
             ErrorCode::Internal => 500,
         }
@@ -128,6 +146,12 @@ impl ErrorCode {
             ErrorCode::PluginTrap => "Plugin crashed",
             ErrorCode::PluginBadResponse => "Invalid plugin response",
             ErrorCode::PluginsUnavailable => "Plugins unavailable",
+            ErrorCode::Unauthenticated => "Unauthenticated",
+            ErrorCode::Forbidden => "Forbidden",
+            ErrorCode::ControlHeld => "Control held by another client",
+            ErrorCode::TooManyAttempts => "Too many failed attempts",
+            ErrorCode::Overloaded => "Overloaded",
+            ErrorCode::RequestTimeout => "Request timeout",
             ErrorCode::ProtocolError => "Protocol error",
             ErrorCode::Internal => "Internal error",
         }
@@ -163,6 +187,12 @@ impl ErrorCode {
             ErrorCode::PluginTrap => "plugin_trap",
             ErrorCode::PluginBadResponse => "plugin_bad_response",
             ErrorCode::PluginsUnavailable => "plugins_unavailable",
+            ErrorCode::Unauthenticated => "unauthenticated",
+            ErrorCode::Forbidden => "forbidden",
+            ErrorCode::ControlHeld => "control_held",
+            ErrorCode::TooManyAttempts => "too_many_attempts",
+            ErrorCode::Overloaded => "overloaded",
+            ErrorCode::RequestTimeout => "request_timeout",
             ErrorCode::ProtocolError => "protocol_error",
             ErrorCode::Internal => "internal",
         }

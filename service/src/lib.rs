@@ -7,6 +7,7 @@
 //! engine to the API. `app::run` wires it together for the binary and tests.
 #![deny(missing_docs)]
 
+pub mod access;
 pub mod api;
 pub mod app;
 pub mod channel;
@@ -19,5 +20,6 @@ pub mod motion;
 pub mod plugins;
 pub mod programs;
 pub mod safety;
+pub mod server;
 #[cfg(windows)]
 pub mod winsvc;

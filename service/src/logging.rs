@@ -36,6 +36,9 @@ pub mod events {
     pub const JOB_FAILED: u32 = 30;
     /// A plugin failed.
     pub const PLUGIN_FAILED: u32 = 40;
+    /// Access control created the first admin token (the message names
+    /// the file holding it, never the secret).
+    pub const ADMIN_TOKEN_CREATED: u32 = 50;
     /// Any other warning.
     pub const WARNING: u32 = 100;
     /// Any other error.

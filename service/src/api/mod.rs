@@ -1,8 +1,13 @@
 //! The HTTP API: thesis-compatible `/krl/*` endpoints, the versioned JSON
-//! API under `/api/v1`, plugin management and plugin routes, Server-Sent
-//! Events, `/health`, `/openapi.json` and Swagger UI at `/docs` (served from
-//! the binary, no internet needed).
+//! API under `/api/v1`, plugin management and plugin routes, access
+//! (control, tokens, audit), Server-Sent Events, `/health`,
+//! `/openapi.json` and Swagger UI at `/docs` (served from the binary, no
+//! internet needed). Every route passes the access middleware (`auth`)
+//! and the edge layers (`edge`).
 
+mod access;
+mod auth;
+mod edge;
 mod events;
 mod plugins;
 pub mod problem;
@@ -19,7 +24,6 @@ use axum::extract::State;
 use axum::http::Uri;
 use axum::response::{IntoResponse, Response};
 use serde::Serialize;
-use tower_http::trace::TraceLayer;
 use utoipa::OpenApi;
 use utoipa::ToSchema;
 use utoipa_axum::router::OpenApiRouter;
@@ -48,6 +52,10 @@ pub struct AppState {
     pub programs: Arc<crate::programs::ProgramStore>,
     /// Installed WASM plugins (`None` when switched off).
     pub plugins: Option<Arc<crate::plugins::PluginRegistry>>,
+    /// Tokens, control lease, audit trail.
+    pub access: Arc<crate::access::Access>,
+    /// The `[server]` settings (edge limits).
+    pub server: Arc<crate::config::ServerConfig>,
 }
 
 impl AppState {
@@ -67,7 +75,12 @@ impl AppState {
             the versioned JSON API: robot state, motions (single or continuous batches), jobs, stop, \
             frames, speeds and live events.\n\n\
             Errors are `application/problem+json` with a stable `code` (see the ProblemDetails schema). \
-            Units: mm, degrees; PTP speeds in % of the maximum axis speed, LIN/CIRC speeds in m/s.",
+            Units: mm, degrees; PTP speeds in % of the maximum axis speed, LIN/CIRC speeds in m/s.\n\n\
+            **Access.** When the service listens beyond loopback (or runs with `--require-auth`) every \
+            endpoint except `/health` and the documentation needs a bearer token (*Authorize* above). \
+            Each operation names the role it needs (`x-required-role`: viewer < operator < admin) and \
+            whether it is refused with 409 `control_held` while another client holds control \
+            (`x-needs-control`). See docs/SECURITY.md.",
         license(name = "MIT OR Apache-2.0")
     ),
     tags(
@@ -76,6 +89,7 @@ impl AppState {
         (name = "motion", description = "Motions, jobs and stop."),
         (name = "programs", description = "Upload and run KRL programs."),
         (name = "plugins", description = "Install, list and remove WASM plugins; each plugin's own routes follow under `plugin: <name>`."),
+        (name = "access", description = "Control of the robot (one writer at a time), tokens and the audit trail."),
         (name = "events", description = "Server-Sent Events."),
         (name = "simulator", description = "Only in `--simulate` mode."),
         (name = "service", description = "Health and documentation.")
@@ -115,6 +129,7 @@ async fn openapi_json(State(app): State<AppState>) -> Response {
         Some(registry) => {
             let mut doc = app.openapi.as_ref().clone();
             plugins::add_plugin_paths(&mut doc, &registry.active());
+            auth::document(&mut doc);
             problem::json_response(200, "application/json", &doc)
         }
         None => problem::json_response(200, "application/json", app.openapi.as_ref()),
@@ -154,21 +169,27 @@ fn documented() -> OpenApiRouter<AppState> {
         .merge(v1::router())
         .merge(programs::router())
         .merge(plugins::router())
+        .merge(access::router())
         .merge(events::router())
         .merge(sim::router())
 }
 
-/// The OpenAPI document (also used to write docs/openapi.json).
-pub fn openapi() -> utoipa::openapi::OpenApi {
-    documented().into_openapi()
+/// The OpenAPI document with each operation's access rule.
+pub fn openapi() -> serde_json::Value {
+    let mut doc = serde_json::to_value(documented().into_openapi()).unwrap_or_default();
+    auth::document(&mut doc);
+    doc
 }
 
 /// Builds the whole HTTP application; `state.openapi` is replaced by the
 /// document of the routes built here.
 pub fn app(mut state: AppState) -> Router {
     let (router, doc) = documented().split_for_parts();
-    state.openapi = Arc::new(serde_json::to_value(&doc).unwrap_or_default());
-    router
+    let mut doc = serde_json::to_value(&doc).unwrap_or_default();
+    auth::document(&mut doc);
+    state.openapi = Arc::new(doc);
+    let server = state.server.clone();
+    let router = router
         .route("/openapi.json", axum::routing::get(openapi_json))
         .route(
             "/api/v1/plugins/{name}/{*path}",
@@ -181,15 +202,12 @@ pub fn app(mut state: AppState) -> Router {
         )
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
-        .with_state(state)
-        // Failed requests are logged where they fail, with their code; the
-        // HTTP layer only traces (an offline controller must not flood the
-        // error log with 503s).
-        .layer(
-            TraceLayer::new_for_http().on_failure(
-                tower_http::trace::DefaultOnFailure::new().level(tracing::Level::DEBUG),
-            ),
-        )
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            auth::guard,
+        ))
+        .with_state(state);
+    edge::layers(router, &server)
 }
 
 /// Converts anything into a 200 JSON response.

@@ -191,6 +191,12 @@ pub fn statuscode(code: ErrorCode) -> i32 {
         ErrorCode::PluginMemory => 62,
         ErrorCode::PluginTrap => 63,
         ErrorCode::PluginBadResponse => 64,
+        ErrorCode::Unauthenticated => 70,
+        ErrorCode::Forbidden => 71,
+        ErrorCode::ControlHeld => 72,
+        ErrorCode::TooManyAttempts => 73,
+        ErrorCode::Overloaded => 74,
+        ErrorCode::RequestTimeout => 75,
         ErrorCode::Internal => 99,
     }
 }

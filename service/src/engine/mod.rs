@@ -254,7 +254,9 @@ impl Engine {
             frame: None,
             error: None,
             origin,
+            requested_by: crate::access::current_principal().map(|p| p.name),
         };
+        crate::access::note_job(id);
         {
             let mut table = self.shared.table();
             let (tx, _) = watch::channel(job.clone());

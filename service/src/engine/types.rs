@@ -251,6 +251,10 @@ pub struct Job {
     /// Who asked for it when not an HTTP client directly: `plugin:<name>@<version>`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub origin: Option<String>,
+    /// The token name of the client whose request created it (`anonymous`
+    /// when auth is off).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub requested_by: Option<String>,
 }
 
 /// Connection to the controller.

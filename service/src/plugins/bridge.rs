@@ -13,6 +13,9 @@ use crate::motion::{AuxPoint, AxesSpec, MotionRequest, TargetSpec};
 pub struct EngineBridge {
     /// The engine.
     pub engine: Engine,
+    /// The control lease: a plugin's motions run under its caller's
+    /// identity and are refused if someone else took control meanwhile.
+    pub control: std::sync::Arc<crate::access::Control>,
 }
 
 fn host_error(e: BridgeError) -> host::HostError {
@@ -127,6 +130,9 @@ impl host::BridgeApi for EngineBridge {
         Box::pin(async move {
             let requests: Vec<MotionRequest> = motions.into_iter().map(motion_request).collect();
             let count = requests.len();
+            if let Some(caller) = crate::access::current_principal() {
+                self.control.check(&caller).map_err(host_error)?;
+            }
             tracing::info!(plugin = %ctx.plugin, version = %ctx.version, motions = count, "plugin motion batch");
             let job = self
                 .engine

@@ -164,7 +164,11 @@ pub enum Installed {
 
 impl PluginRegistry {
     /// Opens the plugins folder of `config` (loading happens in [`Self::scan`]).
-    pub fn open(config: &Config, engine: crate::engine::Engine) -> Result<Self, BridgeError> {
+    pub fn open(
+        config: &Config,
+        engine: crate::engine::Engine,
+        control: Arc<crate::access::Control>,
+    ) -> Result<Self, BridgeError> {
         let p = &config.plugins;
         let dir = config.plugin_dir();
         std::fs::create_dir_all(&dir).map_err(|e| {
@@ -195,7 +199,7 @@ impl PluginRegistry {
                 (name.clone(), l)
             })
             .collect();
-        let api = Arc::new(EngineBridge { engine });
+        let api = Arc::new(EngineBridge { engine, control });
         let host = PluginHost::new(limits, overrides, Some(dir.join(".cache")), api)
             .map_err(|e| plugin_error(&e))?;
         Ok(PluginRegistry {

@@ -1,0 +1,228 @@
+//! Who may call what: the three roles and the one table that gives every
+//! route the role it needs, whether it needs control of the robot and
+//! whether it is audited. The auth layer and the OpenAPI document both
+//! read this table, so the document always says what the service enforces.
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+/// A token's role; each includes the ones below it.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, ToSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum Role {
+    /// Reads state, position, jobs, events and documentation.
+    Viewer,
+    /// Moves the robot: motions, stop, home, tool/base/speed, programs and
+    /// plugin routes.
+    Operator,
+    /// Installs and removes plugins and programs, manages tokens, reads
+    /// the audit trail.
+    Admin,
+}
+
+impl Role {
+    /// The role as written in tokens and documents.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Role::Viewer => "viewer",
+            Role::Operator => "operator",
+            Role::Admin => "admin",
+        }
+    }
+
+    /// Parses `viewer`, `operator` or `admin`.
+    pub fn parse(s: &str) -> Option<Role> {
+        match s {
+            "viewer" => Some(Role::Viewer),
+            "operator" => Some(Role::Operator),
+            "admin" => Some(Role::Admin),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for Role {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// What a route requires.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rule {
+    /// The least role; `None` means no token at all (health, documentation).
+    pub role: Option<Role>,
+    /// Refused with `control_held` while another client holds control.
+    pub control: bool,
+    /// Recorded in the audit trail.
+    pub audited: bool,
+}
+
+const PUBLIC: Rule = Rule {
+    role: None,
+    control: false,
+    audited: false,
+};
+const READ: Rule = Rule {
+    role: Some(Role::Viewer),
+    control: false,
+    audited: false,
+};
+/// Moves or changes the robot: needs control when someone holds it.
+const OPERATE: Rule = Rule {
+    role: Some(Role::Operator),
+    control: true,
+    audited: true,
+};
+/// Stop, and taking/releasing control: any operator, always.
+const SAFETY: Rule = Rule {
+    role: Some(Role::Operator),
+    control: false,
+    audited: true,
+};
+const ADMIN: Rule = Rule {
+    role: Some(Role::Admin),
+    control: false,
+    audited: true,
+};
+/// Installs code that then runs on the robot (thesis upload-and-run).
+const ADMIN_OPERATE: Rule = Rule {
+    role: Some(Role::Admin),
+    control: true,
+    audited: true,
+};
+const ADMIN_READ: Rule = Rule {
+    role: Some(Role::Admin),
+    control: false,
+    audited: false,
+};
+
+/// Every route: method, axum path template, rule. Plugin routes are the
+/// catch-all `/api/v1/plugins/{name}/{*path}`.
+const TABLE: &[(&str, &str, Rule)] = &[
+    ("GET", "/health", PUBLIC),
+    // Thesis endpoints (all POST; two of them only read).
+    ("POST", "/krl/ptp", OPERATE),
+    ("POST", "/krl/linmov", OPERATE),
+    ("POST", "/krl/circ", OPERATE),
+    ("POST", "/krl/base", OPERATE),
+    ("POST", "/krl/tcp", OPERATE),
+    ("POST", "/krl/getpos", READ),
+    ("POST", "/krl/gettcp", READ),
+    ("POST", "/krl/uploadfile", ADMIN_OPERATE),
+    // Robot state and settings.
+    ("GET", "/api/v1/state", READ),
+    ("GET", "/api/v1/position", READ),
+    ("GET", "/api/v1/tool", READ),
+    ("PUT", "/api/v1/tool", OPERATE),
+    ("GET", "/api/v1/base", READ),
+    ("PUT", "/api/v1/base", OPERATE),
+    ("GET", "/api/v1/speed", READ),
+    ("PUT", "/api/v1/speed", OPERATE),
+    ("POST", "/api/v1/reset", OPERATE),
+    // Motion and jobs.
+    ("POST", "/api/v1/motions", OPERATE),
+    ("POST", "/api/v1/home", OPERATE),
+    ("POST", "/api/v1/stop", SAFETY),
+    ("GET", "/api/v1/jobs", READ),
+    ("GET", "/api/v1/jobs/{id}", READ),
+    ("DELETE", "/api/v1/jobs/{id}", OPERATE),
+    ("GET", "/api/v1/events", READ),
+    // Control of the robot.
+    ("GET", "/api/v1/control", READ),
+    ("POST", "/api/v1/control", SAFETY),
+    ("DELETE", "/api/v1/control", SAFETY),
+    // Programs.
+    ("GET", "/api/v1/programs", READ),
+    ("POST", "/api/v1/programs", ADMIN),
+    ("GET", "/api/v1/programs/{name}", READ),
+    ("DELETE", "/api/v1/programs/{name}", ADMIN),
+    ("POST", "/api/v1/programs/{name}/run", OPERATE),
+    // Plugins.
+    ("GET", "/api/v1/plugins", READ),
+    ("GET", "/api/v1/plugins/{name}", READ),
+    ("PUT", "/api/v1/plugins/{name}", ADMIN),
+    ("DELETE", "/api/v1/plugins/{name}", ADMIN),
+    ("*", "/api/v1/plugins/{name}/{*path}", OPERATE),
+    // Access administration.
+    ("GET", "/api/v1/tokens", ADMIN_READ),
+    ("POST", "/api/v1/tokens", ADMIN),
+    ("DELETE", "/api/v1/tokens/{name}", ADMIN),
+    ("GET", "/api/v1/audit", ADMIN_READ),
+    // Simulator (only in --simulate mode).
+    ("GET", "/api/v1/sim", READ),
+    ("GET", "/api/v1/sim/trace", READ),
+    ("DELETE", "/api/v1/sim/trace", OPERATE),
+    // Documentation.
+    ("GET", "/openapi.json", PUBLIC),
+    ("GET", "/", PUBLIC),
+];
+
+/// The rule for a request, by method and matched route template. Routes
+/// missing from the table need an admin (fail closed); the documentation
+/// under `/docs` is public so that Swagger UI loads before you authorize.
+pub fn rule(method: &str, template: &str) -> Rule {
+    if template == "/docs" || template.starts_with("/docs/") {
+        return PUBLIC;
+    }
+    TABLE
+        .iter()
+        .find(|(m, t, _)| (*m == "*" || *m == method) && *t == template)
+        .map_or(
+            Rule {
+                role: Some(Role::Admin),
+                control: true,
+                audited: true,
+            },
+            |(_, _, r)| *r,
+        )
+}
+
+/// The rule of a documented operation (OpenAPI path with `{param}`s);
+/// `None` if the table does not know it.
+pub fn documented_rule(method: &str, openapi_path: &str) -> Option<Rule> {
+    TABLE
+        .iter()
+        .find(|(m, t, _)| (*m == "*" || m.eq_ignore_ascii_case(method)) && *t == openapi_path)
+        .map(|(_, _, r)| *r)
+        .or_else(|| {
+            openapi_path
+                .starts_with("/api/v1/plugins/")
+                .then(|| rule("*", "/api/v1/plugins/{name}/{*path}"))
+                .filter(|_| openapi_path.matches('/').count() > 4)
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every documented operation has its own line in the table: a new
+    /// endpoint cannot be added without deciding who may call it.
+    #[test]
+    fn every_documented_operation_has_a_rule() {
+        let doc = crate::api::openapi();
+        let paths = doc["paths"].as_object().expect("paths");
+        let mut missing = Vec::new();
+        for (path, item) in paths {
+            for method in item.as_object().expect("path item").keys() {
+                if documented_rule(method, path).is_none() {
+                    missing.push(format!("{} {path}", method.to_uppercase()));
+                }
+            }
+        }
+        assert!(missing.is_empty(), "no access rule for: {missing:?}");
+    }
+
+    #[test]
+    fn unknown_routes_need_an_admin() {
+        assert_eq!(rule("PATCH", "/api/v1/new").role, Some(Role::Admin));
+        assert_eq!(rule("GET", "/docs/{*rest}").role, None);
+        assert!(!rule("POST", "/api/v1/stop").control);
+        assert!(rule("POST", "/api/v1/plugins/{name}/{*path}").control);
+    }
+}

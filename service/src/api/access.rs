@@ -1,0 +1,186 @@
+//! Access endpoints: the control lease (`/api/v1/control`), token
+//! management (`/api/v1/tokens`) and the audit trail (`/api/v1/audit`).
+//! Who may call them is in `access::policy` like everything else.
+
+use axum::extract::{Path, State};
+use axum::response::Response;
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
+
+use super::problem::{JsonBody, PROBLEM_JSON, Problem, ProblemDetails, QueryParams, json_response};
+use super::{AppState, ok_json};
+use crate::access::audit::{AuditQuery, AuditRecord};
+use crate::access::{Lease, Principal, Role, TokenError, TokenInfo, current_principal};
+use crate::error::{BridgeError, ErrorCode};
+
+/// Who holds control.
+#[derive(Debug, Serialize, ToSchema)]
+#[schema(example = json!({"lease": null, "auth": true}))]
+pub struct ControlState {
+    /// The live lease, or null when no one holds control (then any
+    /// operator may write).
+    pub lease: Option<Lease>,
+    /// Whether tokens are required (without them everyone is `anonymous`
+    /// and control changes nothing).
+    pub auth: bool,
+}
+
+/// Taking control.
+#[derive(Debug, Default, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"take_over": false}))]
+pub struct ControlRequest {
+    /// Admins only: take control even if another client holds it.
+    #[serde(default)]
+    pub take_over: bool,
+}
+
+/// A new token.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"name": "line-3-pc", "role": "operator"}))]
+pub struct NewToken {
+    /// Unique name: 1–64 letters, digits, `.`, `_`, `-`, `@`.
+    pub name: String,
+    /// Its role.
+    pub role: Role,
+}
+
+/// A token just created: its secret is shown this once.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct CreatedToken {
+    /// The token.
+    #[serde(flatten)]
+    pub info: TokenInfo,
+    /// The secret to send as `Authorization: Bearer <secret>`; not stored
+    /// by the service (only its hash), so it cannot be shown again.
+    pub secret: String,
+}
+
+fn caller() -> Principal {
+    current_principal().unwrap_or_else(Principal::anonymous)
+}
+
+fn control_state(app: &AppState) -> ControlState {
+    ControlState {
+        lease: app.access.control.current(),
+        auth: app.access.enabled,
+    }
+}
+
+/// Who holds control of the robot.
+#[utoipa::path(get, path = "/api/v1/control", tag = "access", responses((status = 200, body = ControlState)))]
+async fn get_control(State(app): State<AppState>) -> Response {
+    ok_json(&control_state(&app))
+}
+
+/// Take (or renew) control of the robot.
+///
+/// While you hold control, other clients' motions and settings are refused with 409
+/// `control_held`; reads and stop are never refused. Every mutating call of yours renews
+/// the lease; it lapses after `lease_ms` without one. An admin may `take_over`.
+#[utoipa::path(post, path = "/api/v1/control", tag = "access", request_body(content = Option<ControlRequest>),
+    responses((status = 200, body = ControlState),
+        (status = 409, description = "Another client holds control", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn take_control(
+    State(app): State<AppState>,
+    body: axum::body::Bytes,
+) -> Result<Response, Problem> {
+    let req: ControlRequest = if body.iter().all(u8::is_ascii_whitespace) {
+        ControlRequest::default()
+    } else {
+        serde_json::from_slice(&body)
+            .map_err(|e| BridgeError::invalid(format!("request body: {e}")))?
+    };
+    app.access.control.acquire(&caller(), req.take_over)?;
+    Ok(ok_json(&control_state(&app)))
+}
+
+/// Release control (your own; an admin may release anyone's).
+#[utoipa::path(delete, path = "/api/v1/control", tag = "access",
+    responses((status = 200, body = ControlState),
+        (status = 409, description = "Another client holds control", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn release_control(State(app): State<AppState>) -> Result<Response, Problem> {
+    app.access.control.release(&caller())?;
+    Ok(ok_json(&control_state(&app)))
+}
+
+fn token_problem(e: TokenError) -> Problem {
+    let code = match &e {
+        TokenError::Exists(_) | TokenError::BadName(_) => ErrorCode::InvalidInput,
+        TokenError::NotFound(_) => ErrorCode::NotFound,
+        _ => ErrorCode::Internal,
+    };
+    BridgeError::new(code, e.to_string()).into()
+}
+
+/// Tokens (names and roles, never secrets).
+#[utoipa::path(get, path = "/api/v1/tokens", tag = "access", responses((status = 200, body = [TokenInfo])))]
+async fn list_tokens(State(app): State<AppState>) -> Response {
+    ok_json(&app.access.tokens.list())
+}
+
+/// Create a token; the answer holds its secret, shown only this once.
+#[utoipa::path(post, path = "/api/v1/tokens", tag = "access", request_body = NewToken,
+    responses((status = 201, body = CreatedToken),
+        (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn create_token(
+    State(app): State<AppState>,
+    JsonBody(req): JsonBody<NewToken>,
+) -> Result<Response, Problem> {
+    let tokens = app.access.tokens.clone();
+    let (info, secret) = tokio::task::spawn_blocking(move || tokens.create(&req.name, req.role))
+        .await
+        .map_err(|e| BridgeError::new(ErrorCode::Internal, e.to_string()))?
+        .map_err(token_problem)?;
+    tracing::info!(name = %info.name, role = %info.role, by = %caller().name, "token created");
+    Ok(json_response(
+        201,
+        "application/json",
+        &CreatedToken { info, secret },
+    ))
+}
+
+/// Revoke a token; it is refused from the next request on.
+#[utoipa::path(delete, path = "/api/v1/tokens/{name}", tag = "access",
+    params(("name" = String, Path, description = "Token name")),
+    responses((status = 200, body = TokenInfo),
+        (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn revoke_token(
+    State(app): State<AppState>,
+    Path(name): Path<String>,
+) -> Result<Response, Problem> {
+    let tokens = app.access.tokens.clone();
+    let info = tokio::task::spawn_blocking(move || tokens.revoke(&name))
+        .await
+        .map_err(|e| BridgeError::new(ErrorCode::Internal, e.to_string()))?
+        .map_err(token_problem)?;
+    tracing::info!(name = %info.name, by = %caller().name, "token revoked");
+    Ok(ok_json(&info))
+}
+
+/// The audit trail: every mutating request, newest first.
+#[utoipa::path(get, path = "/api/v1/audit", tag = "access", params(AuditQuery),
+    responses((status = 200, body = [AuditRecord])))]
+async fn get_audit(
+    State(app): State<AppState>,
+    QueryParams(q): QueryParams<AuditQuery>,
+) -> Result<Response, Problem> {
+    let records = app
+        .access
+        .audit
+        .query(q)
+        .await
+        .map_err(|e| BridgeError::new(ErrorCode::Internal, format!("audit trail: {e}")))?;
+    Ok(ok_json(&records))
+}
+
+pub(super) fn router() -> OpenApiRouter<AppState> {
+    OpenApiRouter::new()
+        .routes(routes!(get_control, take_control, release_control))
+        .routes(routes!(list_tokens, create_token))
+        .routes(routes!(revoke_token))
+        .routes(routes!(get_audit))
+}

@@ -1,0 +1,367 @@
+//! The access middleware: for each request, find the route's rule
+//! (`access::policy`), identify the caller from its bearer token, check its
+//! role and the control lease, run the request under its identity and write
+//! the audit record. Failures answer 401 (with `WWW-Authenticate`), 403,
+//! 409 `control_held` or 429 as problem+json (thesis format on `/krl/*`).
+
+use std::net::SocketAddr;
+use std::time::Instant;
+
+use axum::extract::{ConnectInfo, MatchedPath, Request, State};
+use axum::http::{HeaderValue, header};
+use axum::middleware::Next;
+use axum::response::Response;
+use http_body_util::BodyExt;
+
+use super::AppState;
+use crate::access::{self, Principal, QUERY_TOKEN, RequestContext, Role, audit};
+use crate::error::{BridgeError, ErrorCode};
+
+/// Largest JSON body read for the audit record (bigger ones are refused
+/// here as they would be by the handler).
+const MAX_AUDITED_JSON: usize = 2 << 20;
+
+/// The middleware (installed on every route by `api::app`).
+pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Response {
+    let Some(template) = req
+        .extensions()
+        .get::<MatchedPath>()
+        .map(|m| m.as_str().to_string())
+    else {
+        // No route: the 404/405 fallbacks answer without identifying anyone.
+        return next.run(req).await;
+    };
+    let method = req.method().as_str().to_string();
+    let rule = access::policy::rule(&method, &template);
+    let Some(needed) = rule.role else {
+        return next.run(req).await;
+    };
+    let client = req
+        .extensions()
+        .get::<ConnectInfo<SocketAddr>>()
+        .map(|c| c.0.ip());
+    let principal = match identify(&app, &req, &template, client) {
+        Ok(p) => p,
+        Err(resp) => return *resp,
+    };
+    let uri = req.uri().clone();
+    if principal.role < needed {
+        let e = BridgeError::new(
+            ErrorCode::Forbidden,
+            format!(
+                "{} {} needs the {needed} role; token {:?} is {}",
+                method,
+                uri.path(),
+                principal.name,
+                article(principal.role)
+            ),
+        );
+        return refused(&app, &method, &uri, &template, &principal, client, e).await;
+    }
+    if rule.control
+        && let Err(e) = app.access.control.check(&principal)
+    {
+        return refused(&app, &method, &uri, &template, &principal, client, e).await;
+    }
+    let ctx = RequestContext::new(principal);
+    if !rule.audited {
+        return ctx.scope(next.run(req)).await;
+    }
+    let started = Instant::now();
+    let time_ms = crate::engine::now_ms();
+    let (req, params) = match audit_params(req).await {
+        Ok(v) => v,
+        Err(e) => return super::routing_error(&app, &uri, e),
+    };
+    let response = ctx.clone().scope(next.run(req)).await;
+    let (response, code) = problem_code(response).await;
+    let record = audit::AuditRecord {
+        time_ms,
+        who: ctx.principal.name.clone(),
+        role: ctx.principal.role,
+        client: client.map_or_else(|| "unknown".into(), |c| c.to_string()),
+        method,
+        path: uri.path().to_string(),
+        route: template,
+        params,
+        jobs: ctx.jobs(),
+        status: response.status().as_u16(),
+        code,
+        duration_ms: started.elapsed().as_secs_f64() * 1000.0,
+    };
+    app.access.audit.record(record).await;
+    response
+}
+
+fn article(role: Role) -> &'static str {
+    match role {
+        Role::Viewer => "a viewer",
+        Role::Operator => "an operator",
+        Role::Admin => "an admin",
+    }
+}
+
+/// May this route take the token from the query string?
+fn query_token_allowed(app: &AppState, template: &str) -> bool {
+    app.access.query_token && (template.starts_with("/krl/") || template == "/api/v1/events")
+}
+
+/// The caller, or the 401/429 answer.
+fn identify(
+    app: &AppState,
+    req: &Request,
+    template: &str,
+    client: Option<std::net::IpAddr>,
+) -> Result<Principal, Box<Response>> {
+    if !app.access.enabled {
+        return Ok(Principal::anonymous());
+    }
+    let uri = req.uri();
+    let from_header = req
+        .headers()
+        .get(header::AUTHORIZATION)
+        .map(|v| v.to_str().unwrap_or_default());
+    let secret = match from_header {
+        Some(h) => {
+            let mut parts = h.splitn(2, ' ');
+            let scheme = parts.next().unwrap_or_default();
+            let value = parts.next().unwrap_or_default().trim();
+            if !scheme.eq_ignore_ascii_case("bearer") || value.is_empty() {
+                return Err(Box::new(unauthenticated(
+                    app,
+                    uri,
+                    "the Authorization header must be `Bearer <token>`",
+                    true,
+                )));
+            }
+            Some(value.to_string())
+        }
+        None if query_token_allowed(app, template) => uri.query().and_then(|q| {
+            serde_urlencoded::from_str::<Vec<(String, String)>>(q)
+                .ok()?
+                .into_iter()
+                .find(|(k, _)| k == QUERY_TOKEN)
+                .map(|(_, v)| v)
+        }),
+        None => None,
+    };
+    let Some(secret) = secret else {
+        return Err(Box::new(unauthenticated(
+            app,
+            uri,
+            "this endpoint needs a token: send `Authorization: Bearer <token>` (see /docs, Authorize)",
+            false,
+        )));
+    };
+    if let Some(ip) = client
+        && let Err(wait) = app.access.limiter.check(ip)
+    {
+        let e = BridgeError::new(
+            ErrorCode::TooManyAttempts,
+            format!("too many failed token attempts from {ip}; try again in {wait} s"),
+        );
+        let mut resp = super::routing_error(app, uri, e);
+        if let Ok(v) = HeaderValue::from_str(&wait.to_string()) {
+            resp.headers_mut().insert(header::RETRY_AFTER, v);
+        }
+        return Err(Box::new(resp));
+    }
+    match app.access.tokens.verify(&secret) {
+        Some(t) => Ok(Principal {
+            name: t.name,
+            role: t.role,
+        }),
+        None => {
+            if let Some(ip) = client {
+                app.access.limiter.fail(ip);
+            }
+            tracing::warn!(client = ?client, path = %uri.path(), "request with an unknown or revoked token");
+            Err(Box::new(unauthenticated(
+                app,
+                uri,
+                "the token is unknown or was revoked",
+                true,
+            )))
+        }
+    }
+}
+
+fn unauthenticated(app: &AppState, uri: &axum::http::Uri, detail: &str, invalid: bool) -> Response {
+    let e = BridgeError::new(ErrorCode::Unauthenticated, detail);
+    let mut resp = super::routing_error(app, uri, e);
+    let challenge = if invalid {
+        r#"Bearer realm="kuka-bridge", error="invalid_token""#
+    } else {
+        r#"Bearer realm="kuka-bridge""#
+    };
+    resp.headers_mut().insert(
+        header::WWW_AUTHENTICATE,
+        HeaderValue::from_static(challenge),
+    );
+    resp
+}
+
+/// Answers a refused request (403, 409) and records it when the route is
+/// audited: refusals of identified callers are part of the trail.
+async fn refused(
+    app: &AppState,
+    method: &str,
+    uri: &axum::http::Uri,
+    template: &str,
+    principal: &Principal,
+    client: Option<std::net::IpAddr>,
+    e: BridgeError,
+) -> Response {
+    let code = e.code.as_str().to_string();
+    let resp = super::routing_error(app, uri, e);
+    if access::policy::rule(method, template).audited {
+        let record = audit::AuditRecord {
+            time_ms: crate::engine::now_ms(),
+            who: principal.name.clone(),
+            role: principal.role,
+            client: client.map_or_else(|| "unknown".into(), |c| c.to_string()),
+            method: method.to_string(),
+            path: uri.path().to_string(),
+            route: template.to_string(),
+            params: audit::params(uri.query(), None, &[], None),
+            jobs: Vec::new(),
+            status: resp.status().as_u16(),
+            code: Some(code),
+            duration_ms: 0.0,
+        };
+        app.access.audit.record(record).await;
+    }
+    resp
+}
+
+/// Reads a JSON body (to record it) and puts it back; other bodies are
+/// passed on untouched and recorded by size.
+async fn audit_params(req: Request) -> Result<(Request, serde_json::Value), BridgeError> {
+    let content_type = req
+        .headers()
+        .get(header::CONTENT_TYPE)
+        .and_then(|v| v.to_str().ok())
+        .map(str::to_string);
+    let size = req
+        .headers()
+        .get(header::CONTENT_LENGTH)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.parse::<u64>().ok());
+    let query = req.uri().query().map(str::to_string);
+    let json = content_type
+        .as_deref()
+        .is_some_and(|c| c.starts_with("application/json"));
+    if !json {
+        let params = audit::params(query.as_deref(), content_type.as_deref(), &[], size);
+        return Ok((req, params));
+    }
+    let (parts, body) = req.into_parts();
+    let bytes = http_body_util::Limited::new(body, MAX_AUDITED_JSON)
+        .collect()
+        .await
+        .map_err(|e| {
+            BridgeError::new(
+                ErrorCode::PayloadTooLarge,
+                format!("request body: {e} (at most {MAX_AUDITED_JSON} bytes of JSON)"),
+            )
+        })?
+        .to_bytes();
+    let params = audit::params(query.as_deref(), content_type.as_deref(), &bytes, None);
+    Ok((
+        Request::from_parts(parts, axum::body::Body::from(bytes)),
+        params,
+    ))
+}
+
+/// The problem code of an error answer (reads and restores its body).
+async fn problem_code(resp: Response) -> (Response, Option<String>) {
+    let is_problem = resp.headers().get(header::CONTENT_TYPE).is_some_and(|v| {
+        v.as_bytes()
+            .starts_with(super::problem::PROBLEM_JSON.as_bytes())
+    });
+    if !(resp.status().as_u16() >= 400 && is_problem) {
+        return (resp, None);
+    }
+    let (parts, body) = resp.into_parts();
+    let Ok(collected) = http_body_util::Limited::new(body, 1 << 20).collect().await else {
+        return (Response::from_parts(parts, axum::body::Body::empty()), None);
+    };
+    let bytes = collected.to_bytes();
+    let code = serde_json::from_slice::<serde_json::Value>(&bytes)
+        .ok()
+        .and_then(|v| v.get("code").and_then(|c| c.as_str()).map(str::to_string));
+    (
+        Response::from_parts(parts, axum::body::Body::from(bytes)),
+        code,
+    )
+}
+
+/// Writes the access rules into an OpenAPI document: the bearer scheme
+/// (Swagger UI's Authorize button), and per operation its `security`, its
+/// role (`x-required-role`), whether it needs control (`x-needs-control`),
+/// a sentence in its description and the 401/403/409/429 answers it may
+/// give. Idempotent (operations already marked are left alone).
+pub(super) fn document(doc: &mut serde_json::Value) {
+    use serde_json::{Value, json};
+    let problem = json!({"content": {super::problem::PROBLEM_JSON: {"schema": {"$ref": "#/components/schemas/ProblemDetails"}}}});
+    let answer = |description: &str| {
+        let mut a = problem.clone();
+        a["description"] = Value::String(description.into());
+        a
+    };
+    doc["components"]["securitySchemes"]["bearer"] = json!({
+        "type": "http",
+        "scheme": "bearer",
+        "description": "A token from `kuka-bridge token create --name NAME --role viewer|operator|admin` \
+            (or POST /api/v1/tokens). Needed when the service listens beyond loopback or runs with \
+            --require-auth."
+    });
+    doc["security"] = json!([{"bearer": []}]);
+    let Some(paths) = doc.get_mut("paths").and_then(Value::as_object_mut) else {
+        return;
+    };
+    for (path, item) in paths.iter_mut() {
+        let Some(item) = item.as_object_mut() else {
+            continue;
+        };
+        for (method, op) in item.iter_mut() {
+            if op.get("x-required-role").is_some() {
+                continue;
+            }
+            let Some(rule) = access::policy::documented_rule(method, path) else {
+                continue;
+            };
+            let Some(role) = rule.role else {
+                op["security"] = json!([]);
+                op["x-required-role"] = Value::String("none".into());
+                continue;
+            };
+            op["security"] = json!([{"bearer": []}]);
+            op["x-required-role"] = Value::String(role.as_str().into());
+            op["x-needs-control"] = Value::Bool(rule.control);
+            let mut note = format!("\n\n**Access:** role `{role}` or higher");
+            if rule.control {
+                note.push_str(
+                    "; refused with 409 `control_held` while another client holds control",
+                );
+            }
+            note.push('.');
+            let text = op
+                .get("description")
+                .and_then(Value::as_str)
+                .unwrap_or_default()
+                .to_string();
+            op["description"] = Value::String(format!("{text}{note}"));
+            let responses = &mut op["responses"];
+            responses["401"] = answer("No token, or an unknown or revoked one (`unauthenticated`)");
+            responses["403"] = answer("The token's role is too low (`forbidden`)");
+            responses["429"] =
+                answer("Too many failed token attempts from this address (`too_many_attempts`)");
+            if rule.control && responses.get("409").is_none() {
+                responses["409"] = answer(
+                    "Another client holds control (`control_held`), or the controller refused",
+                );
+            }
+        }
+    }
+}
