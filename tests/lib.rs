@@ -17,6 +17,8 @@ pub struct TestService {
     pub http: reqwest::Client,
     /// Holds the data and channel directories.
     pub dirs: tempfile::TempDir,
+    /// The configuration it was started with.
+    pub config: Config,
 }
 
 /// Options for [`TestService::start`].
@@ -69,7 +71,7 @@ impl TestService {
 
     /// Starts the service with a prepared config.
     pub async fn start_with(config: Config, dirs: tempfile::TempDir) -> TestService {
-        let service = kuka_bridge::app::start(config)
+        let service = kuka_bridge::app::start(config.clone())
             .await
             .expect("service starts");
         let http = reqwest::Client::builder()
@@ -80,6 +82,7 @@ impl TestService {
             service,
             http,
             dirs,
+            config,
         };
         t.wait_online().await;
         t
@@ -103,10 +106,10 @@ impl TestService {
         self.wait_connection("online").await;
     }
 
-    /// Waits until `/api/v1/state` reports this connection state (10 s max).
+    /// Waits until `/health` reports this connection state (10 s max).
     pub async fn wait_connection(&self, want: &str) {
         for _ in 0..500 {
-            let (_, s) = self.get("/api/v1/state").await;
+            let (_, s) = self.get("/health").await;
             if s["connection"] == want {
                 return;
             }
@@ -434,4 +437,30 @@ pub mod bench {
             })
             .collect()
     }
+}
+
+/// `GET path` over HTTPS to `addr`, trusting only the certificate in
+/// `cert_pem` (for `localhost`); the raw HTTP/1.1 answer.
+pub async fn https_get(addr: std::net::SocketAddr, cert_pem: &Path, path: &str) -> String {
+    use rustls_pki_types::pem::PemObject;
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let mut roots = rustls::RootCertStore::empty();
+    for cert in rustls_pki_types::CertificateDer::pem_file_iter(cert_pem).expect("pem") {
+        roots.add(cert.expect("cert")).expect("root");
+    }
+    let provider = std::sync::Arc::new(rustls::crypto::ring::default_provider());
+    let config = rustls::ClientConfig::builder_with_provider(provider)
+        .with_safe_default_protocol_versions()
+        .expect("versions")
+        .with_root_certificates(roots)
+        .with_no_client_auth();
+    let connector = tokio_rustls::TlsConnector::from(std::sync::Arc::new(config));
+    let tcp = tokio::net::TcpStream::connect(addr).await.expect("connect");
+    let name = rustls_pki_types::ServerName::try_from("localhost").expect("name");
+    let mut tls = connector.connect(name, tcp).await.expect("TLS handshake");
+    let request = format!("GET {path} HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n");
+    tls.write_all(request.as_bytes()).await.expect("write");
+    let mut answer = Vec::new();
+    let _ = tls.read_to_end(&mut answer).await;
+    String::from_utf8_lossy(&answer).into_owned()
 }

@@ -31,6 +31,12 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
         // No route: the 404/405 fallbacks answer without identifying anyone.
         return next.run(req).await;
     };
+    let mut req = req;
+    let query_secret = if query_token_allowed(&app, &template) {
+        take_query_token(&mut req)
+    } else {
+        None
+    };
     let method = req.method().as_str().to_string();
     let rule = access::policy::rule(&method, &template);
     let Some(needed) = rule.role else {
@@ -40,7 +46,7 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
         .extensions()
         .get::<ConnectInfo<SocketAddr>>()
         .map(|c| c.0.ip());
-    let principal = match identify(&app, &req, &template, client) {
+    let principal = match identify(&app, &req, query_secret, client) {
         Ok(p) => p,
         Err(resp) => return *resp,
     };
@@ -106,11 +112,31 @@ fn query_token_allowed(app: &AppState, template: &str) -> bool {
     app.access.query_token && (template.starts_with("/krl/") || template == "/api/v1/events")
 }
 
+/// Removes `access_token` from the query string (handlers never see it)
+/// and returns it.
+fn take_query_token(req: &mut Request) -> Option<String> {
+    let query = req.uri().query()?;
+    let pairs: Vec<(String, String)> = serde_urlencoded::from_str(query).ok()?;
+    let (token, rest): (Vec<_>, Vec<_>) = pairs.into_iter().partition(|(k, _)| k == QUERY_TOKEN);
+    let secret = token.into_iter().next()?.1;
+    let rest = serde_urlencoded::to_string(&rest).ok()?;
+    let path = req.uri().path();
+    let path_and_query = if rest.is_empty() {
+        path.to_string()
+    } else {
+        format!("{path}?{rest}")
+    };
+    let mut parts = req.uri().clone().into_parts();
+    parts.path_and_query = path_and_query.parse().ok();
+    *req.uri_mut() = axum::http::Uri::from_parts(parts).ok()?;
+    Some(secret)
+}
+
 /// The caller, or the 401/429 answer.
 fn identify(
     app: &AppState,
     req: &Request,
-    template: &str,
+    query_secret: Option<String>,
     client: Option<std::net::IpAddr>,
 ) -> Result<Principal, Box<Response>> {
     if !app.access.enabled {
@@ -136,14 +162,7 @@ fn identify(
             }
             Some(value.to_string())
         }
-        None if query_token_allowed(app, template) => uri.query().and_then(|q| {
-            serde_urlencoded::from_str::<Vec<(String, String)>>(q)
-                .ok()?
-                .into_iter()
-                .find(|(k, _)| k == QUERY_TOKEN)
-                .map(|(_, v)| v)
-        }),
-        None => None,
+        None => query_secret,
     };
     let Some(secret) = secret else {
         return Err(Box::new(unauthenticated(

@@ -27,7 +27,11 @@ pub fn layers(router: Router, server: &ServerConfig) -> Router {
         ServiceBuilder::new()
             .layer(HandleErrorLayer::new(overloaded))
             .load_shed()
-            .concurrency_limit(server.max_concurrent_requests)
+            // One limit for the whole service (`Router::layer` wraps each
+            // route on its own; a per-route limit would not be one).
+            .layer(tower::limit::GlobalConcurrencyLimitLayer::new(
+                server.max_concurrent_requests,
+            ))
             .layer(TimeoutLayer::with_status_code(
                 StatusCode::GATEWAY_TIMEOUT,
                 max_request,
