@@ -153,7 +153,7 @@ wait_health() { # wait_health PORT seconds
     done
     return 1
 }
-write_config() { # write_config DIR PORT [broken]
+write_config() { # write_config DIR PORT [broken|auth]
     mkdir -p "$1"
     if [ "${3:-}" = broken ]; then
         printf 'this is = = not TOML\n' >"$1/kuka-bridge.toml"
@@ -168,6 +168,9 @@ listen = "127.0.0.1:$2"
 enabled = true
 time_scale = 0.0
 EOF
+    if [ "${3:-}" = auth ]; then
+        printf '\n[auth]\nrequire_on_loopback = true\n' >>"$1/kuka-bridge.toml"
+    fi
 }
 
 drive_c="$WINEPREFIX/drive_c"
@@ -344,10 +347,10 @@ if [ -n "$svc_port" ]; then
 fi
 
 # ----------------------------------------------------- service manager
-phase "config change + restart (net stop / net start)"
+phase "config change + restart (net stop / net start), access control on"
 [ -n "$svc_port" ] || { svc_cfg_dir=$cfg_dir; svc_port=$port_a; }
 port_b=$(free_port)
-write_config "$svc_cfg_dir" "$port_b"
+write_config "$svc_cfg_dir" "$port_b" auth
 W net stop kuka-bridge >"$logs/net-stop.out"
 check "net stop -> STOPPED, WIN32_EXIT_CODE 0 (graceful)" \
     bash -c "[ \"\$(grep -c 'stopped successfully' '$logs/net-stop.out')\" = 1 ]"
@@ -359,8 +362,25 @@ check "net start -> RUNNING" wait_state RUNNING 30
 check "restarted service uses the new config (/health on :$port_b)" wait_health "$port_b" 20
 check "old port :$svc_port closed" bash -c "! (exec 3<>/dev/tcp/127.0.0.1/$svc_port) 2>/dev/null"
 svc_port=$port_b
+admin_file="$svc_cfg_dir/initial-admin-token.txt"
+check "first start with auth wrote initial-admin-token.txt (private DACL via SetFileSecurityW)" \
+    test -s "$admin_file"
+admin=$(grep '^kb_' "$admin_file" 2>/dev/null | head -1)
+check "no token -> 401 unauthenticated" bash -c \
+    "curl -sS -m 10 http://127.0.0.1:$svc_port/api/v1/state | grep -q unauthenticated"
+check "admin token -> 200 (GET /api/v1/state)" \
+    curl -fsS -m 10 -o /dev/null -H "authorization: Bearer $admin" "http://127.0.0.1:$svc_port/api/v1/state"
+W "$exe_win" token create --data-dir "$(winpath "$svc_cfg_dir")" \
+    --name wine-viewer --role viewer >"$logs/token-create.out" 2>"$logs/token-create.err"
+viewer=$(grep '^kb_' "$logs/token-create.out" | tr -d '\r' | head -1)
+check "kuka-bridge.exe token create (console, service running) prints a token" test -n "$viewer"
+check "the running service accepts it: a viewer reads, cannot move (403)" bash -c "
+    sleep 1
+    curl -fsS -m 10 -o /dev/null -H 'authorization: Bearer $viewer' http://127.0.0.1:$svc_port/api/v1/state &&
+    curl -sS -m 10 -X POST -H 'authorization: Bearer $viewer' -H 'content-type: application/json' \
+        -d '{\"motions\":[]}' http://127.0.0.1:$svc_port/api/v1/motions | grep -q forbidden"
 if [ -n "${plugin:-}" ]; then
-    p=$(curl -sS -m 10 "http://127.0.0.1:$svc_port/api/v1/plugins/draw-circle" 2>&1)
+    p=$(curl -sS -m 10 -H "authorization: Bearer $admin" "http://127.0.0.1:$svc_port/api/v1/plugins/draw-circle" 2>&1)
     check "plugin loaded again at start from the compiled cache (from_cache true)" \
         bash -c 'grep -q "\"from_cache\":true" <<<"$1"' _ "$p"
 fi
