@@ -315,6 +315,16 @@ async fn validation_errors_write_nothing() {
         .put_json("/api/v1/speed", &json!({"override_pct": 0}))
         .await;
     assert_eq!((s, v["code"].as_str()), (422, Some("invalid_input")), "{v}");
+    // Found by schemathesis: positive, but 0.000 in the file (the
+    // controller rejected the command as malformed: 502).
+    let (s, v) = t
+        .put_json("/api/v1/speed", &json!({"override_pct": 7.4e-214}))
+        .await;
+    assert_eq!((s, v["code"].as_str()), (422, Some("invalid_input")), "{v}");
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 300}, "velocity_pct": 1e-9}]))
+        .await;
+    assert_eq!((s, v["code"].as_str()), (422, Some("invalid_input")), "{v}");
     assert_eq!(
         std::fs::read_to_string(&cmd).expect("command file"),
         before,

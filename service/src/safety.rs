@@ -162,9 +162,11 @@ impl Safety {
     }
 
     fn cap(&self, i: usize, name: &str, v: f64, max: f64, unit: &str) -> Result<()> {
-        if !v.is_finite() || v <= 0.0 {
+        // Below the file protocol's step the controller would read 0.
+        if !v.is_finite() || v < kuka_protocol::REAL_STEP {
             return Err(BridgeError::invalid(format!(
-                "motion {i}: {name} = {v} must be a positive number"
+                "motion {i}: {name} = {v} must be a positive number of at least {}",
+                kuka_protocol::REAL_STEP
             ))
             .at_motion(i));
         }

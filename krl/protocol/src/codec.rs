@@ -6,6 +6,9 @@ pub const MAX_LINE_LEN: usize = 255;
 /// Largest magnitude of a REAL field: 7 significant digits, so a KRL REAL
 /// (32-bit float) holds every value to the last decimal.
 pub const MAX_REAL: f64 = 9999.999;
+/// The step of REAL fields (three decimals): the smallest positive value a
+/// file can carry; anything smaller is written as 0.
+pub const REAL_STEP: f64 = 0.001;
 const MODULUS: i64 = 65521;
 
 /// Why a file could not be decoded. Every variant means "not (yet) a valid

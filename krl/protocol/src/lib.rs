@@ -16,7 +16,7 @@ mod codec;
 pub mod files;
 mod records;
 
-pub use codec::{DecodeError, EncodeError, MAX_LINE_LEN, MAX_REAL, checksum};
+pub use codec::{DecodeError, EncodeError, MAX_LINE_LEN, MAX_REAL, REAL_STEP, checksum};
 pub use records::*;
 
 /// Protocol version written into every header record.

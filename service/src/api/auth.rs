@@ -350,6 +350,19 @@ pub(super) fn document(doc: &mut serde_json::Value) {
             let Some(rule) = access::policy::documented_rule(method, path) else {
                 continue;
             };
+            // Any operation may be refused at the edge (malformed input,
+            // body too large, overloaded, time limit): say so.
+            let responses = &mut op["responses"];
+            if responses.get("4XX").is_none() {
+                responses["4XX"] = answer(
+                    "Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, …",
+                );
+            }
+            if responses.get("5XX").is_none() {
+                responses["5XX"] = answer(
+                    "Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, …",
+                );
+            }
             let Some(role) = rule.role else {
                 op["security"] = json!([]);
                 op["x-required-role"] = Value::String("none".into());

@@ -57,7 +57,8 @@ async fn read_body(body: Body, limit: usize, what: &str) -> Result<axum::body::B
 /// file is kept in the plugins folder and loads again at the next start.
 #[utoipa::path(put, path = "/api/v1/plugins/{name}", tag = "plugins", operation_id = "install_plugin",
     params(("name" = String, Path, description = "The plugin's name (as it describes itself)")),
-    request_body(content = Vec<u8>, content_type = "application/wasm", description = "The component"),
+    request_body(description = "The component (any media type is accepted; `application/wasm` is the right one)",
+        content((Vec<u8> = "application/wasm"), (Vec<u8> = "application/octet-stream"))),
     responses(
         (status = 201, description = "Installed", body = PluginInfo),
         (status = 200, description = "Replaced an installed version", body = PluginInfo),

@@ -412,9 +412,11 @@ fn check_speeds(s: &SpeedSettings, safety: &Safety) -> Result<()> {
         ("cp_acceleration_pct", s.cp_acceleration_pct, 100.0),
         ("cp_velocity_m_s", s.cp_velocity_m_s, m.max_cp_velocity),
     ] {
-        if !v.is_finite() || v <= 0.0 {
+        // Below the file protocol's step the controller would read 0.
+        if !v.is_finite() || v < kuka_protocol::REAL_STEP {
             return Err(BridgeError::invalid(format!(
-                "{name} = {v} must be a positive number"
+                "{name} = {v} must be a positive number of at least {}",
+                kuka_protocol::REAL_STEP
             )));
         }
         if v > max {
