@@ -89,7 +89,9 @@ pub struct ServerConfig {
     pub max_body_bytes: usize,
     /// Largest request head (request line and headers), bytes.
     pub max_header_bytes: usize,
-    /// A client must send its request head within this time (ms).
+    /// A client must send its request head within this time (ms); an idle
+    /// keep-alive connection is closed after it too. Also the TLS
+    /// handshake's limit.
     pub header_timeout_ms: u64,
     /// Origins allowed to call the API from a browser page (CORS), e.g.
     /// `["http://10.0.3.5:3000"]`; empty (the default) sends no CORS headers.
@@ -353,7 +355,7 @@ impl Default for ServerConfig {
             max_concurrent_requests: 512,
             max_body_bytes: 80 << 20,
             max_header_bytes: 32 * 1024,
-            header_timeout_ms: 10_000,
+            header_timeout_ms: 30_000,
             cors_origins: Vec::new(),
             tls: None,
         }

@@ -195,7 +195,10 @@ pub fn app(mut state: AppState) -> Router {
             "/api/v1/plugins/{name}/{*path}",
             axum::routing::any(plugins::call),
         )
-        .merge(SwaggerUi::new("/docs").config(utoipa_swagger_ui::Config::from("/openapi.json")))
+        .merge(SwaggerUi::new("/docs").config(
+            // Authorize once per browser tab, not after every reload.
+            utoipa_swagger_ui::Config::from("/openapi.json").persist_authorization(true),
+        ))
         .route(
             "/",
             axum::routing::get(|| async { axum::response::Redirect::temporary("/docs/") }),
