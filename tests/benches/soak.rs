@@ -223,7 +223,7 @@ fn main() {
                         (
                             "motions",
                             http.post(format!("{url}/api/v1/motions"))
-                                .json(&batch(count, (n >> 45) % 2 == 0)),
+                                .json(&batch(count, (n >> 45).is_multiple_of(2))),
                         )
                     } else if pick < 75 {
                         ("state", http.get(format!("{url}/api/v1/state")))
@@ -370,8 +370,17 @@ fn main() {
     println!("RSS MiB (every 10 s): {rss:.1?}");
     println!("RSS: first minute max {first:.1} MiB, last minute max {last:.1} MiB");
     println!("unexpected errors / lost / duplicated: {}", problems.len());
-    for p in problems.iter().take(20) {
-        println!("  {p}");
+    // By kind: numbers replaced, so that one line stands for many.
+    let mut kinds: BTreeMap<String, usize> = BTreeMap::new();
+    for p in &problems {
+        let kind: String = p
+            .chars()
+            .map(|c| if c.is_ascii_digit() { '#' } else { c })
+            .collect();
+        *kinds.entry(kind).or_default() += 1;
+    }
+    for (kind, n) in &kinds {
+        println!("  {n:>7} × {kind}");
     }
     if !problems.is_empty() {
         std::process::exit(1);

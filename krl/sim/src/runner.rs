@@ -228,7 +228,17 @@ impl SimController {
 
     /// The executed TCP trace (oldest first).
     pub fn trace(&self) -> Vec<TraceSample> {
-        self.lock().trace.iter().copied().collect()
+        self.trace_since(f64::NEG_INFINITY)
+    }
+
+    /// The samples after simulated time `since` (oldest first). Only those
+    /// are copied, so that polling clients do not hold up the controller
+    /// thread with a copy of the whole trace.
+    pub fn trace_since(&self, since: f64) -> Vec<TraceSample> {
+        let c = self.lock();
+        // Samples are appended in time order.
+        let start = c.trace.partition_point(|s| s.t <= since);
+        c.trace.range(start..).copied().collect()
     }
 
     /// Clears the trace.

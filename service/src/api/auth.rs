@@ -21,6 +21,44 @@ use crate::error::{BridgeError, ErrorCode};
 /// here as they would be by the handler).
 const MAX_AUDITED_JSON: usize = 2 << 20;
 
+/// One request as the audit trail describes it.
+struct Call {
+    method: String,
+    uri: axum::http::Uri,
+    template: String,
+    client: Option<std::net::IpAddr>,
+    time_ms: u64,
+    started: Instant,
+}
+
+impl Call {
+    fn record(
+        &self,
+        who: &Principal,
+        params: serde_json::Value,
+        jobs: Vec<crate::engine::JobId>,
+        status: u16,
+        code: Option<String>,
+    ) -> audit::AuditRecord {
+        audit::AuditRecord {
+            time_ms: self.time_ms,
+            who: who.name.clone(),
+            role: who.role,
+            client: self
+                .client
+                .map_or_else(|| "unknown".into(), |c| c.to_string()),
+            method: self.method.clone(),
+            path: self.uri.path().to_string(),
+            route: self.template.clone(),
+            params,
+            jobs,
+            status,
+            code,
+            duration_ms: self.started.elapsed().as_secs_f64() * 1000.0,
+        }
+    }
+}
+
 /// The middleware (installed on every route by `api::app`).
 pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Response {
     let Some(template) = req
@@ -37,64 +75,60 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
     } else {
         None
     };
-    let method = req.method().as_str().to_string();
-    let rule = access::policy::rule(&method, &template);
+    let rule = access::policy::rule(req.method().as_str(), &template);
     let Some(needed) = rule.role else {
         return next.run(req).await;
     };
-    let client = req
-        .extensions()
-        .get::<ConnectInfo<SocketAddr>>()
-        .map(|c| c.0.ip());
-    let principal = match identify(&app, &req, query_secret, client) {
+    let call = Call {
+        method: req.method().as_str().to_string(),
+        uri: req.uri().clone(),
+        template,
+        client: req
+            .extensions()
+            .get::<ConnectInfo<SocketAddr>>()
+            .map(|c| c.0.ip()),
+        time_ms: crate::engine::now_ms(),
+        started: Instant::now(),
+    };
+    let principal = match identify(&app, &req, query_secret, call.client) {
         Ok(p) => p,
         Err(resp) => return *resp,
     };
-    let uri = req.uri().clone();
     if principal.role < needed {
         let e = BridgeError::new(
             ErrorCode::Forbidden,
             format!(
                 "{} {} needs the {needed} role; token {:?} is {}",
-                method,
-                uri.path(),
+                call.method,
+                call.uri.path(),
                 principal.name,
                 article(principal.role)
             ),
         );
-        return refused(&app, &method, &uri, &template, &principal, client, e).await;
+        return refused(&app, &call, rule.audited, &principal, e).await;
     }
     if rule.control
         && let Err(e) = app.access.control.check(&principal)
     {
-        return refused(&app, &method, &uri, &template, &principal, client, e).await;
+        return refused(&app, &call, rule.audited, &principal, e).await;
     }
     let ctx = RequestContext::new(principal);
     if !rule.audited {
         return ctx.scope(next.run(req)).await;
     }
-    let started = Instant::now();
-    let time_ms = crate::engine::now_ms();
     let (req, params) = match audit_params(req).await {
         Ok(v) => v,
-        Err(e) => return super::routing_error(&app, &uri, e),
+        Err(e) => return super::routing_error(&app, &call.uri, e),
     };
     let response = ctx.clone().scope(next.run(req)).await;
     let (response, code) = problem_code(response).await;
-    let record = audit::AuditRecord {
-        time_ms,
-        who: ctx.principal.name.clone(),
-        role: ctx.principal.role,
-        client: client.map_or_else(|| "unknown".into(), |c| c.to_string()),
-        method,
-        path: uri.path().to_string(),
-        route: template,
+    let record = call.record(
+        &ctx.principal,
         params,
-        jobs: ctx.jobs(),
-        status: response.status().as_u16(),
+        ctx.jobs(),
+        response.status().as_u16(),
         code,
-        duration_ms: started.elapsed().as_secs_f64() * 1000.0,
-    };
+    );
     app.access.audit.record(record).await;
     response
 }
@@ -224,30 +258,22 @@ fn unauthenticated(app: &AppState, uri: &axum::http::Uri, detail: &str, invalid:
 /// audited: refusals of identified callers are part of the trail.
 async fn refused(
     app: &AppState,
-    method: &str,
-    uri: &axum::http::Uri,
-    template: &str,
+    call: &Call,
+    audited: bool,
     principal: &Principal,
-    client: Option<std::net::IpAddr>,
     e: BridgeError,
 ) -> Response {
     let code = e.code.as_str().to_string();
-    let resp = super::routing_error(app, uri, e);
-    if access::policy::rule(method, template).audited {
-        let record = audit::AuditRecord {
-            time_ms: crate::engine::now_ms(),
-            who: principal.name.clone(),
-            role: principal.role,
-            client: client.map_or_else(|| "unknown".into(), |c| c.to_string()),
-            method: method.to_string(),
-            path: uri.path().to_string(),
-            route: template.to_string(),
-            params: audit::params(uri.query(), None, &[], None),
-            jobs: Vec::new(),
-            status: resp.status().as_u16(),
-            code: Some(code),
-            duration_ms: 0.0,
-        };
+    let resp = super::routing_error(app, &call.uri, e);
+    if audited {
+        let params = audit::params(call.uri.query(), None, &[], None);
+        let record = call.record(
+            principal,
+            params,
+            Vec::new(),
+            resp.status().as_u16(),
+            Some(code),
+        );
         app.access.audit.record(record).await;
     }
     resp

@@ -46,11 +46,7 @@ async fn trace(
     QueryParams(q): QueryParams<TraceQuery>,
 ) -> Result<Response, Problem> {
     let since = q.since.unwrap_or(f64::NEG_INFINITY);
-    let samples: Vec<_> = sim(&app)?
-        .trace()
-        .into_iter()
-        .filter(|s| s.t > since)
-        .collect();
+    let samples = sim(&app)?.trace_since(since);
     Ok(ok_json(&samples))
 }
 
