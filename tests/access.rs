@@ -841,9 +841,14 @@ fn no_secret_in_logs_audit_or_errors() {
         let _ = std::io::Read::read_to_string(&mut e, &mut stderr);
     }
     let mut everything = format!("{console}\n{stderr}\n{bodies}");
-    for entry in std::fs::read_dir(data.join("logs")).expect("logs") {
+    for entry in std::fs::read_dir(data.join("logs"))
+        .expect("logs")
+        .chain(std::fs::read_dir(data.join("logs/audit")).expect("audit"))
+    {
         let p = entry.expect("entry").path();
-        everything.push_str(&std::fs::read_to_string(&p).expect("log"));
+        if p.is_file() {
+            everything.push_str(&std::fs::read_to_string(&p).expect("log"));
+        }
     }
     assert!(
         everything.contains("/krl/ptp"),
@@ -852,4 +857,200 @@ fn no_secret_in_logs_audit_or_errors() {
     for secret in [&admin, &op, &wrong.to_string()] {
         assert!(!everything.contains(&secret[3..]), "a secret leaked");
     }
+}
+
+/// Stop gets through a full service and from an address locked out by the
+/// failed-attempt limiter; `/health` is never shed either.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn stop_gets_through_overload_and_lockout() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(|c| {
+            c.auth.require_on_loopback = true;
+            c.auth.max_failures = 2;
+            c.server.max_concurrent_requests = 2;
+        }),
+        ..Options::default()
+    })
+    .await;
+    let admin = initial_admin_secret(&t.dirs.path().join("data"));
+    let op = create_token(&t, &admin, "op", "operator").await;
+    let slow = |z: f64| {
+        let (http, url, op) = (t.http.clone(), t.url("/api/v1/motions"), op.clone());
+        async move {
+            http.post(url)
+                .bearer_auth(op)
+                .json(&json!({"motions": [{"type": "ptp", "target": {"x": 250, "y": 0, "z": z, "a": 0, "b": 180, "c": 0}, "velocity_pct": 1}]}))
+                .send()
+                .await
+                .map(|r| r.status().as_u16())
+        }
+    };
+    let a = tokio::spawn(slow(150.0));
+    let b = tokio::spawn(slow(90.0));
+    tokio::time::sleep(Duration::from_millis(400)).await;
+    let (s, v, h) = call(&t, "GET", "/api/v1/state", Some(&op), None).await;
+    assert_eq!((s, v["code"].as_str()), (503, Some("overloaded")), "{v}");
+    assert_eq!(h["retry-after"], "1");
+    let (s, _, _) = call(&t, "GET", "/health", None, None).await;
+    assert_eq!(s, 200, "/health is never shed");
+    let (s, v, _) = call(&t, "POST", "/api/v1/stop", Some(&op), None).await;
+    assert_eq!(s, 200, "stop gets through a full service: {v}");
+    let (a, b) = (a.await.expect("task"), b.await.expect("task"));
+    assert_eq!(
+        (a.ok(), b.ok()),
+        (Some(409), Some(409)),
+        "both stopped (cancelled)"
+    );
+
+    for _ in 0..2 {
+        let (s, _, _) = call(&t, "GET", "/api/v1/state", Some("kb_guess"), None).await;
+        assert_eq!(s, 401);
+    }
+    let (s, _, _) = call(&t, "GET", "/api/v1/state", Some(&op), None).await;
+    assert_eq!(s, 429, "locked out");
+    let (s, v, _) = call(&t, "POST", "/api/v1/stop", Some(&op), None).await;
+    assert_eq!(
+        s, 200,
+        "a valid token stops the robot from a locked-out address: {v}"
+    );
+    let (s, _, _) = call(&t, "POST", "/api/v1/stop", Some("kb_guess"), None).await;
+    assert_eq!(s, 401, "a wrong one still does not");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// The holder's own long call keeps its lease; revoking the holder's token
+/// ends it; unidentified callers see no position; HEAD is GET.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn lease_outlives_a_long_call_and_ends_with_its_token() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(|c| {
+            c.auth.require_on_loopback = true;
+            c.auth.lease_ms = 1000;
+        }),
+        ..Options::default()
+    })
+    .await;
+    let admin = initial_admin_secret(&t.dirs.path().join("data"));
+    let one = create_token(&t, &admin, "op-one", "operator").await;
+    let two = create_token(&t, &admin, "op-two", "operator").await;
+    let (s, _, _) = call(&t, "POST", "/api/v1/control", Some(&one), None).await;
+    assert_eq!(s, 200);
+    // A motion of about 3 s, longer than the 1 s lease.
+    let long = {
+        let (http, url, one) = (t.http.clone(), t.url("/api/v1/motions"), one.clone());
+        tokio::spawn(async move {
+            http.post(url)
+                .bearer_auth(one)
+                .json(&json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 60}, "velocity_pct": 10}]}))
+                .send()
+                .await
+                .map(|r| r.status().as_u16())
+        })
+    };
+    tokio::time::sleep(Duration::from_millis(1600)).await;
+    let (s, v, _) = call(&t, "POST", "/api/v1/control", Some(&two), None).await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (409, Some("control_held")),
+        "lease kept during the call: {v}"
+    );
+    assert_eq!(long.await.expect("task").ok(), Some(200));
+    let (_, v, _) = call(&t, "GET", "/api/v1/control", Some(&two), None).await;
+    assert_eq!(
+        v["lease"]["holder"], "op-one",
+        "renewed when the call ended: {v}"
+    );
+
+    let (s, _, _) = call(&t, "DELETE", "/api/v1/tokens/op-one", Some(&admin), None).await;
+    assert_eq!(s, 200);
+    let (_, v, _) = call(&t, "GET", "/api/v1/control", Some(&two), None).await;
+    assert_eq!(
+        v["lease"],
+        Value::Null,
+        "a revoked token holds no control: {v}"
+    );
+
+    // The robot moved (A1 = 60): an unidentified thesis client does not
+    // learn where it is.
+    let (s, v, _) = call(&t, "POST", "/krl/getpos", None, None).await;
+    assert_eq!(s, 401);
+    assert_eq!(v["position"], json!([0.0, 0.0, 0.0, 0.0, 0.0, 0.0]), "{v}");
+    let (s, v, _) = call(&t, "POST", "/krl/getpos", Some(&two), None).await;
+    assert_eq!(s, 200);
+    assert_ne!(v["position"], json!([0.0, 0.0, 0.0, 0.0, 0.0, 0.0]));
+
+    // HEAD follows GET's rule and is not audited.
+    let r = t.http.head(t.url("/health")).send().await.expect("head");
+    assert_eq!(r.status().as_u16(), 200);
+    let r = t
+        .http
+        .head(t.url("/api/v1/state"))
+        .bearer_auth(&two)
+        .send()
+        .await
+        .expect("head");
+    assert_eq!(r.status().as_u16(), 200);
+    let (_, heads, _) = call(&t, "GET", "/api/v1/audit?method=HEAD", Some(&admin), None).await;
+    assert_eq!(heads, json!([]));
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// Connections that send nothing are closed after `header_timeout_ms`, and
+/// one address cannot open more than `max_connections_per_client`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn idle_and_excess_connections_are_closed() {
+    use tokio::io::AsyncReadExt;
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.server.header_timeout_ms = 500;
+            c.server.max_connections_per_client = 3;
+        }),
+        ..Options::default()
+    })
+    .await;
+    // (The test client's pooled connection may count as one of the three
+    // too; either way the fourth is over the limit.)
+    let addr = t.service.addr;
+    let quiet = || async move { tokio::net::TcpStream::connect(addr).await.expect("connect") };
+    let closed_within = |mut s: tokio::net::TcpStream, d: Duration| async move {
+        let mut buf = [0u8; 64];
+        matches!(
+            tokio::time::timeout(d, s.read(&mut buf)).await,
+            Ok(Ok(0) | Err(_))
+        )
+    };
+    let mut idle = Vec::new();
+    for _ in 0..3 {
+        idle.push(quiet().await);
+    }
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    let fourth = quiet().await;
+    assert!(
+        closed_within(fourth, Duration::from_millis(300)).await,
+        "over the per-client limit: closed at once"
+    );
+    let started = std::time::Instant::now();
+    for s in idle {
+        assert!(
+            closed_within(s, Duration::from_secs(3)).await,
+            "an idle connection is closed"
+        );
+    }
+    assert!(
+        started.elapsed() < Duration::from_secs(2),
+        "closed after about 0.5 s"
+    );
+    let r = reqwest::Client::new()
+        .get(t.url("/health"))
+        .send()
+        .await
+        .expect("health");
+    assert_eq!(
+        r.status().as_u16(),
+        200,
+        "new connections are welcome again"
+    );
+    t.service.shutdown().await.expect("shutdown");
 }

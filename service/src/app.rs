@@ -97,6 +97,11 @@ pub struct Service {
 /// Starts everything and returns once the server listens.
 pub async fn start(config: Config) -> Result<Service, AppError> {
     config.validate()?;
+    // Certificate and key first: a wrong file must not start anything.
+    let tls = match &config.server.tls {
+        Some(t) => Some(crate::server::tls_acceptor(t)?),
+        None => None,
+    };
     let model = config.robot_model()?;
     let dir = config.channel_dir();
     let channel = Channel::open(&dir)?;
@@ -137,10 +142,6 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         source,
     })?;
     let (closing, closing_rx) = watch::channel(false);
-    let tls = match &config.server.tls {
-        Some(t) => Some(crate::server::tls_acceptor(t)?),
-        None => None,
-    };
     let (access, admin_token_file) = open_access(&config, closing_rx.clone())?;
     let programs = Arc::new(
         crate::programs::ProgramStore::open(
@@ -229,19 +230,13 @@ fn open_access(
             "access control is on and no admin token existed: created token `admin`; its secret is in the file (readable by administrators only)"
         );
     }
-    let audit_dir = config.log_dir();
-    let audit =
-        access::audit::AuditLog::open(&audit_dir, config.log.retention_days).map_err(|source| {
-            AppError::Audit {
-                path: audit_dir.display().to_string(),
-                source,
-            }
+    let audit_dir = config.audit_dir();
+    let audit = access::audit::AuditLog::open(&audit_dir, config.log.retention_days)
+        .and_then(|a| access::private_file::restrict_dir(&audit_dir).map(|()| a))
+        .map_err(|source| AppError::Audit {
+            path: audit_dir.display().to_string(),
+            source,
         })?;
-    tokio::spawn(access::watch_tokens(
-        tokens.clone(),
-        Duration::from_millis(250),
-        closing,
-    ));
     let access = Arc::new(access::Access {
         enabled,
         tokens,
@@ -255,6 +250,11 @@ fn open_access(
         ),
         query_token: config.auth.query_token,
     });
+    tokio::spawn(access::watch_tokens(
+        access.clone(),
+        Duration::from_millis(250),
+        closing,
+    ));
     Ok((access, admin_token_file))
 }
 

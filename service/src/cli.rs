@@ -165,7 +165,12 @@ fn token_command(cmd: TokenCmd) -> anyhow::Result<()> {
                 eprintln!("no tokens in {}", store.path().display());
             }
             for t in list {
-                println!("{:<32} {:<8} created {}", t.name, t.role, t.created_ms);
+                println!(
+                    "{:<32} {:<8} created {}",
+                    t.name,
+                    t.role,
+                    crate::access::tokens::utc_text(t.created_ms)
+                );
             }
         }
         TokenCmd::Revoke { name, place } => {
@@ -194,7 +199,7 @@ impl<E: Into<anyhow::Error>> From<E> for Failure {
         let code = if error.downcast_ref::<crate::config::ConfigError>().is_some()
             || matches!(
                 error.downcast_ref::<crate::app::AppError>(),
-                Some(crate::app::AppError::Config(_))
+                Some(crate::app::AppError::Config(_) | crate::app::AppError::Tls(_))
             ) {
             EXIT_CONFIG
         } else {
@@ -313,6 +318,9 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
                     "kuka-bridge {} listening on {url}",
                     env!("CARGO_PKG_VERSION")
                 );
+                if service.addr.ip().is_unspecified() {
+                    println!("  (all network interfaces: use this PC's name or address instead of {})", service.addr.ip());
+                }
                 println!("  Swagger UI:   {url}/docs/");
                 println!("  OpenAPI:      {url}/openapi.json");
                 if service.auth {

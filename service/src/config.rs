@@ -89,6 +89,10 @@ pub struct ServerConfig {
     pub max_body_bytes: usize,
     /// Largest request head (request line and headers), bytes.
     pub max_header_bytes: usize,
+    /// Open connections at most (more are closed at once).
+    pub max_connections: usize,
+    /// Open connections per client address at most.
+    pub max_connections_per_client: usize,
     /// A client must send its request head within this time (ms); an idle
     /// keep-alive connection is closed after it too. Also the TLS
     /// handshake's limit.
@@ -356,6 +360,8 @@ impl Default for ServerConfig {
             max_body_bytes: 80 << 20,
             max_header_bytes: 32 * 1024,
             header_timeout_ms: 30_000,
+            max_connections: 1024,
+            max_connections_per_client: 256,
             cors_origins: Vec::new(),
             tls: None,
         }
@@ -513,6 +519,11 @@ impl Config {
             .dir
             .clone()
             .unwrap_or_else(|| self.data_dir.join("logs"))
+    }
+
+    /// The audit trail's folder (`<log dir>/audit`, private).
+    pub fn audit_dir(&self) -> PathBuf {
+        self.log_dir().join("audit")
     }
 
     /// The plugins folder.
@@ -790,12 +801,32 @@ impl Config {
             ("server.max_body_bytes", s.max_body_bytes as u64, 64 * 1024),
             ("server.max_header_bytes", s.max_header_bytes as u64, 8192),
             ("server.header_timeout_ms", s.header_timeout_ms, 100),
+            ("server.max_connections", s.max_connections as u64, 1),
+            (
+                "server.max_connections_per_client",
+                s.max_connections_per_client as u64,
+                1,
+            ),
             ("auth.lease_ms", self.auth.lease_ms, 1000),
             ("auth.max_failures", u64::from(self.auth.max_failures), 1),
             ("auth.failure_window_ms", self.auth.failure_window_ms, 1000),
         ] {
             if v < min {
                 return Err(self.invalid(key, format!("{v} is below the minimum {min}")));
+            }
+        }
+        for (key, v, max) in [
+            (
+                "server.max_concurrent_requests",
+                s.max_concurrent_requests as u64,
+                100_000,
+            ),
+            ("server.max_connections", s.max_connections as u64, 100_000),
+            ("auth.lease_ms", self.auth.lease_ms, 3_600_000),
+            ("server.header_timeout_ms", s.header_timeout_ms, 600_000),
+        ] {
+            if v > max {
+                return Err(self.invalid(key, format!("{v} is above the maximum {max}")));
             }
         }
         if s.max_request_ms <= s.request_timeout_ms {

@@ -1,14 +1,17 @@
-//! The HTTP(S) server: accepts TCP connections, optionally wraps them in
-//! TLS (rustls, certificate and key from `[server.tls]`), and serves the
-//! axum application over HTTP/1.1 or HTTP/2 with limits on the request head
-//! (size and time to arrive), the client's address for the access layer,
-//! and a graceful shutdown. In the spirit of axum's own `serve`, with the
-//! knobs a plant-network service needs.
+//! The HTTP(S) server: accepts TCP connections (limited in total and per
+//! client address), optionally wraps them in TLS (rustls, certificate and
+//! key from `[server.tls]`), and serves the axum application over HTTP/1.1
+//! or HTTP/2 with limits on the request head (size and time to arrive), the
+//! client's address for the access layer, idle connections closed, and a
+//! graceful shutdown. In the spirit of axum's own `serve`, with the knobs a
+//! plant-network service needs.
 
-use std::net::SocketAddr;
+use std::collections::HashMap;
+use std::net::{IpAddr, SocketAddr};
 use std::path::Path;
-use std::sync::Arc;
-use std::time::Duration;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
 use axum::Router;
 use axum::extract::ConnectInfo;
@@ -63,9 +66,128 @@ pub fn tls_acceptor(tls: &TlsConfig) -> Result<TlsAcceptor, TlsError> {
     Ok(TlsAcceptor::from(Arc::new(config)))
 }
 
+/// Open connections, in total and per client address, within limits.
+struct Connections {
+    max: usize,
+    per_client: usize,
+    open: Mutex<HashMap<IpAddr, usize>>,
+    total: AtomicUsize,
+}
+
+/// One admitted connection; dropping it frees its place.
+struct Admitted {
+    table: Arc<Connections>,
+    ip: IpAddr,
+}
+
+impl Connections {
+    fn map(&self) -> std::sync::MutexGuard<'_, HashMap<IpAddr, usize>> {
+        self.open
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// A place for a new connection from `ip`, if within both limits.
+    fn admit(self: &Arc<Self>, ip: IpAddr) -> Option<Admitted> {
+        let mut map = self.map();
+        let n = map.entry(ip).or_insert(0);
+        if *n >= self.per_client || self.total.load(Ordering::SeqCst) >= self.max {
+            return None;
+        }
+        *n += 1;
+        self.total.fetch_add(1, Ordering::SeqCst);
+        Some(Admitted {
+            table: self.clone(),
+            ip,
+        })
+    }
+}
+
+impl Drop for Admitted {
+    fn drop(&mut self) {
+        let mut map = self.table.map();
+        if let Some(n) = map.get_mut(&self.ip) {
+            *n -= 1;
+            if *n == 0 {
+                map.remove(&self.ip);
+            }
+        }
+        self.table.total.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+/// Requests of one connection still being answered (body included) and
+/// when the last one ended: a connection idle for too long is closed.
+struct Activity {
+    in_flight: AtomicUsize,
+    last: Mutex<Instant>,
+}
+
+impl Activity {
+    fn idle_for(&self) -> Option<Duration> {
+        if self.in_flight.load(Ordering::SeqCst) > 0 {
+            return None;
+        }
+        let last = *self
+            .last
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        Some(last.elapsed())
+    }
+}
+
+/// Marks a request in flight until its answer's body is done or dropped.
+struct InFlight(Arc<Activity>);
+
+impl InFlight {
+    fn new(a: &Arc<Activity>) -> InFlight {
+        a.in_flight.fetch_add(1, Ordering::SeqCst);
+        InFlight(a.clone())
+    }
+}
+
+impl Drop for InFlight {
+    fn drop(&mut self) {
+        *self
+            .0
+            .last
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner) = Instant::now();
+        self.0.in_flight.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+/// An answer body that keeps its request counted as in flight.
+struct Tracked {
+    inner: axum::body::Body,
+    _in_flight: InFlight,
+}
+
+impl axum::body::HttpBody for Tracked {
+    type Data = axum::body::Bytes;
+    type Error = axum::Error;
+
+    fn poll_frame(
+        mut self: std::pin::Pin<&mut Self>,
+        cx: &mut std::task::Context<'_>,
+    ) -> std::task::Poll<Option<Result<hyper::body::Frame<Self::Data>, Self::Error>>> {
+        std::pin::Pin::new(&mut self.inner).poll_frame(cx)
+    }
+
+    fn is_end_stream(&self) -> bool {
+        self.inner.is_end_stream()
+    }
+
+    fn size_hint(&self) -> hyper::body::SizeHint {
+        self.inner.size_hint()
+    }
+}
+
 /// Serves `router` on `listener` until `stop` resolves, then waits for open
 /// connections to finish (event streams end on the service's closing
-/// signal).
+/// signal). Connections are limited in number (in total and per client
+/// address) and closed when idle for `server.header_timeout_ms`, so clients
+/// that connect and send nothing cannot use up the service's sockets.
 pub async fn serve(
     listener: TcpListener,
     router: Router,
@@ -86,7 +208,14 @@ pub async fn serve(
         .timer(TokioTimer::new())
         .max_header_list_size(u32::try_from(server.max_header_bytes).unwrap_or(u32::MAX));
     let builder = Arc::new(builder);
-    let graceful = hyper_util::server::graceful::GracefulShutdown::new();
+    let connections = Arc::new(Connections {
+        max: server.max_connections,
+        per_client: server.max_connections_per_client,
+        open: Mutex::new(HashMap::new()),
+        total: AtomicUsize::new(0),
+    });
+    let (closing, closing_rx) = tokio::sync::watch::channel(false);
+    let mut refused_logged = Instant::now() - Duration::from_secs(60);
     tokio::pin!(stop);
     loop {
         let (tcp, remote) = tokio::select! {
@@ -101,58 +230,103 @@ pub async fn serve(
                 }
             },
         };
+        let Some(admitted) = connections.admit(remote.ip()) else {
+            if refused_logged.elapsed() > Duration::from_secs(10) {
+                refused_logged = Instant::now();
+                tracing::warn!(client = %remote.ip(), "connection refused: too many open connections (server.max_connections, max_connections_per_client)");
+            }
+            drop(tcp);
+            continue;
+        };
         // Small request/response pairs: send at once instead of waiting
         // for delayed ACKs (Nagle), which costs milliseconds per round trip.
         if let Err(e) = tcp.set_nodelay(true) {
             tracing::debug!(error = %e, "cannot set TCP_NODELAY");
         }
-        let router = router.clone();
-        let builder = builder.clone();
-        let watcher = graceful.watcher();
-        match tls.clone() {
-            None => {
-                tokio::spawn(async move {
-                    let conn = connection(&builder, tcp, remote, router);
-                    let _ = watcher.watch(conn).await;
-                });
-            }
-            Some(acceptor) => {
-                tokio::spawn(async move {
+        let (router, builder, closing) = (router.clone(), builder.clone(), closing_rx.clone());
+        let tls = tls.clone();
+        tokio::spawn(async move {
+            let _admitted = admitted;
+            match tls {
+                None => drive(&builder, tcp, remote, router, head_timeout, closing).await,
+                Some(acceptor) => {
                     match tokio::time::timeout(head_timeout, acceptor.accept(tcp)).await {
                         Ok(Ok(stream)) => {
-                            let conn = connection(&builder, stream, remote, router);
-                            let _ = watcher.watch(conn).await;
+                            drive(&builder, stream, remote, router, head_timeout, closing).await;
                         }
                         Ok(Err(e)) => {
                             tracing::debug!(client = %remote, error = %e, "TLS handshake failed");
                         }
                         Err(_) => tracing::debug!(client = %remote, "TLS handshake timed out"),
                     }
-                });
+                }
             }
-        }
+        });
     }
     drop(listener);
-    graceful.shutdown().await;
+    let _ = closing.send(true);
+    while connections.total.load(Ordering::SeqCst) > 0 {
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
     Ok(())
 }
 
-/// One HTTP connection; each request carries the client's address.
-fn connection<IO>(
+/// Serves one HTTP connection until it ends, is idle for `idle`, or the
+/// server closes; each request carries the client's address.
+async fn drive<IO>(
     builder: &auto::Builder<TokioExecutor>,
     io: IO,
     remote: SocketAddr,
     router: Router,
-) -> impl hyper_util::server::graceful::GracefulConnection + use<IO>
-where
+    idle: Duration,
+    mut closing: tokio::sync::watch::Receiver<bool>,
+) where
     IO: AsyncRead + AsyncWrite + Unpin + Send + 'static,
 {
+    let activity = Arc::new(Activity {
+        in_flight: AtomicUsize::new(0),
+        last: Mutex::new(Instant::now()),
+    });
+    let counted = activity.clone();
     let service = hyper::service::service_fn(move |req: hyper::Request<hyper::body::Incoming>| {
+        let in_flight = InFlight::new(&counted);
         let mut req = req.map(axum::body::Body::new);
         req.extensions_mut().insert(ConnectInfo(remote));
-        router.clone().oneshot(req)
+        let answer = router.clone().oneshot(req);
+        async move {
+            let resp = answer.await?;
+            Ok::<_, std::convert::Infallible>(resp.map(|inner| {
+                axum::body::Body::new(Tracked {
+                    inner,
+                    _in_flight: in_flight,
+                })
+            }))
+        }
     });
-    builder
-        .serve_connection_with_upgrades(TokioIo::new(io), service)
-        .into_owned()
+    let conn = builder.serve_connection_with_upgrades(TokioIo::new(io), service);
+    tokio::pin!(conn);
+    let mut closing_down = false;
+    let check = (idle / 4).max(Duration::from_millis(25));
+    loop {
+        tokio::select! {
+            result = conn.as_mut() => {
+                if let Err(e) = result {
+                    tracing::debug!(client = %remote, error = %e, "connection ended with an error");
+                }
+                return;
+            }
+            () = tokio::time::sleep(check), if !closing_down => {
+                if activity.idle_for().is_some_and(|d| d >= idle) {
+                    closing_down = true;
+                    conn.as_mut().graceful_shutdown();
+                }
+            }
+            changed = closing.changed(), if !closing_down => {
+                if changed.is_err() || *closing.borrow() {
+                    closing_down = true;
+                    conn.as_mut().graceful_shutdown();
+                }
+            }
+        }
+    }
 }

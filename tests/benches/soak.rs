@@ -321,7 +321,7 @@ fn main() {
     // Every audited motion record (whole trail, from the files).
     let mut audited = 0u64;
     let mut audited_jobs = HashSet::new();
-    if let Ok(dir) = std::fs::read_dir(data_dir.join("logs")) {
+    if let Ok(dir) = std::fs::read_dir(data_dir.join("logs/audit")) {
         for f in dir.flatten() {
             let name = f.file_name().to_string_lossy().into_owned();
             if !name.starts_with("audit.") {

@@ -1,6 +1,7 @@
 //! The audit trail: one JSON line per mutating request (who, role, what,
 //! parameters, job ids, result, duration) in `audit.<date>.jsonl` files in
-//! the log folder, rolled daily and kept as long as the other logs. A
+//! `<log dir>/audit` (private to the service account and administrators),
+//! rolled daily and kept as long as the other logs. A
 //! writer thread appends and flushes each line before the request's answer
 //! leaves, so an answered request is always on record. Token secrets never
 //! reach it: query parameters named `access_token` are removed.

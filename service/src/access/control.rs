@@ -1,10 +1,11 @@
 //! One writer at a time ("mastership"): an operator takes control and gets a
 //! lease that every one of its mutating calls renews; while the lease is
 //! alive, mutating calls of other clients are refused with `control_held`.
-//! A lease lapses when its holder goes silent, so a crashed client never
-//! blocks the robot. Stop never needs control. An admin may take over.
+//! A lease lapses when its holder goes silent (no call, and none of its
+//! calls still running), so a crashed client never blocks the robot. Stop
+//! never needs control. An admin may take over.
 
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use serde::Serialize;
@@ -31,12 +32,34 @@ pub struct Lease {
     pub lease_ms: u64,
 }
 
+#[derive(Debug)]
 struct Held {
     lease: Lease,
     expires: Instant,
+    /// The holder's calls still running (a long motion keeps the lease).
+    active: usize,
+}
+
+/// Held by a call of the control holder while it runs; when it ends the
+/// lease is renewed from that moment.
+#[derive(Debug)]
+pub struct InUse {
+    control: Arc<Control>,
+    lease_id: String,
+}
+
+impl Drop for InUse {
+    fn drop(&mut self) {
+        let mut g = self.control.lock();
+        if let Some(h) = g.as_mut().filter(|h| h.lease.id == self.lease_id) {
+            h.active = h.active.saturating_sub(1);
+            self.control.renew(h);
+        }
+    }
 }
 
 /// The control lease of the robot.
+#[derive(Debug)]
 pub struct Control {
     held: Mutex<Option<Held>>,
     ttl: Duration,
@@ -56,7 +79,8 @@ impl Control {
             .held
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
-        if g.as_ref().is_some_and(|h| h.expires <= Instant::now())
+        if g.as_ref()
+            .is_some_and(|h| h.active == 0 && h.expires <= Instant::now())
             && let Some(h) = g.take()
         {
             tracing::info!(holder = %h.lease.holder, lease = %h.lease.id, "control lease lapsed");
@@ -114,6 +138,7 @@ impl Control {
         *g = Some(Held {
             lease: lease.clone(),
             expires: Instant::now() + self.ttl,
+            active: 0,
         });
         tracing::info!(holder = %who.name, lease = %lease.id, "control taken");
         Ok(lease)
@@ -134,16 +159,32 @@ impl Control {
         }
     }
 
-    /// May `who` make a mutating call now? Renews the lease of its holder.
-    pub fn check(&self, who: &Principal) -> Result<(), BridgeError> {
+    /// May `who` make a mutating call now? For the holder, renews the lease
+    /// and keeps it alive until the returned guard is dropped (the end of
+    /// the call).
+    pub fn check(self: &Arc<Self>, who: &Principal) -> Result<Option<InUse>, BridgeError> {
         let mut g = self.lock();
         match g.as_mut() {
-            None => Ok(()),
+            None => Ok(None),
             Some(h) if h.lease.holder == who.name => {
                 self.renew(h);
-                Ok(())
+                h.active += 1;
+                Ok(Some(InUse {
+                    control: self.clone(),
+                    lease_id: h.lease.id.clone(),
+                }))
             }
             Some(h) => Err(Self::held_error(h)),
+        }
+    }
+
+    /// Ends the lease of a holder whose token no longer exists (revoked).
+    pub fn release_unless(&self, exists: impl Fn(&str) -> bool) {
+        let mut g = self.lock();
+        if g.as_ref().is_some_and(|h| !exists(&h.lease.holder))
+            && let Some(h) = g.take()
+        {
+            tracing::info!(holder = %h.lease.holder, "control released: its token was revoked");
         }
     }
 }
@@ -161,7 +202,7 @@ mod tests {
 
     #[test]
     fn one_holder_lapses_and_admin_takes_over() {
-        let c = Control::new(Duration::from_millis(100));
+        let c = Arc::new(Control::new(Duration::from_millis(100)));
         let a = p("a", Role::Operator);
         let b = p("b", Role::Operator);
         let root = p("root", Role::Admin);
@@ -175,8 +216,17 @@ mod tests {
         assert!(c.release(&b).is_err());
         let l = c.acquire(&root, true).expect("admin takes over");
         assert_eq!(l.holder, "root");
+        // A call of the holder that outlasts the lease keeps it.
+        let running = c.check(&root).expect("holder");
+        std::thread::sleep(Duration::from_millis(150));
+        assert!(c.current().is_some(), "kept while the call runs");
+        drop(running);
+        assert!(c.current().is_some(), "renewed when the call ended");
         std::thread::sleep(Duration::from_millis(150));
         assert!(c.current().is_none(), "lapsed");
         assert!(c.check(&b).is_ok());
+        c.acquire(&a, false).expect("take");
+        c.release_unless(|name| name != "a");
+        assert!(c.current().is_none(), "revoked holder loses control");
     }
 }

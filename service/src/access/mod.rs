@@ -166,6 +166,16 @@ pub struct Access {
     pub query_token: bool,
 }
 
+impl Access {
+    /// Ends the control lease of a token that was revoked (with auth off
+    /// the holder is `anonymous`, which has no token).
+    pub fn forget_revoked(&self) {
+        if self.enabled {
+            self.control.release_unless(|name| self.tokens.exists(name));
+        }
+    }
+}
+
 /// The file the first admin token is written to.
 pub fn initial_token_path(data_dir: &Path) -> PathBuf {
     data_dir.join("initial-admin-token.txt")
@@ -201,12 +211,14 @@ pub fn ensure_admin(tokens: &TokenStore, data_dir: &Path) -> Result<Option<PathB
 }
 
 /// Re-reads the token file every `period` so that tokens created or revoked
-/// by the CLI take effect on the running service.
+/// by the CLI take effect on the running service (a revoked holder of
+/// control loses it).
 pub async fn watch_tokens(
-    tokens: Arc<TokenStore>,
+    access: Arc<Access>,
     period: Duration,
     mut closing: tokio::sync::watch::Receiver<bool>,
 ) {
+    let tokens = access.tokens.clone();
     let mut reported = false;
     loop {
         tokio::select! {
@@ -218,6 +230,7 @@ pub async fn watch_tokens(
             Ok(Ok(true)) => {
                 reported = false;
                 tracing::info!(tokens = tokens.list().len(), "token file changed; reloaded");
+                access.forget_revoked();
             }
             Ok(Ok(false)) => reported = false,
             Ok(Err(e)) if !reported => {

@@ -60,46 +60,37 @@ pub struct Rule {
     pub control: bool,
     /// Recorded in the audit trail.
     pub audited: bool,
+    /// Stop: never shed under load, never refused by the failed-attempt
+    /// limiter (a valid token always gets through), never needs control.
+    pub safety: bool,
 }
 
-const PUBLIC: Rule = Rule {
-    role: None,
-    control: false,
-    audited: false,
-};
-const READ: Rule = Rule {
-    role: Some(Role::Viewer),
-    control: false,
-    audited: false,
-};
+const fn rule_of(role: Option<Role>, control: bool, audited: bool) -> Rule {
+    Rule {
+        role,
+        control,
+        audited,
+        safety: false,
+    }
+}
+
+const PUBLIC: Rule = rule_of(None, false, false);
+const READ: Rule = rule_of(Some(Role::Viewer), false, false);
 /// Moves or changes the robot: needs control when someone holds it.
-const OPERATE: Rule = Rule {
-    role: Some(Role::Operator),
-    control: true,
-    audited: true,
+const OPERATE: Rule = rule_of(Some(Role::Operator), true, true);
+/// Taking and releasing control: any operator.
+const CONTROL: Rule = rule_of(Some(Role::Operator), false, true);
+/// Stop: any operator, always (see [`Rule::safety`]).
+const STOP: Rule = Rule {
+    safety: true,
+    ..CONTROL
 };
-/// Stop, and taking/releasing control: any operator, always.
-const SAFETY: Rule = Rule {
-    role: Some(Role::Operator),
-    control: false,
-    audited: true,
-};
-const ADMIN: Rule = Rule {
-    role: Some(Role::Admin),
-    control: false,
-    audited: true,
-};
+const ADMIN: Rule = rule_of(Some(Role::Admin), false, true);
 /// Installs code that then runs on the robot (thesis upload-and-run).
-const ADMIN_OPERATE: Rule = Rule {
-    role: Some(Role::Admin),
-    control: true,
-    audited: true,
-};
-const ADMIN_READ: Rule = Rule {
-    role: Some(Role::Admin),
-    control: false,
-    audited: false,
-};
+const ADMIN_OPERATE: Rule = rule_of(Some(Role::Admin), true, true);
+const ADMIN_READ: Rule = rule_of(Some(Role::Admin), false, false);
+/// A route missing from the table (fail closed).
+const UNKNOWN: Rule = rule_of(Some(Role::Admin), true, true);
 
 /// Every route: method, axum path template, rule. Plugin routes are the
 /// catch-all `/api/v1/plugins/{name}/{*path}`.
@@ -127,15 +118,15 @@ const TABLE: &[(&str, &str, Rule)] = &[
     // Motion and jobs.
     ("POST", "/api/v1/motions", OPERATE),
     ("POST", "/api/v1/home", OPERATE),
-    ("POST", "/api/v1/stop", SAFETY),
+    ("POST", "/api/v1/stop", STOP),
     ("GET", "/api/v1/jobs", READ),
     ("GET", "/api/v1/jobs/{id}", READ),
     ("DELETE", "/api/v1/jobs/{id}", OPERATE),
     ("GET", "/api/v1/events", READ),
     // Control of the robot.
     ("GET", "/api/v1/control", READ),
-    ("POST", "/api/v1/control", SAFETY),
-    ("DELETE", "/api/v1/control", SAFETY),
+    ("POST", "/api/v1/control", CONTROL),
+    ("DELETE", "/api/v1/control", CONTROL),
     // Programs.
     ("GET", "/api/v1/programs", READ),
     ("POST", "/api/v1/programs", ADMIN),
@@ -162,24 +153,19 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("GET", "/", PUBLIC),
 ];
 
-/// The rule for a request, by method and matched route template. Routes
-/// missing from the table need an admin (fail closed); the documentation
-/// under `/docs` is public so that Swagger UI loads before you authorize.
+/// The rule for a request, by method and matched route template. HEAD is
+/// GET without the body. Routes missing from the table need an admin (fail
+/// closed); the documentation under `/docs` is public so that Swagger UI
+/// loads before you authorize.
 pub fn rule(method: &str, template: &str) -> Rule {
     if template == "/docs" || template.starts_with("/docs/") {
         return PUBLIC;
     }
+    let method = if method == "HEAD" { "GET" } else { method };
     TABLE
         .iter()
         .find(|(m, t, _)| (*m == "*" || *m == method) && *t == template)
-        .map_or(
-            Rule {
-                role: Some(Role::Admin),
-                control: true,
-                audited: true,
-            },
-            |(_, _, r)| *r,
-        )
+        .map_or(UNKNOWN, |(_, _, r)| *r)
 }
 
 /// The rule of a documented operation (OpenAPI path with `{param}`s);
@@ -223,6 +209,9 @@ mod tests {
         assert_eq!(rule("PATCH", "/api/v1/new").role, Some(Role::Admin));
         assert_eq!(rule("GET", "/docs/{*rest}").role, None);
         assert!(!rule("POST", "/api/v1/stop").control);
+        assert!(rule("POST", "/api/v1/stop").safety);
+        assert_eq!(rule("HEAD", "/health").role, None);
+        assert!(!rule("HEAD", "/api/v1/state").audited);
         assert!(rule("POST", "/api/v1/plugins/{name}/{*path}").control);
     }
 }

@@ -1,5 +1,5 @@
 //! Files only the service account and administrators may read: the token
-//! file and the first-start admin token. On Unix mode 0600; on Windows a
+//! file, the first-start admin token and the audit trail's folder. On Unix mode 0600; on Windows a
 //! protected DACL granting full access to SYSTEM and Administrators only
 //! (so the Users group of `%ProgramData%` cannot read or replace them).
 //! Written to a temporary file that gets the permissions first, then
@@ -24,6 +24,26 @@ pub fn write(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// Makes a folder private to the service account and administrators (Unix
+/// mode 0700; on Windows the same DACL as files, inherited by what is
+/// created inside).
+pub fn restrict_dir(dir: &Path) -> std::io::Result<()> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o700))
+    }
+    #[cfg(windows)]
+    {
+        set_dacl(dir, PRIVATE_DIR_SDDL)
+    }
+    #[cfg(all(not(unix), not(windows)))]
+    {
+        let _ = dir;
+        Ok(())
+    }
 }
 
 #[cfg(unix)]
@@ -55,9 +75,18 @@ fn restrict(_path: &Path) -> std::io::Result<()> {
 #[cfg(windows)]
 const PRIVATE_SDDL: &str = "D:P(A;;FA;;;SY)(A;;FA;;;BA)";
 
+/// The same for a folder: object (OI) and container (CI) inherit.
+#[cfg(windows)]
+const PRIVATE_DIR_SDDL: &str = "D:P(A;OICI;FA;;;SY)(A;OICI;FA;;;BA)";
+
+#[cfg(windows)]
+fn restrict(path: &Path) -> std::io::Result<()> {
+    set_dacl(path, PRIVATE_SDDL)
+}
+
 #[cfg(windows)]
 #[allow(unsafe_code)]
-fn restrict(path: &Path) -> std::io::Result<()> {
+fn set_dacl(path: &Path, sddl: &str) -> std::io::Result<()> {
     use std::os::windows::ffi::OsStrExt;
     use windows_sys::Win32::Foundation::LocalFree;
     use windows_sys::Win32::Security::Authorization::{
@@ -67,7 +96,7 @@ fn restrict(path: &Path) -> std::io::Result<()> {
         DACL_SECURITY_INFORMATION, PROTECTED_DACL_SECURITY_INFORMATION, PSECURITY_DESCRIPTOR,
         SetFileSecurityW,
     };
-    let sddl: Vec<u16> = PRIVATE_SDDL.encode_utf16().chain(Some(0)).collect();
+    let sddl: Vec<u16> = sddl.encode_utf16().chain(Some(0)).collect();
     let wide: Vec<u16> = path.as_os_str().encode_wide().chain(Some(0)).collect();
     let mut sd: PSECURITY_DESCRIPTOR = std::ptr::null_mut();
     // SAFETY: `sddl` is a NUL-terminated UTF-16 string that outlives the

@@ -45,7 +45,9 @@ pub enum TokenError {
     #[error("no token named {0:?}")]
     NotFound(String),
     /// The name is not allowed.
-    #[error("token name {0:?}: use 1 to 64 letters, digits, '.', '_', '-' or '@'")]
+    #[error(
+        "token name {0:?}: use 1 to 64 letters, digits, '.', '_', '-' or '@' (not `anonymous`)"
+    )]
     BadName(String),
     /// The OS random generator failed.
     #[error("no randomness from the operating system: {0}")]
@@ -112,9 +114,33 @@ pub fn random_hex(n: usize) -> Result<String, TokenError> {
     Ok(hex(&buf))
 }
 
-/// Checks a token name.
+/// Unix ms as `YYYY-MM-DD hh:mm:ss UTC` (for listings).
+pub fn utc_text(ms: u64) -> String {
+    let secs = ms / 1000;
+    let (days, rem) = ((secs / 86_400) as i64, secs % 86_400);
+    // Howard Hinnant's civil_from_days.
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}-{m:02}-{d:02} {:02}:{:02}:{:02} UTC",
+        rem / 3600,
+        rem % 3600 / 60,
+        rem % 60
+    )
+}
+
+/// Checks a token name (`anonymous` is the identity of requests when auth
+/// is off, so no token may use it).
 pub fn check_name(name: &str) -> Result<(), TokenError> {
     let ok = !name.is_empty()
+        && name != "anonymous"
         && name.len() <= 64
         && name
             .chars()
@@ -211,6 +237,11 @@ impl TokenStore {
     /// All tokens, by name.
     pub fn list(&self) -> Vec<TokenInfo> {
         self.read().list.clone()
+    }
+
+    /// True if a token with this name exists.
+    pub fn exists(&self, name: &str) -> bool {
+        self.read().list.iter().any(|t| t.name == name)
     }
 
     /// True if an admin token exists.
@@ -312,5 +343,11 @@ mod tests {
             store.create("a b", Role::Admin),
             Err(TokenError::BadName(_))
         ));
+        assert!(matches!(
+            store.create("anonymous", Role::Admin),
+            Err(TokenError::BadName(_))
+        ));
+        assert_eq!(utc_text(1_763_856_000_123), "2025-11-23 00:00:00 UTC");
+        assert_eq!(utc_text(0), "1970-01-01 00:00:00 UTC");
     }
 }

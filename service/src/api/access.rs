@@ -157,6 +157,7 @@ async fn revoke_token(
         .await
         .map_err(|e| BridgeError::new(ErrorCode::Internal, e.to_string()))?
         .map_err(token_problem)?;
+    app.access.forget_revoked();
     tracing::info!(name = %info.name, by = %caller().name, "token revoked");
     Ok(ok_json(&info))
 }

@@ -90,7 +90,7 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
         time_ms: crate::engine::now_ms(),
         started: Instant::now(),
     };
-    let principal = match identify(&app, &req, query_secret, call.client) {
+    let principal = match identify(&app, &req, query_secret, call.client, rule.safety) {
         Ok(p) => p,
         Err(resp) => return *resp,
     };
@@ -107,11 +107,15 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
         );
         return refused(&app, &call, rule.audited, &principal, e).await;
     }
-    if rule.control
-        && let Err(e) = app.access.control.check(&principal)
-    {
-        return refused(&app, &call, rule.audited, &principal, e).await;
-    }
+    // Held while the call runs: a long motion of the holder keeps its lease.
+    let _in_use = if rule.control {
+        match app.access.control.check(&principal) {
+            Ok(guard) => guard,
+            Err(e) => return refused(&app, &call, rule.audited, &principal, e).await,
+        }
+    } else {
+        None
+    };
     let ctx = RequestContext::new(principal);
     if !rule.audited {
         return ctx.scope(next.run(req)).await;
@@ -166,21 +170,29 @@ fn take_query_token(req: &mut Request) -> Option<String> {
     Some(secret)
 }
 
-/// The caller, or the 401/429 answer.
+/// The caller, or the 401/429 answer. `safety` (Stop) is never refused by
+/// the failed-attempt limiter: a valid token stops the robot even from an
+/// address that guessed wrong (a shared HMI PC, a NAT).
 fn identify(
     app: &AppState,
     req: &Request,
     query_secret: Option<String>,
     client: Option<std::net::IpAddr>,
+    safety: bool,
 ) -> Result<Principal, Box<Response>> {
     if !app.access.enabled {
         return Ok(Principal::anonymous());
     }
     let uri = req.uri();
-    let from_header = req
-        .headers()
-        .get(header::AUTHORIZATION)
-        .map(|v| v.to_str().unwrap_or_default());
+    let mut headers = req.headers().get_all(header::AUTHORIZATION).iter();
+    let from_header = headers.next().map(|v| v.to_str().unwrap_or_default());
+    if headers.next().is_some() {
+        return Err(Box::new(unauthenticated(
+            uri,
+            "send one Authorization header, not several",
+            Challenge::InvalidRequest,
+        )));
+    }
     let secret = match from_header {
         Some(h) => {
             let mut parts = h.splitn(2, ' ');
@@ -188,10 +200,9 @@ fn identify(
             let value = parts.next().unwrap_or_default().trim();
             if !scheme.eq_ignore_ascii_case("bearer") || value.is_empty() {
                 return Err(Box::new(unauthenticated(
-                    app,
                     uri,
                     "the Authorization header must be `Bearer <token>`",
-                    true,
+                    Challenge::InvalidRequest,
                 )));
             }
             Some(value.to_string())
@@ -200,20 +211,19 @@ fn identify(
     };
     let Some(secret) = secret else {
         return Err(Box::new(unauthenticated(
-            app,
             uri,
             "this endpoint needs a token: send `Authorization: Bearer <token>` (see /docs, Authorize)",
-            false,
+            Challenge::Missing,
         )));
     };
-    if let Some(ip) = client
-        && let Err(wait) = app.access.limiter.check(ip)
-    {
+    let client_text = client.map_or_else(|| "unknown".to_string(), |c| c.to_string());
+    let locked_out = client.and_then(|ip| app.access.limiter.check(ip).err());
+    if let Some(wait) = locked_out.filter(|_| !safety) {
         let e = BridgeError::new(
             ErrorCode::TooManyAttempts,
-            format!("too many failed token attempts from {ip}; try again in {wait} s"),
+            format!("too many failed token attempts from {client_text}; try again in {wait} s"),
         );
-        let mut resp = super::routing_error(app, uri, e);
+        let mut resp = super::routing_error_blind(uri, e);
         if let Ok(v) = HeaderValue::from_str(&wait.to_string()) {
             resp.headers_mut().insert(header::RETRY_AFTER, v);
         }
@@ -228,24 +238,35 @@ fn identify(
             if let Some(ip) = client {
                 app.access.limiter.fail(ip);
             }
-            tracing::warn!(client = ?client, path = %uri.path(), "request with an unknown or revoked token");
+            tracing::warn!(client = %client_text, path = %uri.path(), "request with an unknown or revoked token");
             Err(Box::new(unauthenticated(
-                app,
                 uri,
                 "the token is unknown or was revoked",
-                true,
+                Challenge::InvalidToken,
             )))
         }
     }
 }
 
-fn unauthenticated(app: &AppState, uri: &axum::http::Uri, detail: &str, invalid: bool) -> Response {
+/// What the `WWW-Authenticate` challenge says (RFC 6750 §3.1).
+enum Challenge {
+    /// No credentials: just the scheme.
+    Missing,
+    /// A malformed header.
+    InvalidRequest,
+    /// A token that is not (or no longer) valid.
+    InvalidToken,
+}
+
+/// 401, without the robot's position in a thesis answer (the caller is
+/// nobody yet).
+fn unauthenticated(uri: &axum::http::Uri, detail: &str, challenge: Challenge) -> Response {
     let e = BridgeError::new(ErrorCode::Unauthenticated, detail);
-    let mut resp = super::routing_error(app, uri, e);
-    let challenge = if invalid {
-        r#"Bearer realm="kuka-bridge", error="invalid_token""#
-    } else {
-        r#"Bearer realm="kuka-bridge""#
+    let mut resp = super::routing_error_blind(uri, e);
+    let challenge = match challenge {
+        Challenge::Missing => r#"Bearer realm="kuka-bridge""#,
+        Challenge::InvalidRequest => r#"Bearer realm="kuka-bridge", error="invalid_request""#,
+        Challenge::InvalidToken => r#"Bearer realm="kuka-bridge", error="invalid_token""#,
     };
     resp.headers_mut().insert(
         header::WWW_AUTHENTICATE,
@@ -395,6 +416,18 @@ pub(super) fn document(doc: &mut serde_json::Value) {
                 continue;
             };
             op["security"] = json!([{"bearer": []}]);
+            if path.starts_with("/krl/") || path == "/api/v1/events" {
+                let param = json!({
+                    "name": QUERY_TOKEN, "in": "query", "required": false,
+                    "schema": {"type": "string"},
+                    "description": "The token, for clients that cannot set headers (weaker than \
+                        the header: URLs are logged by proxies and kept in histories; see docs/SECURITY.md)"
+                });
+                match op.get_mut("parameters").and_then(Value::as_array_mut) {
+                    Some(list) => list.push(param),
+                    None => op["parameters"] = json!([param]),
+                }
+            }
             op["x-required-role"] = Value::String(role.as_str().into());
             op["x-needs-control"] = Value::Bool(rule.control);
             let mut note = format!("\n\n**Access:** role `{role}` or higher");

@@ -1,49 +1,50 @@
-//! The HTTP edge: the tower layers every request passes before any handler
-//! (request tracing without query strings, CORS when configured, a
-//! concurrency limit that sheds load with 503 + `Retry-After`, a
-//! per-request time limit and a body size limit), and the last layer that
-//! turns the bare error answers of those layers into problem+json.
+//! The HTTP edge: the layers every request passes besides the access
+//! layer. Outside it: request tracing without query strings, CORS when
+//! configured, load shedding (a concurrency limit that answers 503 +
+//! `Retry-After` instead of queueing, never for Stop or `/health`) and the
+//! layer that turns bare error answers into problem documents. Inside it,
+//! so that the audit trail records the outcome: the per-request time limit
+//! and the body size limit (tower-http).
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use axum::Router;
-use axum::error_handling::HandleErrorLayer;
+use axum::extract::{MatchedPath, Request, State};
 use axum::http::{HeaderValue, Method, StatusCode, header};
+use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
-use tower::ServiceBuilder;
+use tokio::sync::Semaphore;
 use tower_http::cors::{AllowOrigin, CorsLayer};
 use tower_http::limit::RequestBodyLimitLayer;
 use tower_http::timeout::TimeoutLayer;
 use tower_http::trace::TraceLayer;
 
+use super::AppState;
 use super::problem::{PROBLEM_JSON, Problem};
 use crate::config::ServerConfig;
 use crate::error::{BridgeError, ErrorCode};
 
-/// Wraps the application in the edge layers configured in `[server]`.
-pub fn layers(router: Router, server: &ServerConfig) -> Router {
-    let max_request = Duration::from_millis(server.max_request_ms);
-    let router = router.layer(
-        ServiceBuilder::new()
-            .layer(HandleErrorLayer::new(overloaded))
-            .load_shed()
-            // One limit for the whole service (`Router::layer` wraps each
-            // route on its own; a per-route limit would not be one).
-            .layer(tower::limit::GlobalConcurrencyLimitLayer::new(
-                server.max_concurrent_requests,
-            ))
-            .layer(TimeoutLayer::with_status_code(
-                StatusCode::GATEWAY_TIMEOUT,
-                max_request,
-            ))
-            .layer(RequestBodyLimitLayer::new(server.max_body_bytes)),
-    );
+/// The time and body limits (applied inside the access layer).
+pub fn inner_layers(router: Router<AppState>, server: &ServerConfig) -> Router<AppState> {
+    router
+        .layer(TimeoutLayer::with_status_code(
+            StatusCode::GATEWAY_TIMEOUT,
+            Duration::from_millis(server.max_request_ms),
+        ))
+        .layer(RequestBodyLimitLayer::new(server.max_body_bytes))
+}
+
+/// Load shedding, CORS, problem bodies and tracing (outside the access layer).
+pub fn outer_layers(router: Router<AppState>, server: &ServerConfig) -> Router<AppState> {
+    let slots = Arc::new(Semaphore::new(server.max_concurrent_requests));
+    let router = router.layer(axum::middleware::from_fn_with_state(slots, shed_load));
     let router = match cors(&server.cors_origins) {
         Some(c) => router.layer(c),
         None => router,
     };
     router
-        .layer(axum::middleware::map_response(problem_for_bare_errors))
+        .layer(axum::middleware::from_fn(problem_for_bare_errors))
         // Failed requests are logged where they fail, with their code; the
         // HTTP layer only traces. The span names the path, never the query
         // string (it may carry `access_token`).
@@ -56,6 +57,32 @@ pub fn layers(router: Router, server: &ServerConfig) -> Router {
                     tower_http::trace::DefaultOnFailure::new().level(tracing::Level::DEBUG),
                 ),
         )
+}
+
+/// At most `server.max_concurrent_requests` requests run at once; more are
+/// refused at once with 503 `overloaded` + `Retry-After`. Stop and the
+/// public routes (`/health`, documentation) are never refused: they are
+/// cheap, and Stop must get through a full service. (A slot is held until
+/// the answer's head is sent; an event stream does not hold one.)
+async fn shed_load(State(slots): State<Arc<Semaphore>>, req: Request, next: Next) -> Response {
+    let exempt = req.extensions().get::<MatchedPath>().is_none_or(|m| {
+        let rule = crate::access::policy::rule(req.method().as_str(), m.as_str());
+        rule.safety || rule.role.is_none()
+    });
+    if exempt {
+        return next.run(req).await;
+    }
+    let Ok(_slot) = slots.try_acquire() else {
+        let mut r = Problem::from(BridgeError::new(
+            ErrorCode::Overloaded,
+            "too many requests are in progress; retry after the Retry-After delay",
+        ))
+        .into_response();
+        r.headers_mut()
+            .insert(header::RETRY_AFTER, HeaderValue::from_static("1"));
+        return r;
+    };
+    next.run(req).await
 }
 
 /// CORS for the configured origins; none configured: no CORS headers, so
@@ -81,20 +108,12 @@ fn cors(origins: &[String]) -> Option<CorsLayer> {
     )
 }
 
-async fn overloaded(_: tower::BoxError) -> Response {
-    let mut r = Problem::from(BridgeError::new(
-        ErrorCode::Overloaded,
-        "too many requests are in progress; retry after the Retry-After delay",
-    ))
-    .into_response();
-    r.headers_mut()
-        .insert(header::RETRY_AFTER, HeaderValue::from_static("1"));
-    r
-}
-
-/// The layers above answer errors with an empty or plain-text body: give
-/// them the problem+json body every other error has.
-async fn problem_for_bare_errors(resp: Response) -> Response {
+/// The layers above (and hyper) answer some errors with an empty or
+/// plain-text body: give them the problem body every other error has (in
+/// the thesis format on `/krl/*`, with an unknown position).
+async fn problem_for_bare_errors(req: Request, next: Next) -> Response {
+    let thesis = req.uri().path().starts_with("/krl/");
+    let resp = next.run(req).await;
     let status = resp.status();
     if !(status.is_client_error() || status.is_server_error()) {
         return resp;
@@ -128,17 +147,18 @@ async fn problem_for_bare_errors(resp: Response) -> Response {
         s if s.is_server_error() => (ErrorCode::Internal, "the service failed to answer"),
         _ => (ErrorCode::InvalidInput, "the request was refused"),
     };
-    let mut body = super::problem::ProblemDetails::from_error(&BridgeError::new(code, detail));
-    body.status = status.as_u16();
-    let mut out = super::problem::json_response(status.as_u16(), PROBLEM_JSON, &body);
-    for h in [header::RETRY_AFTER, header::WWW_AUTHENTICATE, header::ALLOW] {
-        if let Some(v) = resp.headers().get(&h) {
-            out.headers_mut().insert(h, v.clone());
-        }
-    }
-    // CORS headers set by the layer below stay.
+    let error = BridgeError::new(code, detail);
+    let mut out = if thesis {
+        super::thesis::fail_at(&error, [0.0; 6])
+    } else {
+        let body = super::problem::ProblemDetails::from_error(&error);
+        super::problem::json_response(body.status, PROBLEM_JSON, &body)
+    };
+    *out.status_mut() = status;
     for (name, v) in resp.headers() {
-        if name.as_str().starts_with("access-control-") {
+        let keep = [header::RETRY_AFTER, header::WWW_AUTHENTICATE, header::ALLOW].contains(name)
+            || name.as_str().starts_with("access-control-");
+        if keep {
             out.headers_mut().insert(name.clone(), v.clone());
         }
     }

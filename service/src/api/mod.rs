@@ -145,6 +145,16 @@ fn routing_error(app: &AppState, uri: &Uri, e: BridgeError) -> Response {
     }
 }
 
+/// [`routing_error`] for callers not identified yet: a thesis answer
+/// carries zeros, not the robot's position.
+fn routing_error_blind(uri: &Uri, e: BridgeError) -> Response {
+    if uri.path().starts_with("/krl/") {
+        thesis::fail_at(&e, [0.0; 6])
+    } else {
+        Problem::from(e).into_response()
+    }
+}
+
 async fn not_found(State(app): State<AppState>, uri: Uri) -> Response {
     let e = BridgeError::new(
         ErrorCode::NotFound,
@@ -195,22 +205,23 @@ pub fn app(mut state: AppState) -> Router {
             "/api/v1/plugins/{name}/{*path}",
             axum::routing::any(plugins::call),
         )
-        .merge(SwaggerUi::new("/docs").config(
-            // Authorize once per browser tab, not after every reload.
-            utoipa_swagger_ui::Config::from("/openapi.json").persist_authorization(true),
-        ))
+        // Swagger UI forgets the token when the page is closed (no
+        // persisted authorization: HMI PCs are shared).
+        .merge(SwaggerUi::new("/docs").config(utoipa_swagger_ui::Config::from("/openapi.json")))
         .route(
             "/",
             axum::routing::get(|| async { axum::response::Redirect::temporary("/docs/") }),
         )
         .fallback(not_found)
-        .method_not_allowed_fallback(method_not_allowed)
-        .layer(axum::middleware::from_fn_with_state(
-            state.clone(),
-            auth::guard,
-        ))
-        .with_state(state);
-    edge::layers(router, &server)
+        .method_not_allowed_fallback(method_not_allowed);
+    // Inside the access layer: what it must see (and audit) as the
+    // request's outcome; outside it: what refuses a request before anyone
+    // is identified.
+    let router = edge::inner_layers(router, &server).layer(axum::middleware::from_fn_with_state(
+        state.clone(),
+        auth::guard,
+    ));
+    edge::outer_layers(router, &server).with_state(state)
 }
 
 /// Converts anything into a 200 JSON response.

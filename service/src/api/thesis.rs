@@ -203,7 +203,14 @@ pub fn statuscode(code: ErrorCode) -> i32 {
 
 /// A thesis-format failure (for the `/krl/*` fallbacks too).
 pub(super) fn fail(app: &AppState, e: &BridgeError) -> Response {
-    let position = app.engine.state().position.map_or([0.0; 6], |p| p.xyzabc());
+    fail_at(
+        e,
+        app.engine.state().position.map_or([0.0; 6], |p| p.xyzabc()),
+    )
+}
+
+/// A thesis-format failure reporting `position`.
+pub(super) fn fail_at(e: &BridgeError, position: [f64; 6]) -> Response {
     let problem = ProblemDetails::from_error(e);
     let body = ThesisProblem {
         statuscode: statuscode(e.code),

@@ -131,7 +131,8 @@ impl host::BridgeApi for EngineBridge {
             let requests: Vec<MotionRequest> = motions.into_iter().map(motion_request).collect();
             let count = requests.len();
             if let Some(caller) = crate::access::current_principal() {
-                self.control.check(&caller).map_err(host_error)?;
+                // The caller's own HTTP call holds the lease meanwhile.
+                drop(self.control.check(&caller).map_err(host_error)?);
             }
             tracing::info!(plugin = %ctx.plugin, version = %ctx.version, motions = count, "plugin motion batch");
             let job = self
