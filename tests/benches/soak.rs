@@ -122,6 +122,7 @@ fn main() {
 
     let rt = kuka_bridge_tests::bench::runtime();
     let seen = Arc::new(Mutex::new(Seen::default()));
+    let trace_gaps = Arc::new(AtomicU64::new(0));
     let total = Arc::new(AtomicU64::new(0));
     let (rss, trace) = rt.block_on(async {
         let http = reqwest::Client::builder()
@@ -161,12 +162,16 @@ fn main() {
         let poller = {
             let (http, url, admin, trace) =
                 (http.clone(), url.clone(), admin.clone(), trace.clone());
+            let gaps = trace_gaps.clone();
             tokio::spawn(async move {
+                // `since` is exclusive: ask from just before the last time
+                // seen, as a zero-length motion (a target the robot is at)
+                // adds a sample with the same time after the poll.
                 let mut since = f64::NEG_INFINITY;
                 loop {
                     let done = Instant::now() > end + Duration::from_secs(5);
                     let q = if since.is_finite() {
-                        format!("?since={since}")
+                        format!("?since={}", since - 1e-6)
                     } else {
                         String::new()
                     };
@@ -177,6 +182,16 @@ fn main() {
                         .await
                         && let Ok(samples) = r.json::<Vec<Value>>().await
                     {
+                        // The simulator keeps 200,000 samples: a poll that
+                        // comes back with a gap of simulated time means the
+                        // buffer overflowed in between (the trace lost
+                        // samples, not the robot motions).
+                        if let Some(first) = samples.first().and_then(|s| s["t"].as_f64())
+                            && since.is_finite()
+                            && first - since > 0.5
+                        {
+                            gaps.fetch_add(1, Ordering::Relaxed);
+                        }
                         let mut t = trace.lock().await;
                         for s in &samples {
                             let cid = s["cid"].as_i64().unwrap_or(-1);
@@ -193,7 +208,7 @@ fn main() {
                     if done {
                         return;
                     }
-                    tokio::time::sleep(Duration::from_millis(200)).await;
+                    tokio::time::sleep(Duration::from_millis(50)).await;
                 }
             })
         };
@@ -382,6 +397,13 @@ fn main() {
     for (kind, n) in &kinds {
         println!("  {n:>7} × {kind}");
     }
+    for p in problems.iter().take(5) {
+        println!("  e.g. {p}");
+    }
+    println!(
+        "trace polls that found a gap (simulator trace buffer overflowed): {}",
+        trace_gaps.load(Ordering::Relaxed)
+    );
     if !problems.is_empty() {
         std::process::exit(1);
     }
