@@ -18,6 +18,9 @@ use crate::error::{BridgeError, ErrorCode};
 #[into_params(parameter_in = Query)]
 pub struct TraceQuery {
     /// Only samples with simulated time `t` greater than this (seconds).
+    /// A motion to where the robot already is adds a sample with the same
+    /// `t` as the one before: to poll without missing one, pass a little
+    /// less than the last `t` you have and drop repeats.
     since: Option<f64>,
 }
 
