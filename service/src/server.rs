@@ -215,7 +215,7 @@ pub async fn serve(
         total: AtomicUsize::new(0),
     });
     let (closing, closing_rx) = tokio::sync::watch::channel(false);
-    let mut refused_logged = Instant::now() - Duration::from_secs(60);
+    let mut refused_logged: Option<Instant> = None;
     tokio::pin!(stop);
     loop {
         let (tcp, remote) = tokio::select! {
@@ -231,8 +231,8 @@ pub async fn serve(
             },
         };
         let Some(admitted) = connections.admit(remote.ip()) else {
-            if refused_logged.elapsed() > Duration::from_secs(10) {
-                refused_logged = Instant::now();
+            if refused_logged.is_none_or(|t| t.elapsed() > Duration::from_secs(10)) {
+                refused_logged = Some(Instant::now());
                 tracing::warn!(client = %remote.ip(), "connection refused: too many open connections (server.max_connections, max_connections_per_client)");
             }
             drop(tcp);
