@@ -366,6 +366,9 @@ async fn control_lease_conflicts_expiry_and_audit() {
         .expect("install");
     assert!(r.status().is_success());
     let circle = json!({"x": 300, "y": 20, "z": 100, "radius": 40});
+    // The 1 s lease may have lapsed during the install: take it again.
+    let (s, _, _) = call(&t, "POST", "/api/v1/control", Some(&one), None).await;
+    assert_eq!(s, 200);
     // From home, where the plugin's orientation is reachable.
     let (s, v, _) = call(&t, "POST", "/api/v1/home", Some(&one), None).await;
     assert_eq!(s, 200, "{v}");
@@ -915,7 +918,10 @@ async fn stop_gets_through_overload_and_lockout() {
         "a valid token stops the robot from a locked-out address: {v}"
     );
     let (s, _, _) = call(&t, "POST", "/api/v1/stop", Some("kb_guess"), None).await;
-    assert_eq!(s, 401, "a wrong one still does not");
+    assert_eq!(
+        s, 429,
+        "a wrong one is refused like any other guess from there"
+    );
     t.service.shutdown().await.expect("shutdown");
 }
 
@@ -1051,6 +1057,61 @@ async fn idle_and_excess_connections_are_closed() {
         r.status().as_u16(),
         200,
         "new connections are welcome again"
+    );
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// When all connections are taken, the idlest is closed to make room; a
+/// client that stops reading its answers is dropped.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn full_service_makes_room_and_drops_clients_that_do_not_read() {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.server.header_timeout_ms = 500;
+            c.server.max_connections = 2;
+        }),
+        ..Options::default()
+    })
+    .await;
+    let addr = t.service.addr;
+    let mut quiet = Vec::new();
+    for _ in 0..2 {
+        quiet.push(tokio::net::TcpStream::connect(addr).await.expect("connect"));
+    }
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    let r = reqwest::Client::new()
+        .get(t.url("/health"))
+        .timeout(Duration::from_secs(2))
+        .send()
+        .await
+        .expect("a new client gets in: an idle connection made room");
+    assert_eq!(r.status().as_u16(), 200);
+
+    // A client that asks for a large answer many times and never reads.
+    let socket = tokio::net::TcpSocket::new_v4().expect("socket");
+    socket.set_recv_buffer_size(4096).expect("small buffer");
+    let mut s = socket.connect(addr).await.expect("connect");
+    let one = "GET /openapi.json HTTP/1.1\r\nHost: x\r\n\r\n".repeat(200);
+    s.write_all(one.as_bytes()).await.expect("send");
+    tokio::time::sleep(Duration::from_millis(2500)).await;
+    let mut total = 0usize;
+    let mut buf = vec![0u8; 64 * 1024];
+    let ended = tokio::time::timeout(Duration::from_secs(10), async {
+        loop {
+            match s.read(&mut buf).await {
+                Ok(0) | Err(_) => return,
+                Ok(n) => total += n,
+            }
+        }
+    })
+    .await;
+    assert!(ended.is_ok(), "the server dropped the stuck connection");
+    let (_, doc) = t.get("/openapi.json").await;
+    let doc_len = doc.to_string().len();
+    assert!(
+        total < 200 * doc_len,
+        "not every answer was delivered: {total} bytes"
     );
     t.service.shutdown().await.expect("shutdown");
 }

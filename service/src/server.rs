@@ -67,17 +67,22 @@ pub fn tls_acceptor(tls: &TlsConfig) -> Result<TlsAcceptor, TlsError> {
 }
 
 /// Open connections, in total and per client address, within limits.
+/// When the total is reached, the connection idle the longest is closed to
+/// make room, so a flood of idle connections cannot lock out a client that
+/// needs to send Stop.
 struct Connections {
     max: usize,
     per_client: usize,
     open: Mutex<HashMap<IpAddr, usize>>,
     total: AtomicUsize,
+    live: Mutex<Vec<std::sync::Weak<Activity>>>,
 }
 
 /// One admitted connection; dropping it frees its place.
 struct Admitted {
     table: Arc<Connections>,
     ip: IpAddr,
+    activity: Arc<Activity>,
 }
 
 impl Connections {
@@ -87,18 +92,57 @@ impl Connections {
             .unwrap_or_else(std::sync::PoisonError::into_inner)
     }
 
-    /// A place for a new connection from `ip`, if within both limits.
+    /// Asks the connection idle the longest to close; false if none is idle.
+    fn evict_idlest(&self) -> bool {
+        let mut live = self
+            .live
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        live.retain(|w| w.strong_count() > 0);
+        let idlest = live
+            .iter()
+            .filter_map(std::sync::Weak::upgrade)
+            .filter(|a| !a.evicted.load(Ordering::SeqCst))
+            .filter_map(|a| a.idle_for().map(|d| (d, a)))
+            .max_by_key(|(d, _)| *d);
+        match idlest {
+            Some((_, a)) => {
+                a.evicted.store(true, Ordering::SeqCst);
+                a.evict.notify_one();
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// A place for a new connection from `ip`, if within the per-client
+    /// limit and the total (making room by closing an idle connection).
     fn admit(self: &Arc<Self>, ip: IpAddr) -> Option<Admitted> {
         let mut map = self.map();
         let n = map.entry(ip).or_insert(0);
-        if *n >= self.per_client || self.total.load(Ordering::SeqCst) >= self.max {
+        if *n >= self.per_client {
+            return None;
+        }
+        if self.total.load(Ordering::SeqCst) >= self.max && !self.evict_idlest() {
             return None;
         }
         *n += 1;
         self.total.fetch_add(1, Ordering::SeqCst);
+        let activity = Arc::new(Activity {
+            in_flight: AtomicUsize::new(0),
+            last: Mutex::new(Instant::now()),
+            write_blocked: Mutex::new(None),
+            evict: tokio::sync::Notify::new(),
+            evicted: std::sync::atomic::AtomicBool::new(false),
+        });
+        self.live
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .push(Arc::downgrade(&activity));
         Some(Admitted {
             table: self.clone(),
             ip,
+            activity,
         })
     }
 }
@@ -116,11 +160,15 @@ impl Drop for Admitted {
     }
 }
 
-/// Requests of one connection still being answered (body included) and
-/// when the last one ended: a connection idle for too long is closed.
+/// What one connection is doing: requests still being answered (body
+/// included), when the last one ended, whether its writes are stuck (a
+/// client that does not read), and the request to close it.
 struct Activity {
     in_flight: AtomicUsize,
     last: Mutex<Instant>,
+    write_blocked: Mutex<Option<Instant>>,
+    evict: tokio::sync::Notify,
+    evicted: std::sync::atomic::AtomicBool,
 }
 
 impl Activity {
@@ -133,6 +181,83 @@ impl Activity {
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         Some(last.elapsed())
+    }
+
+    fn write_stuck_for(&self) -> Option<Duration> {
+        self.write_blocked
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .map(|t| t.elapsed())
+    }
+
+    fn wrote(&self, blocked: bool) {
+        let mut w = self
+            .write_blocked
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        match (blocked, w.is_some()) {
+            (true, false) => *w = Some(Instant::now()),
+            (false, true) => *w = None,
+            _ => {}
+        }
+    }
+}
+
+/// The connection's socket, watched for writes that make no progress.
+struct Watched<IO> {
+    io: IO,
+    activity: Arc<Activity>,
+}
+
+impl<IO: AsyncRead + Unpin> AsyncRead for Watched<IO> {
+    fn poll_read(
+        mut self: std::pin::Pin<&mut Self>,
+        cx: &mut std::task::Context<'_>,
+        buf: &mut tokio::io::ReadBuf<'_>,
+    ) -> std::task::Poll<std::io::Result<()>> {
+        std::pin::Pin::new(&mut self.io).poll_read(cx, buf)
+    }
+}
+
+impl<IO: AsyncWrite + Unpin> AsyncWrite for Watched<IO> {
+    fn poll_write(
+        mut self: std::pin::Pin<&mut Self>,
+        cx: &mut std::task::Context<'_>,
+        buf: &[u8],
+    ) -> std::task::Poll<std::io::Result<usize>> {
+        let r = std::pin::Pin::new(&mut self.io).poll_write(cx, buf);
+        self.activity.wrote(r.is_pending());
+        r
+    }
+
+    fn poll_write_vectored(
+        mut self: std::pin::Pin<&mut Self>,
+        cx: &mut std::task::Context<'_>,
+        bufs: &[std::io::IoSlice<'_>],
+    ) -> std::task::Poll<std::io::Result<usize>> {
+        let r = std::pin::Pin::new(&mut self.io).poll_write_vectored(cx, bufs);
+        self.activity.wrote(r.is_pending());
+        r
+    }
+
+    fn is_write_vectored(&self) -> bool {
+        self.io.is_write_vectored()
+    }
+
+    fn poll_flush(
+        mut self: std::pin::Pin<&mut Self>,
+        cx: &mut std::task::Context<'_>,
+    ) -> std::task::Poll<std::io::Result<()>> {
+        let r = std::pin::Pin::new(&mut self.io).poll_flush(cx);
+        self.activity.wrote(r.is_pending());
+        r
+    }
+
+    fn poll_shutdown(
+        mut self: std::pin::Pin<&mut Self>,
+        cx: &mut std::task::Context<'_>,
+    ) -> std::task::Poll<std::io::Result<()>> {
+        std::pin::Pin::new(&mut self.io).poll_shutdown(cx)
     }
 }
 
@@ -213,6 +338,7 @@ pub async fn serve(
         per_client: server.max_connections_per_client,
         open: Mutex::new(HashMap::new()),
         total: AtomicUsize::new(0),
+        live: Mutex::new(Vec::new()),
     });
     let (closing, closing_rx) = tokio::sync::watch::channel(false);
     let mut refused_logged: Option<Instant> = None;
@@ -246,13 +372,39 @@ pub async fn serve(
         let (router, builder, closing) = (router.clone(), builder.clone(), closing_rx.clone());
         let tls = tls.clone();
         tokio::spawn(async move {
+            let activity = admitted.activity.clone();
             let _admitted = admitted;
+            let watched = |io| Watched {
+                io,
+                activity: activity.clone(),
+            };
             match tls {
-                None => drive(&builder, tcp, remote, router, head_timeout, closing).await,
+                None => {
+                    let io = watched(tcp);
+                    drive(
+                        &builder,
+                        io,
+                        remote,
+                        router,
+                        head_timeout,
+                        closing,
+                        activity,
+                    )
+                    .await;
+                }
                 Some(acceptor) => {
-                    match tokio::time::timeout(head_timeout, acceptor.accept(tcp)).await {
+                    match tokio::time::timeout(head_timeout, acceptor.accept(watched(tcp))).await {
                         Ok(Ok(stream)) => {
-                            drive(&builder, stream, remote, router, head_timeout, closing).await;
+                            drive(
+                                &builder,
+                                stream,
+                                remote,
+                                router,
+                                head_timeout,
+                                closing,
+                                activity.clone(),
+                            )
+                            .await;
                         }
                         Ok(Err(e)) => {
                             tracing::debug!(client = %remote, error = %e, "TLS handshake failed");
@@ -271,8 +423,11 @@ pub async fn serve(
     Ok(())
 }
 
-/// Serves one HTTP connection until it ends, is idle for `idle`, or the
-/// server closes; each request carries the client's address.
+/// Serves one HTTP connection until it ends, is idle for `idle`, its
+/// writes are stuck for `idle` (a client that does not read), it is closed
+/// to make room, or the server closes; each request carries the client's
+/// address. A connection asked to close gracefully is dropped if it has
+/// not ended `idle` later (an HTTP/2 client that never answers).
 async fn drive<IO>(
     builder: &auto::Builder<TokioExecutor>,
     io: IO,
@@ -280,13 +435,10 @@ async fn drive<IO>(
     router: Router,
     idle: Duration,
     mut closing: tokio::sync::watch::Receiver<bool>,
+    activity: Arc<Activity>,
 ) where
     IO: AsyncRead + AsyncWrite + Unpin + Send + 'static,
 {
-    let activity = Arc::new(Activity {
-        in_flight: AtomicUsize::new(0),
-        last: Mutex::new(Instant::now()),
-    });
     let counted = activity.clone();
     let service = hyper::service::service_fn(move |req: hyper::Request<hyper::body::Incoming>| {
         let in_flight = InFlight::new(&counted);
@@ -305,7 +457,7 @@ async fn drive<IO>(
     });
     let conn = builder.serve_connection_with_upgrades(TokioIo::new(io), service);
     tokio::pin!(conn);
-    let mut closing_down = false;
+    let mut closing_since: Option<Instant> = None;
     let check = (idle / 4).max(Duration::from_millis(25));
     loop {
         tokio::select! {
@@ -315,15 +467,27 @@ async fn drive<IO>(
                 }
                 return;
             }
-            () = tokio::time::sleep(check), if !closing_down => {
-                if activity.idle_for().is_some_and(|d| d >= idle) {
-                    closing_down = true;
+            () = activity.evict.notified() => {
+                tracing::debug!(client = %remote, "idle connection closed to make room");
+                return;
+            }
+            () = tokio::time::sleep(check) => {
+                if closing_since.is_some_and(|t| t.elapsed() >= idle) {
+                    tracing::debug!(client = %remote, "connection did not close in time; dropped");
+                    return;
+                }
+                if activity.write_stuck_for().is_some_and(|d| d >= idle) {
+                    tracing::debug!(client = %remote, "client does not read its answers; dropped");
+                    return;
+                }
+                if closing_since.is_none() && activity.idle_for().is_some_and(|d| d >= idle) {
+                    closing_since = Some(Instant::now());
                     conn.as_mut().graceful_shutdown();
                 }
             }
-            changed = closing.changed(), if !closing_down => {
+            changed = closing.changed(), if closing_since.is_none() => {
                 if changed.is_err() || *closing.borrow() {
-                    closing_down = true;
+                    closing_since = Some(Instant::now());
                     conn.as_mut().graceful_shutdown();
                 }
             }

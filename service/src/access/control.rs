@@ -93,9 +93,16 @@ impl Control {
         h.lease.expires_ms = crate::engine::now_ms() + self.ttl.as_millis() as u64;
     }
 
-    /// The current lease, if any.
+    /// The current lease, if any (while one of the holder's calls runs,
+    /// it cannot lapse before `lease_ms` from now).
     pub fn current(&self) -> Option<Lease> {
-        self.lock().as_ref().map(|h| h.lease.clone())
+        self.lock().as_ref().map(|h| {
+            let mut lease = h.lease.clone();
+            if h.active > 0 {
+                lease.expires_ms = crate::engine::now_ms() + self.ttl.as_millis() as u64;
+            }
+            lease
+        })
     }
 
     fn held_error(h: &Held) -> BridgeError {

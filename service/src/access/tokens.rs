@@ -140,7 +140,7 @@ pub fn utc_text(ms: u64) -> String {
 /// is off, so no token may use it).
 pub fn check_name(name: &str) -> Result<(), TokenError> {
     let ok = !name.is_empty()
-        && name != "anonymous"
+        && !name.eq_ignore_ascii_case("anonymous")
         && name.len() <= 64
         && name
             .chars()

@@ -5,7 +5,7 @@
 //! 409 `control_held` or 429 as problem+json (thesis format on `/krl/*`).
 
 use std::net::SocketAddr;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use axum::extract::{ConnectInfo, MatchedPath, Request, State};
 use axum::http::{HeaderValue, header};
@@ -120,9 +120,24 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
     if !rule.audited {
         return ctx.scope(next.run(req)).await;
     }
-    let (req, params) = match audit_params(req).await {
+    let body_time = Duration::from_millis(app.server.header_timeout_ms);
+    let (req, params) = match audit_params(req, body_time).await {
         Ok(v) => v,
-        Err(e) => return super::routing_error(&app, &call.uri, e),
+        Err(e) => {
+            // Refused while reading the body: on record too.
+            let code = e.code.as_str().to_string();
+            let resp = super::routing_error(&app, &call.uri, e);
+            let params = audit::params(call.uri.query(), None, &[], None);
+            let record = call.record(
+                &ctx.principal,
+                params,
+                Vec::new(),
+                resp.status().as_u16(),
+                Some(code),
+            );
+            app.access.audit.record(record).await;
+            return resp;
+        }
     };
     let response = ctx.clone().scope(next.run(req)).await;
     let (response, code) = problem_code(response).await;
@@ -234,6 +249,19 @@ fn identify(
             name: t.name,
             role: t.role,
         }),
+        // Stop from a locked-out address with a wrong token: refused like
+        // everything else from there (no extra guesses, no log line).
+        None if let Some(wait) = locked_out => {
+            let e = BridgeError::new(
+                ErrorCode::TooManyAttempts,
+                format!("too many failed token attempts from {client_text}; try again in {wait} s"),
+            );
+            let mut resp = super::routing_error_blind(uri, e);
+            if let Ok(v) = HeaderValue::from_str(&wait.to_string()) {
+                resp.headers_mut().insert(header::RETRY_AFTER, v);
+            }
+            Err(Box::new(resp))
+        }
         None => {
             if let Some(ip) = client {
                 app.access.limiter.fail(ip);
@@ -302,7 +330,23 @@ async fn refused(
 
 /// Reads a JSON body (to record it) and puts it back; other bodies are
 /// passed on untouched and recorded by size.
-async fn audit_params(req: Request) -> Result<(Request, serde_json::Value), BridgeError> {
+/// True for `application/json` and `application/<anything>+json`, in any
+/// letter case and with parameters (what axum's JSON extractor accepts).
+fn is_json(content_type: &str) -> bool {
+    let essence = content_type
+        .split(';')
+        .next()
+        .unwrap_or_default()
+        .trim()
+        .to_ascii_lowercase();
+    essence == "application/json"
+        || (essence.starts_with("application/") && essence.ends_with("+json"))
+}
+
+async fn audit_params(
+    req: Request,
+    body_time: Duration,
+) -> Result<(Request, serde_json::Value), BridgeError> {
     let content_type = req
         .headers()
         .get(header::CONTENT_TYPE)
@@ -314,17 +358,24 @@ async fn audit_params(req: Request) -> Result<(Request, serde_json::Value), Brid
         .and_then(|v| v.to_str().ok())
         .and_then(|v| v.parse::<u64>().ok());
     let query = req.uri().query().map(str::to_string);
-    let json = content_type
-        .as_deref()
-        .is_some_and(|c| c.starts_with("application/json"));
+    let json = content_type.as_deref().is_some_and(is_json);
     if !json {
         let params = audit::params(query.as_deref(), content_type.as_deref(), &[], size);
         return Ok((req, params));
     }
     let (parts, body) = req.into_parts();
-    let bytes = http_body_util::Limited::new(body, MAX_AUDITED_JSON)
-        .collect()
+    let read = http_body_util::Limited::new(body, MAX_AUDITED_JSON).collect();
+    let bytes = tokio::time::timeout(body_time, read)
         .await
+        .map_err(|_| {
+            BridgeError::new(
+                ErrorCode::RequestTimeout,
+                format!(
+                    "the JSON body did not arrive within {} s (server.header_timeout_ms)",
+                    body_time.as_secs_f64()
+                ),
+            )
+        })?
         .map_err(|e| {
             BridgeError::new(
                 ErrorCode::PayloadTooLarge,
@@ -345,8 +396,17 @@ async fn problem_code(resp: Response) -> (Response, Option<String>) {
         v.as_bytes()
             .starts_with(super::problem::PROBLEM_JSON.as_bytes())
     });
-    if !(resp.status().as_u16() >= 400 && is_problem) {
+    if resp.status().as_u16() < 400 {
         return (resp, None);
+    }
+    if !is_problem {
+        // Bare answers of the body and time limits (made problems later).
+        let code = match resp.status().as_u16() {
+            413 => Some(ErrorCode::PayloadTooLarge),
+            504 | 408 => Some(ErrorCode::RequestTimeout),
+            _ => None,
+        };
+        return (resp, code.map(|c| c.as_str().to_string()));
     }
     let (parts, body) = resp.into_parts();
     let Ok(collected) = http_body_util::Limited::new(body, 1 << 20).collect().await else {

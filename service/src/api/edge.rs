@@ -13,7 +13,7 @@ use axum::Router;
 use axum::extract::{MatchedPath, Request, State};
 use axum::http::{HeaderValue, Method, StatusCode, header};
 use axum::middleware::Next;
-use axum::response::{IntoResponse, Response};
+use axum::response::Response;
 use tokio::sync::Semaphore;
 use tower_http::cors::{AllowOrigin, CorsLayer};
 use tower_http::limit::RequestBodyLimitLayer;
@@ -21,7 +21,7 @@ use tower_http::timeout::TimeoutLayer;
 use tower_http::trace::TraceLayer;
 
 use super::AppState;
-use super::problem::{PROBLEM_JSON, Problem};
+use super::problem::PROBLEM_JSON;
 use crate::config::ServerConfig;
 use crate::error::{BridgeError, ErrorCode};
 
@@ -73,11 +73,11 @@ async fn shed_load(State(slots): State<Arc<Semaphore>>, req: Request, next: Next
         return next.run(req).await;
     }
     let Ok(_slot) = slots.try_acquire() else {
-        let mut r = Problem::from(BridgeError::new(
+        let e = BridgeError::new(
             ErrorCode::Overloaded,
             "too many requests are in progress; retry after the Retry-After delay",
-        ))
-        .into_response();
+        );
+        let mut r = super::routing_error_blind(req.uri(), e);
         r.headers_mut()
             .insert(header::RETRY_AFTER, HeaderValue::from_static("1"));
         return r;

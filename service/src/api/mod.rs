@@ -147,7 +147,7 @@ fn routing_error(app: &AppState, uri: &Uri, e: BridgeError) -> Response {
 
 /// [`routing_error`] for callers not identified yet: a thesis answer
 /// carries zeros, not the robot's position.
-fn routing_error_blind(uri: &Uri, e: BridgeError) -> Response {
+pub(crate) fn routing_error_blind(uri: &Uri, e: BridgeError) -> Response {
     if uri.path().starts_with("/krl/") {
         thesis::fail_at(&e, [0.0; 6])
     } else {
@@ -155,20 +155,21 @@ fn routing_error_blind(uri: &Uri, e: BridgeError) -> Response {
     }
 }
 
-async fn not_found(State(app): State<AppState>, uri: Uri) -> Response {
+async fn not_found(uri: Uri) -> Response {
     let e = BridgeError::new(
         ErrorCode::NotFound,
         format!("no endpoint at {}; see /docs", uri.path()),
     );
-    routing_error(&app, &uri, e)
+    // Nobody was identified: no position in a thesis answer.
+    routing_error_blind(&uri, e)
 }
 
-async fn method_not_allowed(State(app): State<AppState>, uri: Uri) -> Response {
+async fn method_not_allowed(uri: Uri) -> Response {
     let e = BridgeError::new(
         ErrorCode::MethodNotAllowed,
         format!("{} does not accept this HTTP method; see /docs", uri.path()),
     );
-    routing_error(&app, &uri, e)
+    routing_error_blind(&uri, e)
 }
 
 /// The documented routes and their OpenAPI description.
