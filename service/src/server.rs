@@ -135,10 +135,17 @@ impl Connections {
             evict: tokio::sync::Notify::new(),
             evicted: std::sync::atomic::AtomicBool::new(false),
         });
-        self.live
+        let mut live = self
+            .live
             .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .push(Arc::downgrade(&activity));
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        // Forget closed connections now and then (amortised; the list
+        // would otherwise grow with every connection ever accepted).
+        if live.len() > 2 * self.total.load(Ordering::SeqCst).max(64) {
+            live.retain(|w| w.strong_count() > 0);
+        }
+        live.push(Arc::downgrade(&activity));
+        drop(live);
         Some(Admitted {
             table: self.clone(),
             ip,
