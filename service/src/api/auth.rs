@@ -234,15 +234,7 @@ fn identify(
     let client_text = client.map_or_else(|| "unknown".to_string(), |c| c.to_string());
     let locked_out = client.and_then(|ip| app.access.limiter.check(ip).err());
     if let Some(wait) = locked_out.filter(|_| !safety) {
-        let e = BridgeError::new(
-            ErrorCode::TooManyAttempts,
-            format!("too many failed token attempts from {client_text}; try again in {wait} s"),
-        );
-        let mut resp = super::routing_error_blind(uri, e);
-        if let Ok(v) = HeaderValue::from_str(&wait.to_string()) {
-            resp.headers_mut().insert(header::RETRY_AFTER, v);
-        }
-        return Err(Box::new(resp));
+        return Err(Box::new(too_many_attempts(uri, &client_text, wait)));
     }
     match app.access.tokens.verify(&secret) {
         Some(t) => Ok(Principal {
@@ -252,15 +244,7 @@ fn identify(
         // Stop from a locked-out address with a wrong token: refused like
         // everything else from there (no extra guesses, no log line).
         None if let Some(wait) = locked_out => {
-            let e = BridgeError::new(
-                ErrorCode::TooManyAttempts,
-                format!("too many failed token attempts from {client_text}; try again in {wait} s"),
-            );
-            let mut resp = super::routing_error_blind(uri, e);
-            if let Ok(v) = HeaderValue::from_str(&wait.to_string()) {
-                resp.headers_mut().insert(header::RETRY_AFTER, v);
-            }
-            Err(Box::new(resp))
+            Err(Box::new(too_many_attempts(uri, &client_text, wait)))
         }
         None => {
             if let Some(ip) = client {
@@ -274,6 +258,19 @@ fn identify(
             )))
         }
     }
+}
+
+/// 429 for an address locked out by the failed-attempt limiter.
+fn too_many_attempts(uri: &axum::http::Uri, client: &str, wait: u64) -> Response {
+    let e = BridgeError::new(
+        ErrorCode::TooManyAttempts,
+        format!("too many failed token attempts from {client}; try again in {wait} s"),
+    );
+    let mut resp = super::routing_error_blind(uri, e);
+    if let Ok(v) = HeaderValue::from_str(&wait.to_string()) {
+        resp.headers_mut().insert(header::RETRY_AFTER, v);
+    }
+    resp
 }
 
 /// What the `WWW-Authenticate` challenge says (RFC 6750 §3.1).

@@ -6,11 +6,11 @@
 //! graceful shutdown. In the spirit of axum's own `serve`, with the knobs a
 //! plant-network service needs.
 
-use std::collections::HashMap;
-use std::net::{IpAddr, SocketAddr};
+mod connections;
+
+use std::net::SocketAddr;
 use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use axum::Router;
@@ -23,6 +23,7 @@ use tokio_rustls::TlsAcceptor;
 use tower::ServiceExt;
 
 use crate::config::{ServerConfig, TlsConfig};
+use connections::{Activity, Connections, InFlight, Tracked, Watched};
 
 /// Why TLS could not be set up.
 #[derive(Debug, thiserror::Error)]
@@ -66,255 +67,6 @@ pub fn tls_acceptor(tls: &TlsConfig) -> Result<TlsAcceptor, TlsError> {
     Ok(TlsAcceptor::from(Arc::new(config)))
 }
 
-/// Open connections, in total and per client address, within limits.
-/// When the total is reached, the connection idle the longest is closed to
-/// make room, so a flood of idle connections cannot lock out a client that
-/// needs to send Stop.
-struct Connections {
-    max: usize,
-    per_client: usize,
-    open: Mutex<HashMap<IpAddr, usize>>,
-    total: AtomicUsize,
-    live: Mutex<Vec<std::sync::Weak<Activity>>>,
-}
-
-/// One admitted connection; dropping it frees its place.
-struct Admitted {
-    table: Arc<Connections>,
-    ip: IpAddr,
-    activity: Arc<Activity>,
-}
-
-impl Connections {
-    fn map(&self) -> std::sync::MutexGuard<'_, HashMap<IpAddr, usize>> {
-        self.open
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-    }
-
-    /// Asks the connection idle the longest to close; false if none is idle.
-    fn evict_idlest(&self) -> bool {
-        let mut live = self
-            .live
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        live.retain(|w| w.strong_count() > 0);
-        let idlest = live
-            .iter()
-            .filter_map(std::sync::Weak::upgrade)
-            .filter(|a| !a.evicted.load(Ordering::SeqCst))
-            .filter_map(|a| a.idle_for().map(|d| (d, a)))
-            .max_by_key(|(d, _)| *d);
-        match idlest {
-            Some((_, a)) => {
-                a.evicted.store(true, Ordering::SeqCst);
-                a.evict.notify_one();
-                true
-            }
-            None => false,
-        }
-    }
-
-    /// A place for a new connection from `ip`, if within the per-client
-    /// limit and the total (making room by closing an idle connection).
-    fn admit(self: &Arc<Self>, ip: IpAddr) -> Option<Admitted> {
-        let mut map = self.map();
-        let n = map.entry(ip).or_insert(0);
-        if *n >= self.per_client {
-            return None;
-        }
-        if self.total.load(Ordering::SeqCst) >= self.max && !self.evict_idlest() {
-            return None;
-        }
-        *n += 1;
-        self.total.fetch_add(1, Ordering::SeqCst);
-        let activity = Arc::new(Activity {
-            in_flight: AtomicUsize::new(0),
-            last: Mutex::new(Instant::now()),
-            write_blocked: Mutex::new(None),
-            evict: tokio::sync::Notify::new(),
-            evicted: std::sync::atomic::AtomicBool::new(false),
-        });
-        let mut live = self
-            .live
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        // Forget closed connections now and then (amortised; the list
-        // would otherwise grow with every connection ever accepted).
-        if live.len() > 2 * self.total.load(Ordering::SeqCst).max(64) {
-            live.retain(|w| w.strong_count() > 0);
-        }
-        live.push(Arc::downgrade(&activity));
-        drop(live);
-        Some(Admitted {
-            table: self.clone(),
-            ip,
-            activity,
-        })
-    }
-}
-
-impl Drop for Admitted {
-    fn drop(&mut self) {
-        let mut map = self.table.map();
-        if let Some(n) = map.get_mut(&self.ip) {
-            *n -= 1;
-            if *n == 0 {
-                map.remove(&self.ip);
-            }
-        }
-        self.table.total.fetch_sub(1, Ordering::SeqCst);
-    }
-}
-
-/// What one connection is doing: requests still being answered (body
-/// included), when the last one ended, whether its writes are stuck (a
-/// client that does not read), and the request to close it.
-struct Activity {
-    in_flight: AtomicUsize,
-    last: Mutex<Instant>,
-    write_blocked: Mutex<Option<Instant>>,
-    evict: tokio::sync::Notify,
-    evicted: std::sync::atomic::AtomicBool,
-}
-
-impl Activity {
-    fn idle_for(&self) -> Option<Duration> {
-        if self.in_flight.load(Ordering::SeqCst) > 0 {
-            return None;
-        }
-        let last = *self
-            .last
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        Some(last.elapsed())
-    }
-
-    fn write_stuck_for(&self) -> Option<Duration> {
-        self.write_blocked
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .map(|t| t.elapsed())
-    }
-
-    fn wrote(&self, blocked: bool) {
-        let mut w = self
-            .write_blocked
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        match (blocked, w.is_some()) {
-            (true, false) => *w = Some(Instant::now()),
-            (false, true) => *w = None,
-            _ => {}
-        }
-    }
-}
-
-/// The connection's socket, watched for writes that make no progress.
-struct Watched<IO> {
-    io: IO,
-    activity: Arc<Activity>,
-}
-
-impl<IO: AsyncRead + Unpin> AsyncRead for Watched<IO> {
-    fn poll_read(
-        mut self: std::pin::Pin<&mut Self>,
-        cx: &mut std::task::Context<'_>,
-        buf: &mut tokio::io::ReadBuf<'_>,
-    ) -> std::task::Poll<std::io::Result<()>> {
-        std::pin::Pin::new(&mut self.io).poll_read(cx, buf)
-    }
-}
-
-impl<IO: AsyncWrite + Unpin> AsyncWrite for Watched<IO> {
-    fn poll_write(
-        mut self: std::pin::Pin<&mut Self>,
-        cx: &mut std::task::Context<'_>,
-        buf: &[u8],
-    ) -> std::task::Poll<std::io::Result<usize>> {
-        let r = std::pin::Pin::new(&mut self.io).poll_write(cx, buf);
-        self.activity.wrote(r.is_pending());
-        r
-    }
-
-    fn poll_write_vectored(
-        mut self: std::pin::Pin<&mut Self>,
-        cx: &mut std::task::Context<'_>,
-        bufs: &[std::io::IoSlice<'_>],
-    ) -> std::task::Poll<std::io::Result<usize>> {
-        let r = std::pin::Pin::new(&mut self.io).poll_write_vectored(cx, bufs);
-        self.activity.wrote(r.is_pending());
-        r
-    }
-
-    fn is_write_vectored(&self) -> bool {
-        self.io.is_write_vectored()
-    }
-
-    fn poll_flush(
-        mut self: std::pin::Pin<&mut Self>,
-        cx: &mut std::task::Context<'_>,
-    ) -> std::task::Poll<std::io::Result<()>> {
-        let r = std::pin::Pin::new(&mut self.io).poll_flush(cx);
-        self.activity.wrote(r.is_pending());
-        r
-    }
-
-    fn poll_shutdown(
-        mut self: std::pin::Pin<&mut Self>,
-        cx: &mut std::task::Context<'_>,
-    ) -> std::task::Poll<std::io::Result<()>> {
-        std::pin::Pin::new(&mut self.io).poll_shutdown(cx)
-    }
-}
-
-/// Marks a request in flight until its answer's body is done or dropped.
-struct InFlight(Arc<Activity>);
-
-impl InFlight {
-    fn new(a: &Arc<Activity>) -> InFlight {
-        a.in_flight.fetch_add(1, Ordering::SeqCst);
-        InFlight(a.clone())
-    }
-}
-
-impl Drop for InFlight {
-    fn drop(&mut self) {
-        *self
-            .0
-            .last
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner) = Instant::now();
-        self.0.in_flight.fetch_sub(1, Ordering::SeqCst);
-    }
-}
-
-/// An answer body that keeps its request counted as in flight.
-struct Tracked {
-    inner: axum::body::Body,
-    _in_flight: InFlight,
-}
-
-impl axum::body::HttpBody for Tracked {
-    type Data = axum::body::Bytes;
-    type Error = axum::Error;
-
-    fn poll_frame(
-        mut self: std::pin::Pin<&mut Self>,
-        cx: &mut std::task::Context<'_>,
-    ) -> std::task::Poll<Option<Result<hyper::body::Frame<Self::Data>, Self::Error>>> {
-        std::pin::Pin::new(&mut self.inner).poll_frame(cx)
-    }
-
-    fn is_end_stream(&self) -> bool {
-        self.inner.is_end_stream()
-    }
-
-    fn size_hint(&self) -> hyper::body::SizeHint {
-        self.inner.size_hint()
-    }
-}
-
 /// Serves `router` on `listener` until `stop` resolves, then waits for open
 /// connections to finish (event streams end on the service's closing
 /// signal). Connections are limited in number (in total and per client
@@ -340,13 +92,10 @@ pub async fn serve(
         .timer(TokioTimer::new())
         .max_header_list_size(u32::try_from(server.max_header_bytes).unwrap_or(u32::MAX));
     let builder = Arc::new(builder);
-    let connections = Arc::new(Connections {
-        max: server.max_connections,
-        per_client: server.max_connections_per_client,
-        open: Mutex::new(HashMap::new()),
-        total: AtomicUsize::new(0),
-        live: Mutex::new(Vec::new()),
-    });
+    let connections = Arc::new(Connections::new(
+        server.max_connections,
+        server.max_connections_per_client,
+    ));
     let (closing, closing_rx) = tokio::sync::watch::channel(false);
     let mut refused_logged: Option<Instant> = None;
     tokio::pin!(stop);
@@ -424,7 +173,7 @@ pub async fn serve(
     }
     drop(listener);
     let _ = closing.send(true);
-    while connections.total.load(Ordering::SeqCst) > 0 {
+    while connections.open_count() > 0 {
         tokio::time::sleep(Duration::from_millis(20)).await;
     }
     Ok(())
@@ -454,12 +203,9 @@ async fn drive<IO>(
         let answer = router.clone().oneshot(req);
         async move {
             let resp = answer.await?;
-            Ok::<_, std::convert::Infallible>(resp.map(|inner| {
-                axum::body::Body::new(Tracked {
-                    inner,
-                    _in_flight: in_flight,
-                })
-            }))
+            Ok::<_, std::convert::Infallible>(
+                resp.map(|inner| axum::body::Body::new(Tracked::new(inner, in_flight))),
+            )
         }
     });
     let conn = builder.serve_connection_with_upgrades(TokioIo::new(io), service);
