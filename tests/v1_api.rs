@@ -645,3 +645,35 @@ async fn readme_walk_through_draws_the_smiley() {
     }
     t.service.shutdown().await.expect("shutdown");
 }
+
+/// The dashboard is served from the binary: the page at `/`, its files
+/// under `/ui/` with their media types, unknown files 404.
+#[tokio::test]
+async fn dashboard_files_are_served_from_the_binary() {
+    let t = TestService::start(Options::default()).await;
+    for (path, media) in [
+        ("/", "text/html"),
+        ("/ui/app.js", "text/javascript"),
+        ("/ui/style.css", "text/css"),
+        ("/ui/vendor/three.module.js", "text/javascript"),
+        ("/ui/vendor/three.core.js", "text/javascript"),
+        ("/ui/vendor/OrbitControls.js", "text/javascript"),
+        ("/ui/vendor/uPlot.esm.js", "text/javascript"),
+    ] {
+        let r = t.http.get(t.url(path)).send().await.expect("request");
+        assert_eq!(r.status().as_u16(), 200, "{path}");
+        let ct = r.headers()["content-type"]
+            .to_str()
+            .unwrap_or_default()
+            .to_string();
+        assert!(ct.starts_with(media), "{path}: {ct}");
+        let body = r.text().await.expect("body");
+        assert!(!body.is_empty(), "{path}");
+        if path == "/" {
+            assert!(body.contains(r#"src="/ui/app.js""#), "{body}");
+        }
+    }
+    let (s, v) = t.get("/ui/nothing.js").await;
+    assert_eq!((s, v["code"].as_str()), (404, Some("not_found")));
+    t.service.shutdown().await.expect("shutdown");
+}

@@ -151,6 +151,8 @@ const TABLE: &[(&str, &str, Rule)] = &[
     // Documentation.
     ("GET", "/openapi.json", PUBLIC),
     ("GET", "/", PUBLIC),
+    // The dashboard's files (the data it shows needs a token).
+    ("GET", "/ui/{*path}", PUBLIC),
 ];
 
 /// The rule for a request, by method and matched route template. HEAD is

@@ -7,6 +7,7 @@
 
 mod access;
 mod auth;
+mod dashboard;
 mod edge;
 mod events;
 mod plugins;
@@ -209,10 +210,9 @@ pub fn app(mut state: AppState) -> Router {
         // Swagger UI forgets the token when the page is closed (no
         // persisted authorization: HMI PCs are shared).
         .merge(SwaggerUi::new("/docs").config(utoipa_swagger_ui::Config::from("/openapi.json")))
-        .route(
-            "/",
-            axum::routing::get(|| async { axum::response::Redirect::temporary("/docs/") }),
-        )
+        // The dashboard (its page asks for a token when access control is on).
+        .route("/", axum::routing::get(dashboard::page))
+        .route("/ui/{*path}", axum::routing::get(dashboard::file))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed);
     // Inside the access layer: what it must see (and audit) as the
