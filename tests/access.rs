@@ -10,7 +10,7 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Duration;
 
-use kuka_bridge_tests::{Options, TestService, example_plugins};
+use kuka_bridge_tests::{Options, TestService, example_plugins, initial_admin_secret};
 use serde_json::{Value, json};
 
 fn cli() -> &'static str {
@@ -27,16 +27,6 @@ async fn secured(tweak: impl FnOnce(&mut kuka_bridge::config::Config) + 'static)
         ..Options::default()
     })
     .await
-}
-
-/// The secret written to the first-start admin token file.
-fn initial_admin_secret(data_dir: &Path) -> String {
-    let text = std::fs::read_to_string(data_dir.join("initial-admin-token.txt"))
-        .expect("the first start writes the admin token file");
-    text.lines()
-        .find(|l| l.starts_with("kb_"))
-        .expect("a token line")
-        .to_string()
 }
 
 /// A request as `token` (None: no Authorization header).
@@ -769,21 +759,7 @@ fn no_secret_in_logs_audit_or_errors() {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("spawn");
-    let stdout = child.stdout.take().expect("stdout");
-    let mut lines = std::io::BufRead::lines(std::io::BufReader::new(stdout));
-    let mut url = String::new();
-    let mut console = String::new();
-    for line in lines.by_ref() {
-        let line = line.expect("line");
-        console.push_str(&line);
-        console.push('\n');
-        if let Some(rest) = line.split("listening on ").nth(1) {
-            url = rest.trim().to_string();
-        }
-        if line.starts_with("Press Ctrl-C") {
-            break;
-        }
-    }
+    let (url, console) = kuka_bridge_tests::read_banner(child.stdout.take().expect("stdout"));
     assert!(
         console.contains("initial-admin-token.txt"),
         "the console says where: {console}"

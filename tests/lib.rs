@@ -360,6 +360,36 @@ fn build_python_plugin(out: &Path) {
         .arg(out.join("py-square.wasm")));
 }
 
+/// The secret in the first-start admin token file of `data_dir`.
+pub fn initial_admin_secret(data_dir: &Path) -> String {
+    let text = std::fs::read_to_string(data_dir.join("initial-admin-token.txt"))
+        .expect("the first start writes the admin token file");
+    text.lines()
+        .find(|l| l.starts_with("kb_"))
+        .expect("a token line")
+        .to_string()
+}
+
+/// Reads a `kuka-bridge run` console up to "Press Ctrl-C": the URL it
+/// listens on and everything it printed.
+pub fn read_banner(stdout: impl std::io::Read) -> (String, String) {
+    use std::io::BufRead;
+    let mut url = String::new();
+    let mut console = String::new();
+    for line in std::io::BufReader::new(stdout).lines() {
+        let line = line.expect("line");
+        console.push_str(&line);
+        console.push('\n');
+        if let Some(rest) = line.split("listening on ").nth(1) {
+            url = rest.trim().to_string();
+        }
+        if line.starts_with("Press Ctrl-C") {
+            break;
+        }
+    }
+    (url, console)
+}
+
 /// Helpers of the benchmark binaries (`tests/benches`).
 pub mod bench {
     use std::time::{Duration, Instant};
@@ -372,6 +402,25 @@ pub mod bench {
             .enable_all()
             .build()
             .expect("runtime")
+    }
+
+    /// Resident set size of process `pid` (or this one) in MiB (Linux:
+    /// VmRSS from `/proc/<pid>/status`).
+    pub fn rss_mib(pid: Option<u32>) -> Option<f64> {
+        let file = pid.map_or_else(
+            || "/proc/self/status".to_string(),
+            |p| format!("/proc/{p}/status"),
+        );
+        let status = std::fs::read_to_string(file).ok()?;
+        let kb: f64 = status
+            .lines()
+            .find_map(|l| l.strip_prefix("VmRSS:"))?
+            .trim()
+            .trim_end_matches("kB")
+            .trim()
+            .parse()
+            .ok()?;
+        Some(kb / 1024.0)
     }
 
     /// The `p` quantile of sorted samples.

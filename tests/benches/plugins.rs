@@ -25,20 +25,6 @@ use kuka_bridge_tests::bench::{raw_round_trips, report};
 use kuka_bridge_tests::{Options, TestService};
 use serde_json::Value;
 
-/// Resident set size in MiB (Linux), for the memory figure.
-fn rss_mib() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let kb: f64 = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmRSS:"))?
-        .trim()
-        .trim_end_matches("kB")
-        .trim()
-        .parse()
-        .ok()?;
-    Some(kb / 1024.0)
-}
-
 /// `wasm` with every occurrence of `from` replaced by `to` (same length).
 fn renamed(wasm: &[u8], from: &str, to: &str) -> Vec<u8> {
     assert_eq!(from.len(), to.len());
@@ -97,7 +83,7 @@ fn main() {
             "kuka-bridge plugin benchmark ({} CPUs)",
             std::thread::available_parallelism().map_or(0, |n| n.get())
         );
-        let rss_start = rss_mib();
+        let rss_start = kuka_bridge_tests::bench::rss_mib(None);
 
         println!("-- install compiled from scratch (PUT, new bytes each time), then 10 plugins resident");
         let circle = read("draw-circle");
@@ -121,7 +107,7 @@ fn main() {
             let (status, v) = t.post_json(&format!("/api/v1/plugins/bench-pl-{i:02}/circle"), &body).await;
             assert_eq!(status, 200, "{v}");
         }
-        let rss_10 = rss_mib();
+        let rss_10 = kuka_bridge_tests::bench::rss_mib(None);
         match (rss_start, rss_10) {
             (Some(a), Some(b)) => println!(
                 "RSS: {a:.1} MiB with no plugin, {b:.1} MiB with 10 installed and called once ({:.2} MiB per plugin)",
@@ -223,7 +209,7 @@ fn main() {
                 d[rounds - 1] * 1e6
             );
         }
-        let rss_end = rss_mib();
+        let rss_end = kuka_bridge_tests::bench::rss_mib(None);
         if let Some(r) = rss_end {
             println!("RSS at the end: {r:.1} MiB");
         }

@@ -22,7 +22,6 @@
 //! [--minutes 10]`. Not part of CI (it takes the given minutes).
 
 use std::collections::{BTreeMap, BTreeSet, HashSet};
-use std::io::BufRead;
 use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -38,19 +37,6 @@ fn arg(name: &str, default: u64) -> u64 {
         .and_then(|i| args.get(i + 1))
         .and_then(|v| v.parse().ok())
         .unwrap_or(default)
-}
-
-fn rss_mib(pid: u32) -> Option<f64> {
-    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
-    let kb: f64 = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmRSS:"))?
-        .trim()
-        .trim_end_matches("kB")
-        .trim()
-        .parse()
-        .ok()?;
-    Some(kb / 1024.0)
 }
 
 /// What the clients saw.
@@ -102,22 +88,8 @@ fn main() {
         .spawn()
         .expect("start the service");
     let pid = child.id();
-    let mut url = String::new();
-    for line in std::io::BufReader::new(child.stdout.take().expect("stdout")).lines() {
-        let line = line.expect("line");
-        if let Some(rest) = line.split("listening on ").nth(1) {
-            url = rest.trim().to_string();
-        }
-        if line.starts_with("Press Ctrl-C") {
-            break;
-        }
-    }
-    let admin = std::fs::read_to_string(data_dir.join("initial-admin-token.txt"))
-        .expect("admin token file")
-        .lines()
-        .find(|l| l.starts_with("kb_"))
-        .expect("token")
-        .to_string();
+    let (url, _) = kuka_bridge_tests::read_banner(child.stdout.take().expect("stdout"));
+    let admin = kuka_bridge_tests::initial_admin_secret(&data_dir);
     println!("soak: {clients} clients for {minutes} min against {url} (pid {pid})");
 
     let rt = kuka_bridge_tests::bench::runtime();
@@ -215,7 +187,7 @@ fn main() {
         let sampler = tokio::spawn(async move {
             let mut samples = Vec::new();
             while Instant::now() < end {
-                if let Some(m) = rss_mib(pid) {
+                if let Some(m) = kuka_bridge_tests::bench::rss_mib(Some(pid)) {
                     samples.push(m);
                 }
                 tokio::time::sleep(Duration::from_secs(10)).await;
