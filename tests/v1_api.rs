@@ -646,34 +646,130 @@ async fn readme_walk_through_draws_the_smiley() {
     t.service.shutdown().await.expect("shutdown");
 }
 
-/// The dashboard is served from the binary: the page at `/`, its files
-/// under `/ui/` with their media types, unknown files 404.
+/// The dashboard is served from the binary: the page at `/`, and every
+/// file it loads — followed through the scripts' module imports — under
+/// `/ui/` with its media type; unknown files 404.
 #[tokio::test]
 async fn dashboard_files_are_served_from_the_binary() {
     let t = TestService::start(Options::default()).await;
-    for (path, media) in [
-        ("/", "text/html"),
-        ("/ui/app.js", "text/javascript"),
-        ("/ui/style.css", "text/css"),
-        ("/ui/vendor/three.module.js", "text/javascript"),
-        ("/ui/vendor/three.core.js", "text/javascript"),
-        ("/ui/vendor/OrbitControls.js", "text/javascript"),
-        ("/ui/vendor/uPlot.esm.js", "text/javascript"),
-    ] {
-        let r = t.http.get(t.url(path)).send().await.expect("request");
+    let mut todo = vec!["/".to_string()];
+    let mut seen = std::collections::BTreeSet::new();
+    while let Some(path) = todo.pop() {
+        if !seen.insert(path.clone()) {
+            continue;
+        }
+        let r = t.http.get(t.url(&path)).send().await.expect("request");
         assert_eq!(r.status().as_u16(), 200, "{path}");
         let ct = r.headers()["content-type"]
             .to_str()
             .unwrap_or_default()
             .to_string();
-        assert!(ct.starts_with(media), "{path}: {ct}");
         let body = r.text().await.expect("body");
         assert!(!body.is_empty(), "{path}");
-        if path == "/" {
-            assert!(body.contains(r#"src="/ui/app.js""#), "{body}");
-        }
+        let dir = path.rsplit_once('/').map_or("", |(d, _)| d).to_string();
+        let refs: Vec<String> = if path == "/" {
+            assert!(ct.starts_with("text/html"), "{path}: {ct}");
+            ["src=\"", "href=\""]
+                .iter()
+                .flat_map(|attr| body.split(attr).skip(1))
+                .filter_map(|rest| rest.split('"').next())
+                .filter(|r| r.starts_with("/ui/"))
+                .map(str::to_string)
+                .collect()
+        } else if path.ends_with(".js") {
+            assert!(ct.starts_with("text/javascript"), "{path}: {ct}");
+            body.lines()
+                .filter(|l| l.starts_with("import ") || l.starts_with("export * from"))
+                .filter_map(|l| l.split(" from ").nth(1))
+                .map(|m| m.trim_matches(|c| c == ' ' || c == ';' || c == '"' || c == '\''))
+                .filter_map(|m| m.strip_prefix("./"))
+                .map(|m| format!("{dir}/{m}"))
+                .collect()
+        } else {
+            assert!(ct.starts_with("text/css"), "{path}: {ct}");
+            Vec::new()
+        };
+        todo.extend(refs);
+    }
+    for want in [
+        "/ui/app.js",
+        "/ui/arm.js",
+        "/ui/kinematics.js",
+        "/ui/vendor/three.module.js",
+        "/ui/vendor/three.core.js",
+        "/ui/vendor/OrbitControls.js",
+        "/ui/style.css",
+    ] {
+        assert!(seen.contains(want), "{want} in {seen:?}");
     }
     let (s, v) = t.get("/ui/nothing.js").await;
     assert_eq!((s, v["code"].as_str()), (404, Some("not_found")));
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// `GET /api/v1/model` gives the geometry and limits the checks use, and
+/// the `plan` event gives a batch's motions with relative and omitted
+/// coordinates resolved, before they run.
+#[tokio::test]
+async fn model_and_planned_paths() {
+    let t = TestService::start(Options::default()).await;
+    let (s, m) = t.get("/api/v1/model").await;
+    assert_eq!(s, 200, "{m}");
+    assert_eq!(m["name"], "kr3_r540");
+    assert_eq!(m["opw_mm"]["c1"], 345.0);
+    assert_eq!(m["opw_mm"]["a2"], -20.0);
+    assert_eq!(m["limits_deg"][1], json!([-170.0, 50.0]));
+    assert_eq!(m["home"], json!([0.0, -90.0, 90.0, 0.0, 0.0, 0.0]));
+
+    let events = t
+        .http
+        .get(t.url("/api/v1/events?types=plan"))
+        .send()
+        .await
+        .expect("events");
+    let mut stream = events.bytes_stream();
+    let batch = json!({"motions": [
+        {"type": "ptp", "target": {"x": 275, "y": 0, "z": 100, "a": 0, "b": 180, "c": 0, "s": 6}},
+        {"type": "lin", "target": {"z": -30}, "relative": true},
+        {"type": "circ", "aux": {"x": 220, "y": 55}, "target": {"x": 165}},
+        {"type": "ptp_axes", "axes": {"a1": 5, "a2": -90, "a3": 90, "a4": 0, "a5": 0, "a6": 0}}
+    ]});
+    let (s, job) = t.post_json("/api/v1/motions", &batch).await;
+    assert_eq!(s, 200, "{job}");
+    let mut buf = String::new();
+    let plan = loop {
+        let chunk = tokio::time::timeout(Duration::from_secs(5), stream.next())
+            .await
+            .expect("a plan event within 5 s")
+            .expect("stream open")
+            .expect("chunk");
+        buf.push_str(&String::from_utf8_lossy(&chunk));
+        if let Some(end) = buf.find("\n\n") {
+            let msg: String = buf.drain(..end + 2).collect();
+            if msg.contains("event: plan") {
+                let data = msg.lines().find_map(|l| l.strip_prefix("data:"));
+                break serde_json::from_str::<Value>(data.expect("data").trim()).expect("json");
+            }
+        }
+    };
+    assert_eq!(plan["job"], job["id"]);
+    assert_eq!(plan["cid"], job["cid"]);
+    let m = &plan["motions"];
+    assert_eq!(m[0]["type"], "ptp");
+    assert_eq!(m[0]["target"], json!([275.0, 0.0, 100.0, 0.0, 180.0, 0.0]));
+    assert_eq!(
+        m[1]["target"],
+        json!([275.0, 0.0, 70.0, 0.0, 180.0, 0.0]),
+        "relative z"
+    );
+    assert_eq!(m[2]["aux"], json!([220.0, 55.0, 70.0]), "aux keeps z");
+    assert_eq!(m[2]["target"], json!([165.0, 0.0, 70.0, 0.0, 180.0, 0.0]));
+    assert_eq!(m[3]["type"], "ptp_axes");
+    assert_eq!(m[3]["axes"], json!([5.0, -90.0, 90.0, 0.0, 0.0, 0.0]));
+    assert!(m[3]["target"].is_null(), "{}", m[3]);
+    // The unknown event type is named in the error.
+    let (s, v) = t.get("/api/v1/events?types=plans").await;
+    assert_eq!(s, 422);
+    assert!(v["detail"].as_str().unwrap_or("").contains("plan"), "{v}");
     t.service.shutdown().await.expect("shutdown");
 }

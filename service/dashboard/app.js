@@ -1,38 +1,260 @@
-// kuka-bridge dashboard: talks only to the public API (GET /api/v1/state,
-// the event stream, POST /api/v1/stop), with the token of this tab when
-// access control is on.
-const $ = (id) => document.getElementById(id);
-const state = { token: sessionStorage.getItem("kb-token") || "", jobs: new Map() };
-window.dashboard = state; // for tests and the curious
+// kuka-bridge dashboard: wires the panels to the public API only —
+// GET /api/v1/state, /api/v1/model, /api/v1/control, /openapi.json, the
+// event stream /api/v1/events (state, job, plan, alarm), the simulator's
+// trace when simulating, and the same POST/PUT calls any client makes —
+// with this tab's token when access control is on. Updates are pushed by
+// the event stream; nothing polls in a tight loop.
+import { ArmView } from "./arm.js";
+import { Projection } from "./projections.js";
+import { arc, tcpInBase } from "./kinematics.js";
+import { fieldsOf, buildInputs, valuesOf } from "./forms.js";
 
-function headers() {
-  return state.token ? { Authorization: `Bearer ${state.token}` } : {};
+const $ = (id) => document.getElementById(id);
+const MAX_PATH = 100000; // executed samples kept (oldest dropped)
+const MAX_EVENTS = 500;
+const RANK = { viewer: 1, operator: 2, admin: 3 };
+
+/** Everything the page knows; also `window.dashboard` for tests and the curious. */
+const state = {
+  token: sessionStorage.getItem("kb-token") || "",
+  ready: false,
+  robot: null,
+  model: null,
+  you: null,
+  doc: null,
+  jobs: new Map(),
+  plans: new Map(),
+  path: [],
+  traceSince: null,
+  traceSeen: new Set(),
+  simulated: false,
+  events: [],
+  actions: [],
+};
+window.dashboard = state;
+
+// ---------------------------------------------------------------- API
+
+function headers(json) {
+  const h = state.token ? { Authorization: `Bearer ${state.token}` } : {};
+  if (json) h["Content-Type"] = "application/json";
+  return h;
 }
+
+/** Calls the API; returns {ok, status, body}. Failures are reported on the page. */
+async function api(method, path, body) {
+  let r;
+  try {
+    r = await fetch(path, { method, headers: headers(body !== undefined), body: body === undefined ? undefined : JSON.stringify(body) });
+  } catch (e) {
+    say(`${method} ${path}: ${e.message}`);
+    return { ok: false, status: 0, body: null };
+  }
+  const text = await r.text();
+  let parsed = null;
+  try {
+    parsed = text ? JSON.parse(text) : null;
+  } catch {
+    parsed = text;
+  }
+  const out = { ok: r.ok, status: r.status, body: parsed };
+  if (!r.ok && method !== "GET") {
+    const why = parsed && parsed.code ? `${parsed.code}: ${parsed.detail}` : `HTTP ${r.status}`;
+    say(`${method} ${path} refused — ${why}`);
+    logEvent("refused", `${method} ${path} → ${why}`);
+  }
+  if (method !== "GET") state.actions.push({ method, path, status: r.status, code: parsed?.code });
+  return out;
+}
+state.api = api;
 
 function say(text) {
   $("message").textContent = text;
+  $("message").hidden = !text;
 }
+
+// ---------------------------------------------------------------- state
+
+const fmt = (v, d = 3) => (typeof v === "number" && isFinite(v) ? v.toFixed(d) : "–");
 
 function showState(s) {
   state.robot = s;
   const c = $("connection");
   c.textContent = s.connection;
   c.className = `pill ${s.connection}`;
+  const st = $("status");
+  st.textContent = s.busy ? "busy" : s.controller.status;
+  st.className = `pill ${s.controller.error ? "error" : s.busy ? "busy" : ""}`;
+  $("mode").textContent = s.controller.mode;
+  $("override").textContent = `${fmt(s.speed.override_pct, 0)} %`;
+  if (document.activeElement !== $("override-input")) {
+    $("override-input").value = s.speed.override_pct;
+    $("override-value").textContent = fmt(s.speed.override_pct, 0);
+  }
+  const err = s.controller.error;
+  const alarm = $("alarm");
+  if (err) {
+    alarm.textContent = `Controller error — ${err.code}: ${err.detail}`;
+    alarm.hidden = false;
+  } else if (s.connection !== "online") {
+    alarm.textContent = s.connection === "locked" ? "The command file is locked by another process (channel_locked)." : "No heartbeat from the controller (controller_offline).";
+    alarm.hidden = false;
+  } else if (!state.alarmUntil || Date.now() > state.alarmUntil) {
+    alarm.hidden = true;
+  }
   const p = s.position;
-  const rows = p
-    ? [["X", p.x], ["Y", p.y], ["Z", p.z], ["A", p.a], ["B", p.b], ["C", p.c], ["S", p.s], ["T", p.t]]
-    : [];
+  const rows = p ? [["X", p.x, "mm"], ["Y", p.y, "mm"], ["Z", p.z, "mm"], ["A", p.a, "°"], ["B", p.b, "°"], ["C", p.c, "°"], ["S", p.s, ""], ["T", p.t, ""]] : [];
   $("pose").tBodies[0].replaceChildren(
-    ...rows.map(([k, v]) => {
+    ...rows.map(([k, v, unit]) => {
       const tr = document.createElement("tr");
-      tr.innerHTML = `<td>${k}</td><td>${typeof v === "number" ? v.toFixed(k.length === 1 && "ST".includes(k) ? 0 : 3) : "–"}</td>`;
+      tr.innerHTML = `<th>${k}</th><td>${"ST".includes(k) ? `${v} <small>(${v.toString(2).padStart(k === "S" ? 3 : 6, "0")}b)</small>` : fmt(v)}</td><td>${unit}</td>`;
       return tr;
+    }),
+  );
+  showAxes(s.axes);
+  showRunning();
+  if (state.model && s.axes) {
+    const a = s.axes;
+    state.view.setPose(state.model, [a.a1, a.a2, a.a3, a.a4, a.a5, a.a6], frame(s.tool), frame(s.base));
+  }
+  if (state.simulated) fetchTrace();
+  else if (p) addPositions([{ t: Date.now() / 1000, cid: s.controller.last_cid, motion: null, pose: [p.x, p.y, p.z, p.a, p.b, p.c] }], true);
+  drawPath();
+}
+
+const frame = (f) => (f ? [f.x, f.y, f.z, f.a, f.b, f.c] : [0, 0, 0, 0, 0, 0]);
+
+function showAxes(axes) {
+  const box = $("axes");
+  if (!axes) return box.replaceChildren();
+  const values = [axes.a1, axes.a2, axes.a3, axes.a4, axes.a5, axes.a6];
+  const limits = state.model?.limits_deg;
+  box.replaceChildren(
+    ...values.map((v, i) => {
+      const row = document.createElement("div");
+      row.className = "axis";
+      let bar = "";
+      if (limits) {
+        const [lo, hi] = limits[i];
+        const at = Math.max(0, Math.min(100, ((v - lo) / (hi - lo)) * 100));
+        const near = Math.min(v - lo, hi - v) < 0.05 * (hi - lo);
+        row.classList.toggle("near", near);
+        row.title = `A${i + 1} ${fmt(v)}° within [${lo}°, ${hi}°]`;
+        bar = `<span class="bar"><span class="zero" style="left:${((0 - lo) / (hi - lo)) * 100}%"></span><span class="mark" style="left:${at}%"></span></span><small>${lo}…${hi}</small>`;
+      }
+      row.innerHTML = `<b>A${i + 1}</b><span class="value">${fmt(v)}°</span>${bar}`;
+      return row;
     }),
   );
 }
 
+// ---------------------------------------------------------------- path
+
+/** Adds executed samples {t, cid, motion, pose}; `dedupe` skips a repeat of the last pose. */
+function addPositions(samples, dedupe) {
+  const fresh = [];
+  for (const s of samples) {
+    const last = state.path[state.path.length - 1];
+    if (dedupe && last && Math.hypot(last.pose[0] - s.pose[0], last.pose[1] - s.pose[1], last.pose[2] - s.pose[2]) < 0.01) continue;
+    state.path.push(s);
+    fresh.push(s.pose);
+  }
+  if (state.path.length > MAX_PATH) {
+    state.path.splice(0, state.path.length - MAX_PATH / 2);
+    state.view.setExecuted(state.path.map((s) => s.pose));
+  } else if (fresh.length) {
+    state.view.addExecuted(fresh);
+  }
+  if (fresh.length) drawPath();
+}
+
+/** Fetches the simulator's trace since the last sample seen; one request at a time, re-run if asked meanwhile. */
+async function fetchTrace() {
+  if (state.traceBusy) {
+    state.traceAgain = true;
+    return;
+  }
+  state.traceBusy = true;
+  try {
+    do {
+      state.traceAgain = false;
+      const since = state.traceSince === null ? "" : `?since=${state.traceSince - 1e-6}`;
+      const r = await api("GET", `/api/v1/sim/trace${since}`);
+      if (!r.ok || !Array.isArray(r.body)) break;
+      const fresh = r.body.filter((s) => !state.traceSeen.has(`${s.t}/${s.cid}/${s.motion}`));
+      if (fresh.length) {
+        const lastT = fresh[fresh.length - 1].t;
+        if (lastT !== state.traceSince) state.traceSeen.clear();
+        for (const s of fresh) if (s.t === lastT) state.traceSeen.add(`${s.t}/${s.cid}/${s.motion}`);
+        state.traceSince = lastT;
+        addPositions(fresh, false);
+      }
+    } while (state.traceAgain);
+  } finally {
+    state.traceBusy = false;
+  }
+}
+
+function planPoints(plan) {
+  // Starts where the previous unfinished plan ends, else at the robot.
+  const earlier = [...state.plans.values()].filter((p) => p.job < plan.job);
+  const p = state.robot?.position;
+  let at = earlier.length ? earlier[earlier.length - 1].points.at(-1) : p ? [p.x, p.y, p.z] : null;
+  const points = at ? [at] : [];
+  for (const m of plan.motions) {
+    let end = m.target ? m.target.slice(0, 3) : null;
+    if (m.axes && state.model && state.robot) end = tcpInBase(state.model, m.axes, frame(state.robot.tool), frame(state.robot.base)).slice(0, 3);
+    if (!end) continue;
+    if (m.type === "circ" && at) points.push(...arc(at, m.aux, end).slice(1));
+    else points.push(end);
+    at = end;
+  }
+  return points;
+}
+
+function showPlans() {
+  state.view.setPlanned([...state.plans.values()].map((p) => p.points));
+  drawPath();
+}
+
+function drawPath() {
+  if (state.drawPending) return;
+  state.drawPending = true;
+  requestAnimationFrame(() => {
+    state.drawPending = false;
+    const executed = state.path.map((s) => s.pose);
+    const planned = [...state.plans.values()].map((p) => p.points);
+    const p = state.robot?.position;
+    const tcp = p ? [p.x, p.y, p.z] : null;
+    state.top.draw({ executed, planned, tcp });
+    state.side.draw({ executed, planned, tcp });
+    $("path-count").textContent = `${state.path.length} points`;
+  });
+}
+
+function download(name, type, text) {
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(new Blob([text], { type }));
+  a.download = name;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+/** The executed path as CSV (what Export CSV downloads). */
+function pathCsv() {
+  const rows = state.path.map((s) => [s.t.toFixed(3), s.cid ?? "", s.motion ?? "", ...s.pose.map((v) => v.toFixed(3))].join(","));
+  return ["t_s,cid,motion,x_mm,y_mm,z_mm,a_deg,b_deg,c_deg", ...rows].join("\n") + "\n";
+}
+state.pathCsv = pathCsv;
+
+// ---------------------------------------------------------------- jobs and events
+
 function showJob(job) {
   state.jobs.set(job.id, job);
+  if (job.state === "done" || job.state === "failed" || job.state === "cancelled") {
+    if (state.plans.delete(job.id)) showPlans();
+  }
+  if (state.jobs.size > 200) state.jobs.delete(Math.min(...state.jobs.keys()));
   const ids = [...state.jobs.keys()].sort((a, b) => b - a).slice(0, 20);
   $("jobs").replaceChildren(
     ...ids.map((id) => {
@@ -40,11 +262,276 @@ function showJob(job) {
       const li = document.createElement("li");
       li.value = id;
       li.className = j.state;
-      li.textContent = `#${id} ${j.operation} ${j.state}${j.error ? ` — ${j.error.code}: ${j.error.detail}` : ""}`;
+      const who = j.origin || j.requested_by || "";
+      li.innerHTML = `<b>#${id}</b> ${j.operation}${j.motions ? ` (${j.motions})` : ""} <span class="state">${j.state}</span> <small>${who}</small>`;
+      if (j.error) {
+        const e = document.createElement("div");
+        e.className = "error";
+        e.textContent = `${j.error.code}: ${j.error.detail}`;
+        li.append(e);
+      }
       return li;
     }),
   );
+  showRunning();
+  if (state.simulated) fetchTrace();
 }
+
+function showRunning() {
+  const id = state.robot?.current_job;
+  const j = id != null ? state.jobs.get(id) : null;
+  const box = $("running");
+  if (!j) {
+    box.textContent = state.robot?.queue_length ? `${state.robot.queue_length} queued` : "no job running";
+    return;
+  }
+  const pct = j.motions ? Math.round((100 * j.completed) / j.motions) : null;
+  box.innerHTML = `<b>#${j.id}</b> ${j.operation} — ${j.state}${pct !== null ? ` — ${j.completed}/${j.motions} motions` : ""}<progress max="100" ${pct !== null ? `value="${pct}"` : ""}></progress>`;
+}
+
+function logEvent(type, text) {
+  state.events.push({ at: new Date(), type, text });
+  if (state.events.length > MAX_EVENTS) state.events.splice(0, state.events.length - MAX_EVENTS);
+  showEvents();
+}
+
+function showEvents() {
+  if (state.eventsPending) return;
+  state.eventsPending = true;
+  requestAnimationFrame(() => {
+    state.eventsPending = false;
+    const types = new Set([...$("event-filter").querySelectorAll("input[type=checkbox]:checked")].map((i) => i.value));
+    types.add("refused");
+    const needle = $("event-text").value.trim().toLowerCase();
+    const shown = state.events.filter((e) => types.has(e.type) && (!needle || e.text.toLowerCase().includes(needle))).slice(-150).reverse();
+    $("events").replaceChildren(
+      ...shown.map((e) => {
+        const li = document.createElement("li");
+        li.className = e.type;
+        li.innerHTML = `<time>${e.at.toLocaleTimeString()}</time> <b>${e.type}</b> `;
+        li.append(e.text);
+        return li;
+      }),
+    );
+  });
+}
+
+function listen() {
+  const q = state.token ? `?access_token=${encodeURIComponent(state.token)}` : "";
+  const events = new EventSource(`/api/v1/events${q}`);
+  events.addEventListener("state", (e) => {
+    const s = JSON.parse(e.data);
+    showState(s);
+    const p = s.position;
+    logEvent("state", `${s.connection} ${s.busy ? "busy" : s.controller.status}${p ? ` X ${fmt(p.x, 1)} Y ${fmt(p.y, 1)} Z ${fmt(p.z, 1)}` : ""}`);
+  });
+  events.addEventListener("job", (e) => {
+    const j = JSON.parse(e.data);
+    showJob(j);
+    logEvent("job", `#${j.id} ${j.operation} ${j.state}${j.motions ? ` ${j.completed}/${j.motions}` : ""}${j.error ? ` — ${j.error.code}: ${j.error.detail}` : ""}`);
+  });
+  events.addEventListener("plan", (e) => {
+    const plan = JSON.parse(e.data);
+    state.plans.set(plan.job, { job: plan.job, points: planPoints(plan) });
+    showPlans();
+    logEvent("plan", `#${plan.job} cid ${plan.cid}: ${plan.motions.map((m) => m.type).join(" ")}`);
+  });
+  events.addEventListener("alarm", (e) => {
+    const a = JSON.parse(e.data);
+    logEvent("alarm", `${a.code}: ${a.detail}`);
+    $("alarm").textContent = `${a.code}: ${a.detail}`;
+    $("alarm").hidden = false;
+    state.alarmUntil = Date.now() + 10000;
+  });
+  events.addEventListener("lagged", (e) => logEvent("alarm", `missed ${e.data} events (page too slow)`));
+  events.onerror = () => say(events.readyState === EventSource.CLOSED ? "event stream closed" : "reconnecting…");
+  events.onopen = () => say("");
+  state.stream = events;
+}
+
+// ---------------------------------------------------------------- roles and control
+
+/** The role an operation ("METHOD /path template") needs, from /openapi.json. */
+function requiredRole(op) {
+  const [method, path] = op.split(" ");
+  return state.doc?.paths?.[path]?.[method.toLowerCase()]?.["x-required-role"] || "admin";
+}
+
+function allowed(op) {
+  return (RANK[state.you?.role] || 0) >= (RANK[requiredRole(op)] || 3);
+}
+state.allowed = allowed;
+
+/** Disables what the caller's role may not do, saying which role it needs. */
+function applyRole() {
+  for (const el of document.querySelectorAll("[data-op]")) {
+    if (el.tagName === "SECTION" || el.tagName === "FORM") continue;
+    const ok = allowed(el.dataset.op);
+    el.disabled = !ok;
+    el.title = ok ? "" : `needs the ${requiredRole(el.dataset.op)} role (you are ${state.you?.role || "unknown"})`;
+  }
+  for (const form of document.querySelectorAll("form[data-op]")) {
+    const ok = allowed(form.dataset.op);
+    for (const i of form.querySelectorAll("input, select")) i.disabled = !ok;
+  }
+  const jog = allowed("POST /api/v1/motions");
+  for (const i of $("goto").querySelectorAll("input, select, #fill-current")) i.disabled = !jog;
+  $("step").disabled = !jog;
+  $("stop").disabled = false; // Stop is always allowed with a valid token
+}
+
+async function loadControl() {
+  const r = await api("GET", "/api/v1/control");
+  if (!r.ok) return;
+  state.you = r.body.you;
+  state.control = r.body;
+  const l = r.body.lease;
+  $("role").textContent = r.body.auth ? `${r.body.you.name} · ${r.body.you.role}` : "no auth (local)";
+  $("control").textContent = !r.body.auth ? "control: not needed" : l ? `control: ${l.holder}${l.holder === r.body.you.name ? " (you)" : ""}` : "control: free";
+  applyRole();
+}
+
+// ---------------------------------------------------------------- actions
+
+function onClick(id, f) {
+  $(id).addEventListener("click", (e) => {
+    e.preventDefault();
+    f().then(loadControl);
+  });
+}
+
+async function move(motion) {
+  const r = await api("POST", "/api/v1/motions", { motions: [motion], wait: false });
+  if (r.ok) say(`job #${r.body.id} queued`);
+  return r;
+}
+state.move = move;
+
+$("stop").addEventListener("click", async () => {
+  const r = await api("POST", "/api/v1/stop");
+  if (r.ok) say("stopped");
+});
+
+$("goto").addEventListener("submit", (e) => {
+  e.preventDefault();
+  const target = {};
+  for (const k of ["x", "y", "z", "a", "b", "c"]) {
+    const v = e.target.elements[k].value;
+    if (v !== "") target[k] = Number(v);
+  }
+  move({ type: $("jog-type").value, target }).then(loadControl);
+});
+
+onClick("fill-current", async () => {
+  const p = state.robot?.position;
+  if (p) for (const k of ["x", "y", "z", "a", "b", "c"]) $("goto").elements[k].value = p[k].toFixed(3);
+});
+
+for (const b of document.querySelectorAll("[data-step]")) {
+  b.addEventListener("click", () => {
+    const [axis, sign] = b.dataset.step.split(",");
+    move({ type: $("jog-type").value, target: { [axis]: Number(sign) * Number($("step").value) }, relative: true }).then(loadControl);
+  });
+}
+
+onClick("home", () => api("POST", "/api/v1/home"));
+onClick("take-control", () => api("POST", "/api/v1/control", {}));
+onClick("release-control", () => api("DELETE", "/api/v1/control"));
+
+$("override-input").addEventListener("input", () => ($("override-value").textContent = $("override-input").value));
+$("override-input").addEventListener("change", () => api("PUT", "/api/v1/speed", { override_pct: Number($("override-input").value) }).then(loadControl));
+
+$("clear-path").addEventListener("click", () => {
+  state.path = [];
+  state.plans.clear();
+  state.view.setExecuted([]);
+  showPlans();
+});
+$("export-csv").addEventListener("click", () => download("tcp-path.csv", "text/csv", pathCsv()));
+$("export-svg").addEventListener("click", () => download("tcp-path-top.svg", "image/svg+xml", state.top.svg({ executed: state.path.map((s) => s.pose), planned: [...state.plans.values()].map((p) => p.points) })));
+
+$("event-filter").addEventListener("input", showEvents);
+
+$("upload").addEventListener("submit", async (e) => {
+  e.preventDefault();
+  const f = e.target.elements;
+  const body = { name: f.name.value.trim(), src: await f.src.files[0].text() };
+  if (f.dat.files[0]) body.dat = await f.dat.files[0].text();
+  const r = await api("POST", "/api/v1/programs", body);
+  if (r.ok) say(`program ${r.body.name} uploaded (entry ${r.body.entry})`);
+  await loadPrograms();
+});
+
+async function loadPrograms() {
+  const r = await api("GET", "/api/v1/programs");
+  if (!r.ok) return;
+  $("programs").replaceChildren(
+    ...r.body.map((p) => {
+      const li = document.createElement("li");
+      li.innerHTML = `<b>${p.name}</b> <small>${p.entry}() · ${p.src_lines} lines</small> `;
+      const run = document.createElement("button");
+      run.textContent = "Run";
+      run.dataset.op = "POST /api/v1/programs/{name}/run";
+      run.addEventListener("click", async () => {
+        const res = await api("POST", `/api/v1/programs/${encodeURIComponent(p.name)}/run`, { wait: false });
+        if (res.ok) say(`program ${p.name}: job #${res.body.id}`);
+      });
+      li.append(run);
+      return li;
+    }),
+  );
+  applyRole();
+}
+
+async function loadPlugins() {
+  const r = await api("GET", "/api/v1/plugins");
+  const d = await api("GET", "/openapi.json");
+  if (d.ok) state.doc = d.body;
+  if (!r.ok) return;
+  const box = $("plugins");
+  if (!r.body.length) return box.replaceChildren(Object.assign(document.createElement("p"), { className: "muted", textContent: "none installed" }));
+  box.replaceChildren(
+    ...r.body.map((plugin) => {
+      const div = document.createElement("details");
+      div.className = "plugin";
+      div.innerHTML = `<summary><b>${plugin.name}</b> ${plugin.version || ""} <small>${plugin.status}</small></summary>`;
+      for (const route of plugin.routes) {
+        const op = state.doc?.paths?.[route.url]?.[route.method.toLowerCase()];
+        const form = document.createElement("form");
+        form.className = "plugin-route";
+        form.dataset.url = route.url;
+        form.innerHTML = `<h4>${route.method} ${route.url.replace(`/api/v1/plugins/${plugin.name}`, "")}</h4><p>${route.summary}</p>`;
+        buildInputs(form, op ? fieldsOf(op, state.doc) : []);
+        const go = document.createElement("button");
+        go.textContent = "Call";
+        go.dataset.op = `${route.method} ${route.url}`;
+        const out = document.createElement("pre");
+        form.append(go, out);
+        form.addEventListener("submit", async (e) => {
+          e.preventDefault();
+          let values;
+          try {
+            values = valuesOf(form);
+          } catch (err) {
+            out.textContent = `bad JSON in a field: ${err.message}`;
+            return;
+          }
+          const res =
+            route.method === "GET"
+              ? await api("GET", `${route.url}?${new URLSearchParams(values)}`)
+              : await api(route.method, route.url, values);
+          out.textContent = `${res.status}\n${JSON.stringify(res.body, null, 2)}`;
+          loadControl();
+        });
+        div.append(form);
+      }
+      return div;
+    }),
+  );
+  applyRole();
+}
+
+// ---------------------------------------------------------------- start
 
 async function loadState() {
   const r = await fetch("/api/v1/state", { headers: headers() });
@@ -58,36 +545,49 @@ async function loadState() {
     return false;
   }
   $("auth").hidden = true;
-  showState(await r.json());
+  const s = await r.json();
+  const m = await api("GET", "/api/v1/model");
+  if (m.ok) {
+    state.model = m.body;
+    $("model").textContent = m.body.name;
+    state.view.fit(m.body);
+  }
+  if (state.simulated) {
+    // The last two minutes of simulated motion, then everything new.
+    const sim = await api("GET", "/api/v1/sim");
+    if (sim.ok) state.traceSince = Math.max(0, sim.body.sim_time_s - 120);
+  }
+  await Promise.all([loadPlugins(), loadControl(), loadPrograms()]);
+  showState(s);
   return true;
 }
 
-function listen() {
-  const q = state.token ? `?access_token=${encodeURIComponent(state.token)}` : "";
-  const events = new EventSource(`/api/v1/events${q}`);
-  events.addEventListener("state", (e) => showState(JSON.parse(e.data)));
-  events.addEventListener("job", (e) => showJob(JSON.parse(e.data)));
-  events.onerror = () => say(events.readyState === EventSource.CLOSED ? "event stream closed" : "reconnecting…");
-  events.onopen = () => say("");
-  state.events = events;
+async function start() {
+  const r = await api("GET", "/api/v1/jobs?limit=20");
+  if (r.ok) r.body.reverse().forEach(showJob);
+  listen();
+  // Control and role change without events (leases lapse): refresh now and then.
+  setInterval(loadControl, 10000);
 }
 
-$("stop").addEventListener("click", async () => {
-  const r = await fetch("/api/v1/stop", { method: "POST", headers: headers() });
-  const body = await r.json().catch(() => ({}));
-  say(r.ok ? "stopped" : `stop refused: ${body.code || r.status} ${body.detail || ""}`);
-});
+state.view = new ArmView($("arm"));
+state.top = new Projection($("top"), 0, 1, "top (X–Y)");
+state.side = new Projection($("side"), 0, 2, "side (X–Z)");
 
 $("token-form").addEventListener("submit", async (e) => {
   e.preventDefault();
   state.token = $("token").value.trim();
   sessionStorage.setItem("kb-token", state.token);
-  if (await loadState()) listen();
+  if (await loadState()) await start();
+  state.ready = true;
 });
 
-fetch("/health")
-  .then((r) => r.json())
-  .then((h) => ($("simulated").hidden = !h.simulated))
-  .catch(() => {});
-if (await loadState()) listen();
+try {
+  const h = await (await fetch("/health")).json();
+  state.simulated = !!h.simulated;
+  $("simulated").hidden = !h.simulated;
+} catch {
+  // /health answers whenever the service runs; nothing to show otherwise
+}
+if (await loadState()) await start();
 state.ready = true;

@@ -11,19 +11,16 @@ out="$here/vendor"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 THREE=0.187.0
-UPLOT=1.6.32
-(cd "$tmp" && npm pack --silent "three@$THREE" "uplot@$UPLOT" >/dev/null)
+(cd "$tmp" && npm pack --silent "three@$THREE" >/dev/null)
 tar -xzf "$tmp/three-$THREE.tgz" -C "$tmp" package/build/three.module.js package/build/three.core.js \
     package/examples/jsm/controls/OrbitControls.js package/LICENSE
 mkdir -p "$tmp/three" && mv "$tmp/package" "$tmp/three/"
-tar -xzf "$tmp/uplot-$UPLOT.tgz" -C "$tmp" package/dist/uPlot.esm.js package/dist/uPlot.min.css package/LICENSE
 mkdir -p "$out"
 cp "$tmp/three/package/build/three.module.js" "$tmp/three/package/build/three.core.js" "$out/"
 # OrbitControls imports the bare name 'three'; point it at the file (no
 # import map needed).
 sed "s#from 'three'#from './three.module.js'#" \
     "$tmp/three/package/examples/jsm/controls/OrbitControls.js" >"$out/OrbitControls.js"
-cp "$tmp/package/dist/uPlot.esm.js" "$tmp/package/dist/uPlot.min.css" "$out/"
 {
     echo "# Vendored front-end libraries"
     echo
@@ -32,19 +29,12 @@ cp "$tmp/package/dist/uPlot.esm.js" "$tmp/package/dist/uPlot.min.css" "$out/"
     echo "| package | version | files | licence |"
     echo "|---|---|---|---|"
     echo "| three | $THREE | three.module.js, three.core.js, OrbitControls.js (import path rewritten) | MIT |"
-    echo "| uplot | $UPLOT | uPlot.esm.js, uPlot.min.css | MIT |"
     echo
     echo "## three $THREE"
     echo
     echo '```'
     cat "$tmp/three/package/LICENSE"
     echo '```'
-    echo
-    echo "## uplot $UPLOT"
-    echo
-    echo '```'
-    cat "$tmp/package/LICENSE"
-    echo '```'
 } >"$out/LICENSES.md"
-(cd "$out" && sha256sum three.module.js three.core.js OrbitControls.js uPlot.esm.js uPlot.min.css >SHA256SUMS)
+(cd "$out" && sha256sum three.module.js three.core.js OrbitControls.js >SHA256SUMS)
 echo "vendored into $out"

@@ -32,7 +32,7 @@ use crate::engine::JobId;
 pub const QUERY_TOKEN: &str = "access_token";
 
 /// Who is making a request.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, utoipa::ToSchema)]
 pub struct Principal {
     /// Token name (`anonymous` when auth is off).
     pub name: String,

@@ -107,6 +107,7 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("POST", "/krl/uploadfile", ADMIN_OPERATE),
     // Robot state and settings.
     ("GET", "/api/v1/state", READ),
+    ("GET", "/api/v1/model", READ),
     ("GET", "/api/v1/position", READ),
     ("GET", "/api/v1/tool", READ),
     ("PUT", "/api/v1/tool", OPERATE),

@@ -17,7 +17,7 @@ use crate::error::{BridgeError, ErrorCode};
 
 /// Who holds control.
 #[derive(Debug, Serialize, ToSchema)]
-#[schema(example = json!({"lease": null, "auth": true}))]
+#[schema(example = json!({"lease": null, "auth": true, "you": {"name": "line-3-pc", "role": "operator"}}))]
 pub struct ControlState {
     /// The live lease, or null when no one holds control (then any
     /// operator may write).
@@ -25,6 +25,9 @@ pub struct ControlState {
     /// Whether tokens are required (without them everyone is `anonymous`
     /// and control changes nothing).
     pub auth: bool,
+    /// The caller: its token name and role (what it may do: see
+    /// `x-required-role` on each operation).
+    pub you: Principal,
 }
 
 /// Taking control.
@@ -67,10 +70,11 @@ fn control_state(app: &AppState) -> ControlState {
     ControlState {
         lease: app.access.control.current(),
         auth: app.access.enabled,
+        you: caller(),
     }
 }
 
-/// Who holds control of the robot.
+/// Who holds control of the robot, and who you are (token name and role).
 #[utoipa::path(get, path = "/api/v1/control", tag = "access", responses((status = 200, body = ControlState)))]
 async fn get_control(State(app): State<AppState>) -> Response {
     ok_json(&control_state(&app))

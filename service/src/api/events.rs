@@ -24,18 +24,20 @@ use crate::error::BridgeError;
 #[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct EventsQuery {
-    /// Comma-separated event types to receive: `job`, `state`, `alarm` (default: all).
+    /// Comma-separated event types to receive: `job`, `state`, `alarm`, `plan` (default: all).
     types: Option<String>,
 }
 
 /// Live events (Server-Sent Events).
 ///
-/// Each SSE message has `event:` = `job`, `state` or `alarm` and `data:` = the JSON
-/// of the job, the robot state or the error (`code`, `detail`, `axis`, `motion`). A state event follows each heartbeat
+/// Each SSE message has `event:` = `job`, `state`, `alarm` or `plan` and `data:` = the JSON
+/// of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`) or the
+/// planned path of a move job (`JobPlan`, sent when its motions are written to the
+/// controller, before they run). A state event follows each heartbeat
 /// that changed something. A `lagged` event says the client was too slow and missed
 /// some. The stream starts with the current state.
 #[utoipa::path(get, path = "/api/v1/events", tag = "events", params(EventsQuery),
-    responses((status = 200, description = "text/event-stream of job, state and alarm events", content_type = "text/event-stream", body = String), (status = 422, description = "Unknown event type", body = super::problem::ProblemDetails, content_type = super::problem::PROBLEM_JSON)))]
+    responses((status = 200, description = "text/event-stream of job, state, alarm and plan events", content_type = "text/event-stream", body = String), (status = 422, description = "Unknown event type", body = super::problem::ProblemDetails, content_type = super::problem::PROBLEM_JSON)))]
 async fn events(
     State(app): State<AppState>,
     QueryParams(q): QueryParams<EventsQuery>,
@@ -46,10 +48,10 @@ async fn events(
     if let Some(bad) = wanted
         .iter()
         .flatten()
-        .find(|t| !["job", "state", "alarm"].contains(&t.as_str()))
+        .find(|t| !["job", "state", "alarm", "plan"].contains(&t.as_str()))
     {
         return Err(BridgeError::invalid(format!(
-            "unknown event type {bad:?}; use job, state or alarm"
+            "unknown event type {bad:?}; use job, state, alarm or plan"
         ))
         .into());
     }
@@ -65,6 +67,7 @@ async fn events(
                         Event::Job(j) => ("job", serde_json::to_string(j)),
                         Event::State(s) => ("state", serde_json::to_string(s)),
                         Event::Alarm(e) => ("alarm", serde_json::to_string(e)),
+                        Event::Plan(p) => ("plan", serde_json::to_string(p)),
                     };
                     match data {
                         Ok(data) if want(name) => {

@@ -94,7 +94,8 @@ impl AppState {
         (name = "events", description = "Server-Sent Events."),
         (name = "simulator", description = "Only in `--simulate` mode."),
         (name = "service", description = "Health and documentation.")
-    )
+    ),
+    components(schemas(crate::engine::Event, crate::engine::JobPlan, crate::engine::PlannedMotion))
 )]
 struct ApiDoc;
 

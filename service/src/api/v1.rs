@@ -90,6 +90,74 @@ pub struct Stopped {
     pub stopped: bool,
 }
 
+/// The robot model the service checks motions against: enough to draw the
+/// arm (a stick model from the OPW lengths and the axis angles of
+/// `/api/v1/state`) and to show each axis against its software limits.
+#[derive(Debug, Serialize, ToSchema)]
+#[schema(example = json!({
+    "name": "kr3_r540",
+    "opw_mm": {"a1": 20.0, "a2": -20.0, "b": 0.0, "c1": 345.0, "c2": 260.0, "c3": 260.0, "c4": 75.0},
+    "limits_deg": [[-170.0, 170.0], [-170.0, 50.0], [-110.0, 155.0], [-175.0, 175.0], [-120.0, 120.0], [-350.0, 350.0]],
+    "max_speed_deg_s": [530.0, 529.0, 538.0, 600.0, 600.0, 800.0],
+    "home": [0.0, -90.0, 90.0, 0.0, 0.0, 0.0]
+}))]
+pub struct ModelInfo {
+    /// Model id (`kr3_r540`, ... or the custom model's name).
+    pub name: String,
+    /// OPW lengths in mm. Chain from the robot root (Z up): A1 turns about
+    /// −Z; A2 sits at (a1, b, c1) in the A1 frame and turns about Y with the
+    /// upper arm (c2) along Z at A2 = −90°; A3 turns about Y at the elbow;
+    /// the forearm goes a2 along X then c3 along Z to the wrist; A4 turns
+    /// about −Z, A5 about Y, A6 about −Z; the flange is c4 further along Z.
+    pub opw_mm: OpwLengths,
+    /// Software limit switches per axis A1..A6: `[negative, positive]` degrees.
+    pub limits_deg: Vec<[f64; 2]>,
+    /// Maximum axis speeds A1..A6 in deg/s.
+    pub max_speed_deg_s: Vec<f64>,
+    /// Home position A1..A6 in degrees.
+    pub home: Vec<f64>,
+}
+
+/// OPW lengths in mm (rs-opw-kinematics' names).
+#[derive(Debug, Serialize, ToSchema)]
+pub struct OpwLengths {
+    /// A1 axis to A2 axis, horizontally.
+    pub a1: f64,
+    /// Elbow offset (A3 to forearm), negative on KUKA arms.
+    pub a2: f64,
+    /// Lateral offset.
+    pub b: f64,
+    /// Floor to A2 axis.
+    pub c1: f64,
+    /// Upper arm (A2 to A3).
+    pub c2: f64,
+    /// Forearm (A3 to wrist point).
+    pub c3: f64,
+    /// Wrist point to flange.
+    pub c4: f64,
+}
+
+impl From<&kuka_kinematics::RobotModel> for ModelInfo {
+    fn from(m: &kuka_kinematics::RobotModel) -> Self {
+        let [a1, a2, b, c1, c2, c3, c4] = m.opw_mm;
+        ModelInfo {
+            name: m.name.clone(),
+            opw_mm: OpwLengths {
+                a1,
+                a2,
+                b,
+                c1,
+                c2,
+                c3,
+                c4,
+            },
+            limits_deg: m.limits_deg.iter().map(|&(lo, hi)| [lo, hi]).collect(),
+            max_speed_deg_s: m.max_speed_deg_s.to_vec(),
+            home: m.home.to_vec(),
+        }
+    }
+}
+
 /// Checks a frame's numbers.
 pub(crate) fn check_frame(f: &CartesianFrame) -> Result<(), BridgeError> {
     for (name, v) in [
@@ -121,6 +189,21 @@ async fn execute(app: &AppState, op: Operation) -> Result<Job, Problem> {
 #[utoipa::path(get, path = "/api/v1/state", tag = "robot", responses((status = 200, body = RobotState)))]
 async fn get_state(State(app): State<AppState>) -> Response {
     ok_json(&app.engine.state())
+}
+
+/// The configured robot model: OPW geometry, software limits, axis speeds, home.
+///
+/// 404 `not_found` when the service runs without a model (`robot.model = "none"`).
+#[utoipa::path(get, path = "/api/v1/model", tag = "robot",
+    responses((status = 200, body = ModelInfo), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_model(State(app): State<AppState>) -> Result<Response, Problem> {
+    let model = app.engine.safety().model().ok_or_else(|| {
+        BridgeError::new(
+            ErrorCode::NotFound,
+            "no robot model is configured (robot.model = \"none\")",
+        )
+    })?;
+    Ok(ok_json(&ModelInfo::from(model)))
 }
 
 /// Current position, read through the controller program (a round trip).
@@ -328,6 +411,7 @@ async fn put_speed(
 pub(super) fn router() -> OpenApiRouter<AppState> {
     OpenApiRouter::new()
         .routes(routes!(get_state))
+        .routes(routes!(get_model))
         .routes(routes!(get_position))
         .routes(routes!(post_motions))
         .routes(routes!(list_jobs))

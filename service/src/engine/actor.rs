@@ -595,6 +595,13 @@ impl Actor {
                     op = job.op.name(),
                     "command sent"
                 );
+                if let Command::Move(records) = &cmd.command {
+                    self.shared.publish(Event::Plan(Box::new(JobPlan {
+                        job: job.id,
+                        cid: cmd.cid,
+                        motions: records.iter().map(PlannedMotion::from).collect(),
+                    })));
+                }
                 self.shared.update(job.id, |j| {
                     j.state = JobState::Sent;
                     j.cid = Some(cmd.cid);

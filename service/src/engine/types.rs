@@ -340,6 +340,59 @@ pub enum Event {
     State(Box<RobotState>),
     /// Something went wrong outside a job (channel locked, controller offline...).
     Alarm(BridgeError),
+    /// A move job's motions as written to the controller (the planned path).
+    Plan(Box<JobPlan>),
+}
+
+/// The motions of a move job as written to the controller, with omitted
+/// and relative coordinates resolved: what the robot is about to do.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+#[schema(example = json!({"job": 7, "cid": 1042, "motions": [
+    {"type": "lin", "target": [200.0, 0.0, 70.0, 0.0, 180.0, 0.0]},
+    {"type": "circ", "aux": [250.0, 50.0, 70.0], "target": [200.0, 100.0, 70.0, 0.0, 180.0, 0.0]}
+]}))]
+pub struct JobPlan {
+    /// The job.
+    pub job: JobId,
+    /// Command id on the channel.
+    pub cid: i32,
+    /// The motions in order.
+    pub motions: Vec<PlannedMotion>,
+}
+
+/// One motion of a [`JobPlan`].
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct PlannedMotion {
+    /// `ptp`, `ptp_axes`, `lin` or `circ`.
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// Target TCP pose in the base frame `[x, y, z, a, b, c]` (not for `ptp_axes`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub target: Option<[f64; 6]>,
+    /// Auxiliary point `[x, y, z]` of a `circ`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub aux: Option<[f64; 3]>,
+    /// Target axis angles A1..A6 of a `ptp_axes`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub axes: Option<[f64; 6]>,
+}
+
+impl From<&kuka_protocol::MotionRecord> for PlannedMotion {
+    fn from(m: &kuka_protocol::MotionRecord) -> Self {
+        use kuka_protocol::MotionRecord as M;
+        let (kind, target, aux, axes) = match m {
+            M::Ptp { target, .. } => ("ptp", Some(target.to_array()), None, None),
+            M::PtpAxes { axes, .. } => ("ptp_axes", None, None, Some(*axes)),
+            M::Lin { target, .. } => ("lin", Some(target.to_array()), None, None),
+            M::Circ { aux, target, .. } => ("circ", Some(target.to_array()), Some(*aux), None),
+        };
+        PlannedMotion {
+            kind: kind.into(),
+            target,
+            aux,
+            axes,
+        }
+    }
 }
 
 /// Unix time in ms.

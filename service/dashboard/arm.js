@@ -1,0 +1,200 @@
+// The 3D view (three.js): the arm as a simple-solid stick model from the
+// model's kinematics and the live axis angles, the base and tool frames,
+// the executed TCP path and the planned paths. Renders only when
+// something changed (no animation loop).
+import * as THREE from "./vendor/three.module.js";
+import { OrbitControls } from "./vendor/OrbitControls.js";
+import { frameMatrix, skeleton, mul, apply } from "./kinematics.js";
+
+const EXECUTED = 0x1f6feb;
+const PLANNED = 0xf08c00;
+
+/** A growable polyline (positions in a Float32Array, doubled when full). */
+class Polyline {
+  constructor(scene, color) {
+    this.geometry = new THREE.BufferGeometry();
+    this.capacity = 0;
+    this.count = 0;
+    this.line = new THREE.Line(this.geometry, new THREE.LineBasicMaterial({ color }));
+    this.line.frustumCulled = false;
+    scene.add(this.line);
+    this.reserve(1024);
+  }
+  reserve(n) {
+    if (n <= this.capacity) return;
+    let cap = Math.max(this.capacity, 1024);
+    while (cap < n) cap *= 2;
+    const data = new Float32Array(cap * 3);
+    if (this.attr) data.set(this.attr.array.subarray(0, this.count * 3));
+    this.attr = new THREE.BufferAttribute(data, 3);
+    this.geometry.setAttribute("position", this.attr);
+    this.capacity = cap;
+  }
+  push(points) {
+    this.reserve(this.count + points.length);
+    const a = this.attr.array;
+    for (const [x, y, z] of points) {
+      a[this.count * 3] = x;
+      a[this.count * 3 + 1] = y;
+      a[this.count * 3 + 2] = z;
+      this.count++;
+    }
+    this.attr.needsUpdate = true;
+    this.geometry.setDrawRange(0, this.count);
+  }
+  set(points) {
+    this.count = 0;
+    this.push(points);
+  }
+}
+
+/** The 3D scene in `container`. */
+export class ArmView {
+  constructor(container) {
+    this.container = container;
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+    container.appendChild(this.renderer.domElement);
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(0xf7f8fa);
+    this.camera = new THREE.PerspectiveCamera(40, 1, 1, 20000);
+    this.camera.up.set(0, 0, 1);
+    this.camera.position.set(1200, -1400, 900);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.target.set(200, 0, 300);
+    this.controls.addEventListener("change", () => this.render());
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x667788, 2.2));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.5);
+    sun.position.set(1000, -800, 2000);
+    this.scene.add(sun);
+    const grid = new THREE.GridHelper(2000, 20, 0xb0b8c4, 0xd8dde4);
+    grid.rotation.x = Math.PI / 2; // the floor is the XY plane, Z up
+    this.scene.add(grid);
+    this.world = new THREE.AxesHelper(150);
+    this.scene.add(this.world);
+    this.baseFrame = this.frameHelper(120);
+    this.toolFrame = this.frameHelper(80);
+    this.links = [];
+    this.joints = [];
+    this.linkMaterial = new THREE.MeshStandardMaterial({ color: 0xff7a00, metalness: 0.1, roughness: 0.6 });
+    this.jointMaterial = new THREE.MeshStandardMaterial({ color: 0x39424e, roughness: 0.5 });
+    this.executed = new Polyline(this.scene, EXECUTED);
+    this.planned = new THREE.Group();
+    this.scene.add(this.planned);
+    this.baseMatrix = frameMatrix([0, 0, 0, 0, 0, 0]);
+    new ResizeObserver(() => this.resize()).observe(container);
+    this.resize();
+  }
+
+  frameHelper(size) {
+    const h = new THREE.AxesHelper(size);
+    h.matrixAutoUpdate = false;
+    this.scene.add(h);
+    return h;
+  }
+
+  resize() {
+    const w = this.container.clientWidth || 400;
+    const h = this.container.clientHeight || 300;
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.render();
+  }
+
+  /** Frames the camera on a robot of this reach. */
+  fit(model) {
+    const { c1, c2, c3, c4, a1 } = model.opw_mm;
+    const reach = a1 + c2 + c3 + c4;
+    this.camera.position.set(reach * 1.6, -reach * 2.0, c1 + reach * 1.1);
+    this.controls.target.set(reach * 0.3, 0, c1 * 0.8);
+    this.controls.update();
+    const r = Math.max(10, reach / 30);
+    this.radius = r;
+  }
+
+  /** Draws the arm for the model and these axis angles; base and tool as KUKA frames. */
+  setPose(model, axes, tool, base) {
+    const { points, flange } = skeleton(model, axes);
+    const r = this.radius || 12;
+    while (this.links.length < points.length - 1) {
+      const link = new THREE.Mesh(new THREE.CylinderGeometry(1, 1, 1, 16), this.linkMaterial);
+      this.scene.add(link);
+      this.links.push(link);
+    }
+    while (this.joints.length < points.length) {
+      const joint = new THREE.Mesh(new THREE.SphereGeometry(1, 16, 12), this.jointMaterial);
+      this.scene.add(joint);
+      this.joints.push(joint);
+    }
+    const up = new THREE.Vector3(0, 1, 0);
+    for (let i = 0; i < points.length - 1; i++) {
+      const a = new THREE.Vector3(...points[i]);
+      const b = new THREE.Vector3(...points[i + 1]);
+      const d = b.clone().sub(a);
+      const link = this.links[i];
+      const len = d.length();
+      link.visible = len > 1e-6;
+      link.position.copy(a).addScaledVector(d, 0.5);
+      link.quaternion.setFromUnitVectors(up, d.normalize());
+      const w = i === 0 ? r * 2.2 : r * (1.4 - i * 0.12);
+      link.scale.set(w, len, w);
+    }
+    points.forEach((p, i) => {
+      this.joints[i].position.set(...p);
+      this.joints[i].scale.setScalar(r * (i === 0 ? 2.6 : 1.7 - i * 0.12));
+    });
+    this.baseMatrix = frameMatrix(base);
+    setMatrix(this.baseFrame, this.baseMatrix);
+    setMatrix(this.toolFrame, mul(flange, frameMatrix(tool)));
+    this.render();
+  }
+
+  /** Base-frame points → robot root frame. */
+  toWorld(points) {
+    return points.map((p) => apply(this.baseMatrix, p));
+  }
+
+  /** Adds executed TCP points (base frame). */
+  addExecuted(points) {
+    this.executed.push(this.toWorld(points));
+    this.render();
+  }
+
+  /** Replaces the executed path (base frame). */
+  setExecuted(points) {
+    this.executed.set(this.toWorld(points));
+    this.render();
+  }
+
+  /** Shows the planned polylines (base frame), replacing the previous ones. */
+  setPlanned(polylines) {
+    for (const c of [...this.planned.children]) {
+      c.geometry.dispose();
+      this.planned.remove(c);
+    }
+    for (const pts of polylines) {
+      const g = new THREE.BufferGeometry().setFromPoints(this.toWorld(pts).map((p) => new THREE.Vector3(...p)));
+      const line = new THREE.Line(g, new THREE.LineDashedMaterial({ color: PLANNED, dashSize: 6, gapSize: 4 }));
+      line.computeLineDistances();
+      this.planned.add(line);
+    }
+    this.render();
+  }
+
+  /** Renders once at the next frame (coalesces many updates). */
+  render() {
+    if (this.pending) return;
+    this.pending = true;
+    requestAnimationFrame(() => {
+      this.pending = false;
+      this.renderer.render(this.scene, this.camera);
+      this.frames = (this.frames || 0) + 1;
+    });
+  }
+}
+
+function setMatrix(object, m) {
+  object.matrix.set(...m);
+  object.matrixWorldNeedsUpdate = true;
+}

@@ -1,0 +1,77 @@
+// Forms generated from JSON schemas: a plugin route's request body (POST)
+// or query parameters (GET) as listed in /openapi.json become labelled
+// inputs; the form's values become the JSON body or the query string.
+
+/** Resolves a local `$ref` (`#/components/schemas/...`) against the OpenAPI document. */
+function deref(schema, doc) {
+  let s = schema || {};
+  for (let i = 0; i < 8 && s.$ref; i++) {
+    s = s.$ref.replace(/^#\//, "").split("/").reduce((o, k) => (o ? o[k] : undefined), doc) || {};
+  }
+  return s;
+}
+
+/** The fields of an operation: [{name, schema, required}] from its body schema or query parameters. */
+export function fieldsOf(op, doc) {
+  const body = op.requestBody?.content?.["application/json"]?.schema;
+  if (body) {
+    const s = deref(body, doc);
+    const required = new Set(s.required || []);
+    return Object.entries(s.properties || {}).map(([name, p]) => ({ name, schema: deref(p, doc), required: required.has(name) }));
+  }
+  return (op.parameters || [])
+    .filter((p) => p.in === "query")
+    .map((p) => ({ name: p.name, schema: deref(p.schema, doc), required: !!p.required }));
+}
+
+function typeOf(schema) {
+  const t = Array.isArray(schema.type) ? schema.type.find((x) => x !== "null") : schema.type;
+  return t || "string";
+}
+
+/** Builds the inputs of `fields` into `form`. */
+export function buildInputs(form, fields) {
+  for (const f of fields) {
+    const label = document.createElement("label");
+    const type = typeOf(f.schema);
+    let input;
+    if (Array.isArray(f.schema.enum)) {
+      input = document.createElement("select");
+      for (const v of f.schema.enum) input.append(new Option(String(v), JSON.stringify(v)));
+    } else if (type === "boolean") {
+      input = document.createElement("input");
+      input.type = "checkbox";
+      input.checked = f.schema.default === true;
+    } else {
+      input = document.createElement("input");
+      input.type = type === "number" || type === "integer" ? "number" : "text";
+      if (input.type === "number") input.step = type === "integer" ? "1" : "any";
+      if (f.schema.minimum !== undefined) input.min = f.schema.minimum;
+      if (f.schema.maximum !== undefined) input.max = f.schema.maximum;
+      if (f.schema.default !== undefined) input.value = typeof f.schema.default === "object" ? JSON.stringify(f.schema.default) : f.schema.default;
+      if (type === "object" || type === "array") input.placeholder = "JSON";
+    }
+    input.name = f.name;
+    input.dataset.type = type;
+    input.required = f.required && type !== "boolean";
+    label.title = f.schema.description || "";
+    label.append(`${f.name}${f.required ? " *" : ""}`, input);
+    form.append(label);
+  }
+}
+
+/** The form's values as an object; empty optional fields are left out. Throws on bad JSON. */
+export function valuesOf(form) {
+  const out = {};
+  for (const input of form.querySelectorAll("input, select")) {
+    if (!input.name) continue;
+    const type = input.dataset.type;
+    if (input.tagName === "SELECT") out[input.name] = JSON.parse(input.value);
+    else if (type === "boolean") out[input.name] = input.checked;
+    else if (input.value === "") continue;
+    else if (type === "number" || type === "integer") out[input.name] = Number(input.value);
+    else if (type === "object" || type === "array") out[input.name] = JSON.parse(input.value);
+    else out[input.name] = input.value;
+  }
+  return out;
+}
