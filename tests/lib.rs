@@ -9,6 +9,8 @@ use kuka_bridge::app::Service;
 use kuka_bridge::config::Config;
 use serde_json::Value;
 
+pub mod browser;
+
 /// A service under test with its directories.
 pub struct TestService {
     /// The running service.

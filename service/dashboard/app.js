@@ -77,8 +77,28 @@ function say(text) {
 
 const fmt = (v, d = 3) => (typeof v === "number" && isFinite(v) ? v.toFixed(d) : "–");
 
+/** Takes a state (from an event or GET): data at once, drawing once per frame. */
 function showState(s) {
+  const before = state.robot;
   state.robot = s;
+  const p = s.position;
+  const moved = !before || JSON.stringify(before.axes) !== JSON.stringify(s.axes) || before.busy !== s.busy || before.controller.last_cid !== s.controller.last_cid;
+  if (moved) {
+    if (state.simulated) fetchTrace();
+    else if (p) addPositions([{ t: Date.now() / 1000, cid: s.controller.last_cid, motion: null, pose: [p.x, p.y, p.z, p.a, p.b, p.c] }], true);
+  }
+  if (!before || before.connection !== s.connection || before.busy !== s.busy || before.controller.status !== s.controller.status || before.controller.error?.code !== s.controller.error?.code) {
+    logEvent("state", `${s.connection} ${s.busy ? "busy" : s.controller.status}${s.controller.error ? ` — ${s.controller.error.code}` : ""}${p ? ` at X ${fmt(p.x, 1)} Y ${fmt(p.y, 1)} Z ${fmt(p.z, 1)}` : ""}`);
+  }
+  if (state.statePending) return;
+  state.statePending = true;
+  requestAnimationFrame(() => {
+    state.statePending = false;
+    renderState(state.robot);
+  });
+}
+
+function renderState(s) {
   const c = $("connection");
   c.textContent = s.connection;
   c.className = `pill ${s.connection}`;
@@ -103,49 +123,49 @@ function showState(s) {
     alarm.hidden = true;
   }
   const p = s.position;
-  const rows = p ? [["X", p.x, "mm"], ["Y", p.y, "mm"], ["Z", p.z, "mm"], ["A", p.a, "°"], ["B", p.b, "°"], ["C", p.c, "°"], ["S", p.s, ""], ["T", p.t, ""]] : [];
-  $("pose").tBodies[0].replaceChildren(
-    ...rows.map(([k, v, unit]) => {
-      const tr = document.createElement("tr");
-      tr.innerHTML = `<th>${k}</th><td>${"ST".includes(k) ? `${v} <small>(${v.toString(2).padStart(k === "S" ? 3 : 6, "0")}b)</small>` : fmt(v)}</td><td>${unit}</td>`;
-      return tr;
-    }),
-  );
+  const rows = [["X", "x", "mm"], ["Y", "y", "mm"], ["Z", "z", "mm"], ["A", "a", "°"], ["B", "b", "°"], ["C", "c", "°"], ["S", "s", ""], ["T", "t", ""]];
+  const body = $("pose").tBodies[0];
+  if (!body.rows.length) {
+    for (const [label, , unit] of rows) body.insertRow().innerHTML = `<th>${label}</th><td></td><td>${unit}</td>`;
+  }
+  rows.forEach(([, key], i) => {
+    const v = p?.[key];
+    body.rows[i].cells[1].textContent = v === undefined ? "–" : key === "s" ? `${v} (${v.toString(2).padStart(3, "0")}b)` : key === "t" ? `${v} (${v.toString(2).padStart(6, "0")}b)` : fmt(v);
+  });
   showAxes(s.axes);
   showRunning();
   if (state.model && s.axes) {
     const a = s.axes;
     state.view.setPose(state.model, [a.a1, a.a2, a.a3, a.a4, a.a5, a.a6], frame(s.tool), frame(s.base));
   }
-  if (state.simulated) fetchTrace();
-  else if (p) addPositions([{ t: Date.now() / 1000, cid: s.controller.last_cid, motion: null, pose: [p.x, p.y, p.z, p.a, p.b, p.c] }], true);
   drawPath();
 }
 
 const frame = (f) => (f ? [f.x, f.y, f.z, f.a, f.b, f.c] : [0, 0, 0, 0, 0, 0]);
 
+/** A1–A6 against their software limits (rows built once, then updated in place). */
 function showAxes(axes) {
   const box = $("axes");
-  if (!axes) return box.replaceChildren();
-  const values = [axes.a1, axes.a2, axes.a3, axes.a4, axes.a5, axes.a6];
   const limits = state.model?.limits_deg;
-  box.replaceChildren(
-    ...values.map((v, i) => {
+  if (!axes) return;
+  if (!box.children.length) {
+    for (let i = 0; i < 6; i++) {
       const row = document.createElement("div");
       row.className = "axis";
-      let bar = "";
-      if (limits) {
-        const [lo, hi] = limits[i];
-        const at = Math.max(0, Math.min(100, ((v - lo) / (hi - lo)) * 100));
-        const near = Math.min(v - lo, hi - v) < 0.05 * (hi - lo);
-        row.classList.toggle("near", near);
-        row.title = `A${i + 1} ${fmt(v)}° within [${lo}°, ${hi}°]`;
-        bar = `<span class="bar"><span class="zero" style="left:${((0 - lo) / (hi - lo)) * 100}%"></span><span class="mark" style="left:${at}%"></span></span><small>${lo}…${hi}</small>`;
-      }
-      row.innerHTML = `<b>A${i + 1}</b><span class="value">${fmt(v)}°</span>${bar}`;
-      return row;
-    }),
-  );
+      const [lo, hi] = limits ? limits[i] : [0, 0];
+      row.innerHTML = `<b>A${i + 1}</b><span class="value"></span>` + (limits ? `<span class="bar"><span class="zero" style="left:${(-lo / (hi - lo)) * 100}%"></span><span class="mark"></span></span><small>${lo}…${hi}</small>` : "");
+      box.append(row);
+    }
+  }
+  [axes.a1, axes.a2, axes.a3, axes.a4, axes.a5, axes.a6].forEach((v, i) => {
+    const row = box.children[i];
+    row.querySelector(".value").textContent = `${fmt(v)}°`;
+    if (!limits) return;
+    const [lo, hi] = limits[i];
+    row.querySelector(".mark").style.left = `${Math.max(0, Math.min(100, ((v - lo) / (hi - lo)) * 100))}%`;
+    row.classList.toggle("near", Math.min(v - lo, hi - v) < 0.05 * (hi - lo));
+    row.title = `A${i + 1} ${fmt(v)}° within [${lo}°, ${hi}°]`;
+  });
 }
 
 // ---------------------------------------------------------------- path
@@ -319,12 +339,7 @@ function showEvents() {
 function listen() {
   const q = state.token ? `?access_token=${encodeURIComponent(state.token)}` : "";
   const events = new EventSource(`/api/v1/events${q}`);
-  events.addEventListener("state", (e) => {
-    const s = JSON.parse(e.data);
-    showState(s);
-    const p = s.position;
-    logEvent("state", `${s.connection} ${s.busy ? "busy" : s.controller.status}${p ? ` X ${fmt(p.x, 1)} Y ${fmt(p.y, 1)} Z ${fmt(p.z, 1)}` : ""}`);
-  });
+  events.addEventListener("state", (e) => showState(JSON.parse(e.data)));
   events.addEventListener("job", (e) => {
     const j = JSON.parse(e.data);
     showJob(j);
@@ -332,7 +347,8 @@ function listen() {
   });
   events.addEventListener("plan", (e) => {
     const plan = JSON.parse(e.data);
-    state.plans.set(plan.job, { job: plan.job, points: planPoints(plan) });
+    state.lastPlan = { job: plan.job, points: planPoints(plan) };
+    state.plans.set(plan.job, state.lastPlan);
     showPlans();
     logEvent("plan", `#${plan.job} cid ${plan.cid}: ${plan.motions.map((m) => m.type).join(" ")}`);
   });
@@ -361,6 +377,14 @@ function allowed(op) {
   return (RANK[state.you?.role] || 0) >= (RANK[requiredRole(op)] || 3);
 }
 state.allowed = allowed;
+
+/** The TCP in the base frame as the page's own kinematics put it (the drawn arm's tip). */
+state.drawnTcp = () => {
+  const s = state.robot;
+  if (!state.model || !s?.axes) return null;
+  const a = s.axes;
+  return tcpInBase(state.model, [a.a1, a.a2, a.a3, a.a4, a.a5, a.a6], frame(s.tool), frame(s.base));
+};
 
 /** Disables what the caller's role may not do, saying which role it needs. */
 function applyRole() {
@@ -483,13 +507,20 @@ async function loadPrograms() {
   applyRole();
 }
 
-async function loadPlugins() {
-  const r = await api("GET", "/api/v1/plugins");
+/** The OpenAPI document: plugin routes and their schemas, the role each operation needs. */
+async function loadDoc() {
   const d = await api("GET", "/openapi.json");
   if (d.ok) state.doc = d.body;
+}
+
+async function loadPlugins() {
+  const r = await api("GET", "/api/v1/plugins");
   if (!r.ok) return;
   const box = $("plugins");
-  if (!r.body.length) return box.replaceChildren(Object.assign(document.createElement("p"), { className: "muted", textContent: "none installed" }));
+  if (!r.body.length) {
+    box.replaceChildren(Object.assign(document.createElement("p"), { className: "muted", textContent: "none installed" }));
+    return;
+  }
   box.replaceChildren(
     ...r.body.map((plugin) => {
       const div = document.createElement("details");
@@ -557,6 +588,7 @@ async function loadState() {
     const sim = await api("GET", "/api/v1/sim");
     if (sim.ok) state.traceSince = Math.max(0, sim.body.sim_time_s - 120);
   }
+  await loadDoc();
   await Promise.all([loadPlugins(), loadControl(), loadPrograms()]);
   showState(s);
   return true;

@@ -321,6 +321,7 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
                 if service.addr.ip().is_unspecified() {
                     println!("  (all network interfaces: use this PC's name or address instead of {})", service.addr.ip());
                 }
+                println!("  Dashboard:    {url}/");
                 println!("  Swagger UI:   {url}/docs/");
                 println!("  OpenAPI:      {url}/openapi.json");
                 if service.auth {

@@ -1,0 +1,557 @@
+//! The dashboard page at `/` in headless Chromium, against the service
+//! with the simulated controller: the page's path and pose against the
+//! simulator's trace, Stop, jogging, and what a viewer may do. Skipped
+//! without Chromium and chromedriver unless `CI` is set (see
+//! `kuka_bridge_tests::browser`); screenshots go to
+//! `<target>/artifacts/dashboard/`.
+
+use std::time::Duration;
+
+use kuka_bridge_tests::browser::Browser;
+use kuka_bridge_tests::{Options, TestService, initial_admin_secret};
+use serde_json::{Value, json};
+
+/// Generous for a loaded CI machine running a debug build and a software-rendered browser.
+const WAIT: Duration = Duration::from_secs(20);
+
+/// Opens the dashboard and waits until it has started and shows the controller online.
+async fn open(browser: &Browser, t: &TestService) {
+    browser.goto(&t.url("/")).await;
+    browser
+        .wait_js(
+            "window.dashboard && window.dashboard.ready === true && window.dashboard.robot && window.dashboard.robot.connection === 'online'",
+            WAIT,
+            "the dashboard to start and show the controller online",
+        )
+        .await;
+}
+
+fn smiley() -> Value {
+    serde_json::from_str(include_str!("../docs/smiley.json")).expect("docs/smiley.json is JSON")
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or(f64::NAN)
+}
+
+/// The smiley drawn through the API appears on the page as the simulator
+/// drew it: the page's path equals the trace sample for sample, the plan
+/// came before the motion and lies on the drawn path, the arm drawn by
+/// the page's own kinematics ends at the reported TCP, and the 3D and 2D
+/// views hold every point.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_page_draws_what_the_robot_draws() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    // Twice real time: the drawing takes a few seconds, so the page sees it happen.
+    let t = TestService::start(Options {
+        time_scale: 2.0,
+        ..Options::default()
+    })
+    .await;
+    browser.resize(1400, 1900).await;
+    open(&browser, &t).await;
+    assert_eq!(browser.title().await, "kuka-bridge");
+
+    let mut body = smiley();
+    body["wait"] = json!(false);
+    let (s, job) = t.post_json("/api/v1/motions", &body).await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("job id");
+    browser
+        .wait_js(
+            &format!("window.dashboard.lastPlan && window.dashboard.lastPlan.job === {id}"),
+            WAIT,
+            "the plan of the smiley",
+        )
+        .await;
+    browser
+        .wait_js(
+            &format!("window.dashboard.jobs.get({id})?.state === 'executing'"),
+            WAIT,
+            "the page to show the job executing",
+        )
+        .await;
+    browser.screenshot("drawing").await;
+    browser
+        .wait_js(
+            &format!("window.dashboard.jobs.get({id})?.state === 'done'"),
+            WAIT,
+            "the page to show the job done",
+        )
+        .await;
+    let (_, job) = t.get(&format!("/api/v1/jobs/{id}")).await;
+    assert_eq!(job["state"], "done", "{job}");
+    let cid = job["cid"].as_i64().expect("cid");
+
+    // The plan came before the motion ran (event order on the page).
+    let order = browser
+        .eval(&format!(
+            "const e = window.dashboard.events.map((x) => x.type + ' ' + x.text);
+             return [e.findIndex((x) => x.startsWith('plan #{id} ')),
+                     e.findIndex((x) => x.startsWith('job #{id} move executing'))];"
+        ))
+        .await;
+    let (plan_at, exec_at) = (order[0].as_i64(), order[1].as_i64());
+    assert!(
+        matches!((plan_at, exec_at), (Some(p), Some(e)) if p >= 0 && e > p),
+        "plan before execution in the event log: {order}"
+    );
+
+    // The page's path is the simulator's trace, sample for sample.
+    let (_, trace) = t.get("/api/v1/sim/trace").await;
+    let trace: Vec<&Value> = trace
+        .as_array()
+        .expect("trace")
+        .iter()
+        .filter(|s| s["cid"].as_i64() == Some(cid))
+        .collect();
+    assert!(trace.len() > 200, "{} samples", trace.len());
+    browser
+        .wait_js(
+            &format!(
+                "window.dashboard.path.filter((s) => s.cid === {cid}).length >= {}",
+                trace.len()
+            ),
+            WAIT,
+            "every trace sample on the page",
+        )
+        .await;
+    let page = browser
+        .eval(&format!(
+            "return window.dashboard.path.filter((s) => s.cid === {cid}).map((s) => [s.t, s.motion, ...s.pose]);"
+        ))
+        .await;
+    let page = page.as_array().expect("page path");
+    assert_eq!(page.len(), trace.len(), "samples on the page vs the trace");
+    for (i, (p, s)) in page.iter().zip(&trace).enumerate() {
+        assert_eq!(f(&p[0]), f(&s["t"]), "sample {i} time");
+        assert_eq!(p[1], s["motion"], "sample {i} motion index");
+        for k in 0..6 {
+            assert!(
+                (f(&p[k + 2]) - f(&s["pose"][k])).abs() < 1e-9,
+                "sample {i}: page {p} vs trace {}",
+                s["pose"]
+            );
+        }
+    }
+
+    // The plan lies on the drawn path: every planned point with the pen
+    // down (z = 70) is within 1.5 mm of a drawn sample (samples are
+    // 12 ms apart; corners are rounded by 1 mm approximation).
+    let planned = browser
+        .eval("return window.dashboard.lastPlan.points;")
+        .await;
+    let planned = planned.as_array().expect("planned points");
+    let drawn: Vec<[f64; 3]> = trace
+        .iter()
+        .map(|s| [f(&s["pose"][0]), f(&s["pose"][1]), f(&s["pose"][2])])
+        .filter(|p| (p[2] - 70.0).abs() < 0.01)
+        .collect();
+    let mut checked = 0;
+    for p in planned {
+        let q = [f(&p[0]), f(&p[1]), f(&p[2])];
+        if (q[2] - 70.0).abs() > 0.01 {
+            continue;
+        }
+        let nearest = drawn
+            .iter()
+            .map(|d| ((d[0] - q[0]).powi(2) + (d[1] - q[1]).powi(2)).sqrt())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest < 1.5,
+            "planned point {q:?} is {nearest:.2} mm off the drawing"
+        );
+        checked += 1;
+    }
+    assert!(checked > 100, "{checked} planned points with the pen down");
+    // Once the job is done its plan is no longer shown.
+    browser
+        .wait_js(
+            &format!("!window.dashboard.plans.has({id})"),
+            WAIT,
+            "the finished job's plan to be removed",
+        )
+        .await;
+
+    // The page's state is the service's, and the arm drawn by the page's
+    // own kinematics ends at the reported TCP.
+    let (_, state) = t.get("/api/v1/state").await;
+    let shown = browser
+        .eval("return [window.dashboard.robot.position, window.dashboard.drawnTcp()];")
+        .await;
+    for k in ["x", "y", "z", "a", "b", "c", "s", "t"] {
+        assert_eq!(
+            f(&shown[0][k]),
+            f(&state["position"][k]),
+            "page position {k} vs /api/v1/state"
+        );
+    }
+    let tip = shown[1].as_array().expect("drawn TCP");
+    let pose = |v: [f64; 6]| kuka_kinematics::Pose::new(v[0], v[1], v[2], v[3], v[4], v[5]);
+    let drawn = pose(std::array::from_fn(|k| f(&tip[k])));
+    let p = &state["position"];
+    let reported = pose(["x", "y", "z", "a", "b", "c"].map(|k| f(&p[k])));
+    assert!(
+        drawn.distance_mm(&reported) < 0.01 && drawn.angle_deg(&reported) < 0.01,
+        "arm tip drawn at {tip:?}, TCP reported at {p}"
+    );
+    assert_eq!(
+        browser.text("#pose tbody tr:nth-child(3) td").await,
+        format!("{:.3}", f(&state["position"]["z"])),
+        "Z in the pose table"
+    );
+
+    // The 3D view holds every sample; the projections drew something; the CSV has a row per sample.
+    let counts = browser
+        .eval(
+            "const d = window.dashboard;
+             const ink = (id) => { const c = document.getElementById(id);
+               const px = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+               let n = 0; for (let i = 3; i < px.length; i += 4) if (px[i] > 0) n++; return n; };
+             return [d.path.length, d.view.executed.count, ink('top'), ink('side'),
+                     d.pathCsv().trim().split('\\n').length - 1];",
+        )
+        .await;
+    assert_eq!(
+        counts[0], counts[1],
+        "3D path points vs page path: {counts}"
+    );
+    assert_eq!(counts[0], counts[4], "CSV rows vs page path: {counts}");
+    assert!(
+        f(&counts[2]) > 500.0 && f(&counts[3]) > 200.0,
+        "ink in the projections: {counts}"
+    );
+
+    let errors = browser.page_errors().await;
+    assert!(errors.is_empty(), "console errors: {errors:#?}");
+    browser.screenshot("smiley").await;
+    browser.close().await;
+}
+
+/// Pressing the page's Stop during a long motion cancels the job.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn stop_on_the_page_cancels_the_running_job() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    open(&browser, &t).await;
+    let slow = json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 160}, "velocity_pct": 5}], "wait": false});
+    let (s, job) = t.post_json("/api/v1/motions", &slow).await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("job id");
+    browser
+        .wait_js(
+            &format!("window.dashboard.jobs.get({id})?.state === 'executing'"),
+            WAIT,
+            "the page to show the slow job executing",
+        )
+        .await;
+    browser
+        .wait_js(
+            &format!(
+                "document.getElementById('running').textContent.includes('#{id} move — executing')"
+            ),
+            WAIT,
+            "the running-job panel to show it",
+        )
+        .await;
+    browser.click("#stop").await;
+    browser
+        .wait_js(
+            &format!("window.dashboard.jobs.get({id})?.state === 'cancelled'"),
+            WAIT,
+            "the page to show the job cancelled",
+        )
+        .await;
+    let (_, job) = t.get(&format!("/api/v1/jobs/{id}")).await;
+    assert_eq!(job["state"], "cancelled", "{job}");
+    assert_eq!(job["error"]["code"], "cancelled", "{job}");
+    let a1 = f(&job["axes"]["a1"]);
+    assert!(a1 > 0.0 && a1 < 150.0, "stopped part way: A1 = {a1}");
+    let jobs = browser.text("#jobs").await;
+    assert!(jobs.contains("cancelled"), "jobs panel: {jobs}");
+    browser.screenshot("stopped").await;
+    browser.close().await;
+}
+
+/// The jog panel moves the robot through the API: typed LIN target,
+/// relative steps, override.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_jog_panel_drives_the_robot() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options::default()).await;
+    open(&browser, &t).await;
+    // A pose away from the home singularity, typed in with LIN.
+    let (s, v) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [{"type": "ptp", "target": {"x": 275, "y": 0, "z": 100, "a": 0, "b": 180, "c": 0, "s": 6}}]}),
+        )
+        .await;
+    assert_eq!(s, 200, "{v}");
+    browser
+        .wait_js(
+            "Math.abs(window.dashboard.robot.position.z - 100) < 1e-6",
+            WAIT,
+            "the page to show z = 100",
+        )
+        .await;
+    browser.click("#fill-current").await;
+    browser
+        .wait_js(
+            "document.querySelector('#goto [name=x]').value === '275.000'",
+            WAIT,
+            "Current to fill in the pose",
+        )
+        .await;
+    browser
+        .eval("document.getElementById('jog-type').value = 'lin';")
+        .await;
+    browser.set_value("#goto [name=y]", "40").await;
+    browser.set_value("#goto [name=z]", "80").await;
+    browser.click("#go").await;
+    browser
+        .wait_js(
+            "(() => { const p = window.dashboard.robot.position; return Math.abs(p.y - 40) < 1e-6 && Math.abs(p.z - 80) < 1e-6; })()",
+            WAIT,
+            "the typed LIN target reached",
+        )
+        .await;
+    let (_, st) = t.get("/api/v1/state").await;
+    assert_eq!(st["position"]["x"], 275.0);
+    assert_eq!(st["position"]["y"], 40.0);
+    assert_eq!(st["position"]["z"], 80.0);
+    let (_, jobs) = t.get("/api/v1/jobs?limit=1").await;
+    assert_eq!(jobs[0]["operation"], "move");
+    let (_, trace) = t.get("/api/v1/sim/trace").await;
+    let last_cid = jobs[0]["cid"].clone();
+    let line: Vec<&Value> = trace
+        .as_array()
+        .expect("trace")
+        .iter()
+        .filter(|s| s["cid"] == last_cid)
+        .collect();
+    // LIN: every sample on the straight segment (x stays 275).
+    assert!(
+        line.iter().all(|s| (f(&s["pose"][0]) - 275.0).abs() < 0.01),
+        "LIN stayed on x = 275"
+    );
+
+    // Relative steps: 50 mm along −X, then 1 mm along −Z.
+    browser
+        .eval("document.getElementById('step').value = '50';")
+        .await;
+    browser.click("[data-step='x,-1']").await;
+    browser
+        .wait_js(
+            "Math.abs(window.dashboard.robot.position.x - 225) < 1e-6",
+            WAIT,
+            "X− 50 mm",
+        )
+        .await;
+    browser
+        .eval("document.getElementById('step').value = '1';")
+        .await;
+    browser.click("[data-step='z,-1']").await;
+    browser
+        .wait_js(
+            "Math.abs(window.dashboard.robot.position.z - 79) < 1e-6",
+            WAIT,
+            "Z− 1 mm",
+        )
+        .await;
+
+    // Override.
+    browser
+        .eval(
+            "const o = document.getElementById('override-input'); o.value = '35';
+             o.dispatchEvent(new Event('change'));",
+        )
+        .await;
+    browser
+        .wait_js(
+            "window.dashboard.robot.speed.override_pct === 35",
+            WAIT,
+            "the override at 35 %",
+        )
+        .await;
+    let (_, speed) = t.get("/api/v1/speed").await;
+    assert_eq!(speed["override_pct"], 35.0);
+    browser
+        .wait_js(
+            "document.getElementById('override').textContent === '35 %'",
+            WAIT,
+            "the header to show 35 %",
+        )
+        .await;
+    browser.close().await;
+}
+
+/// With tokens required, the page asks for one; a viewer sees the robot
+/// live but the driving controls are disabled and a motion is refused;
+/// an operator may drive but not upload programs.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_viewer_sees_the_page_but_cannot_drive() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| c.auth.require_on_loopback = true),
+        ..Options::default()
+    })
+    .await;
+    let admin = initial_admin_secret(&t.config.data_dir);
+    let token = |name: &'static str, role: &'static str| {
+        let admin = admin.clone();
+        let http = t.http.clone();
+        let url = t.url("/api/v1/tokens");
+        async move {
+            let r = http
+                .post(url)
+                .bearer_auth(admin)
+                .json(&json!({"name": name, "role": role}))
+                .send()
+                .await
+                .expect("create token");
+            assert_eq!(r.status().as_u16(), 201);
+            let v: Value = r.json().await.expect("token JSON");
+            v["secret"].as_str().expect("secret").to_string()
+        }
+    };
+    let viewer = token("wall-screen", "viewer").await;
+    let operator = token("tablet-1", "operator").await;
+
+    browser.goto(&t.url("/")).await;
+    browser
+        .wait_js(
+            "!document.getElementById('auth').hidden",
+            WAIT,
+            "the page to ask for a token",
+        )
+        .await;
+    browser.set_value("#token", &viewer).await;
+    browser.click("#token-form button").await;
+    browser
+        .wait_js(
+            "window.dashboard.ready && window.dashboard.you?.role === 'viewer' && window.dashboard.robot?.connection === 'online'",
+            WAIT,
+            "the page to load as viewer",
+        )
+        .await;
+    assert_eq!(browser.text("#role").await, "wall-screen · viewer");
+    browser
+        .wait_js(
+            "document.getElementById('connection').textContent === 'online'",
+            WAIT,
+            "the connection pill to show online",
+        )
+        .await;
+    let disabled =
+        |css: &str| format!("[...document.querySelectorAll(\"{css}\")].map((e) => e.disabled)");
+    for css in [
+        "#go",
+        "[data-step]",
+        "#home",
+        "#override-input",
+        "#take-control",
+        "#goto input",
+        "#upload button",
+    ] {
+        let states = browser.eval(&format!("return {};", disabled(css))).await;
+        let states = states.as_array().expect("elements");
+        assert!(
+            !states.is_empty() && states.iter().all(|d| d == true),
+            "{css} disabled for a viewer: {states:?}"
+        );
+    }
+    assert_eq!(
+        browser
+            .eval("return document.getElementById('stop').disabled;")
+            .await,
+        false
+    );
+    let why = browser
+        .eval("return document.getElementById('go').title;")
+        .await;
+    assert!(
+        why.as_str()
+            .unwrap_or("")
+            .contains("needs the operator role"),
+        "{why}"
+    );
+
+    // A motion from the page anyway (as a script could) is refused by the server.
+    let before = t
+        .http
+        .get(t.url("/api/v1/state"))
+        .bearer_auth(&viewer)
+        .send()
+        .await
+        .expect("state")
+        .json::<Value>()
+        .await
+        .expect("state JSON");
+    let answer = browser
+        .eval_async("return await window.dashboard.move({type: 'ptp', target: {z: 400}});")
+        .await;
+    assert_eq!(answer["status"], 403, "{answer}");
+    assert_eq!(answer["body"]["code"], "forbidden", "{answer}");
+    let message = browser.text("#message").await;
+    assert!(
+        message.contains("forbidden"),
+        "the page says why: {message}"
+    );
+    let after = t
+        .http
+        .get(t.url("/api/v1/state"))
+        .bearer_auth(&viewer)
+        .send()
+        .await
+        .expect("state")
+        .json::<Value>()
+        .await
+        .expect("state JSON");
+    assert_eq!(
+        before["position"], after["position"],
+        "the robot did not move"
+    );
+    browser.screenshot("viewer").await;
+
+    // An operator in a fresh tab may drive but not upload programs.
+    browser
+        .eval(&format!(
+            "sessionStorage.setItem('kb-token', {});",
+            json!(operator)
+        ))
+        .await;
+    open(&browser, &t).await;
+    browser
+        .wait_js(
+            "window.dashboard.you?.role === 'operator'",
+            WAIT,
+            "the page to load as operator",
+        )
+        .await;
+    assert_eq!(
+        browser
+            .eval("return document.getElementById('go').disabled;")
+            .await,
+        false
+    );
+    assert_eq!(
+        browser
+            .eval("return document.querySelector('#upload button').disabled;")
+            .await,
+        true
+    );
+    browser.close().await;
+}
