@@ -282,7 +282,7 @@ async fn stop_on_the_page_cancels_the_running_job() {
 }
 
 /// The jog panel moves the robot through the API: typed LIN target,
-/// relative steps, override.
+/// relative steps, override; a KRL program is uploaded and run.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_jog_panel_drives_the_robot() {
     let Some(browser) = Browser::start().await else {
@@ -393,6 +393,48 @@ async fn the_jog_panel_drives_the_robot() {
             "the header to show 35 %",
         )
         .await;
+
+    // A KRL program uploaded from a file and run from the page.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let src = dir.path().join("wave.src");
+    std::fs::write(&src, "DEF wave()\n  PTP {A1 20}\n  PTP {A1 0}\nEND\n").expect("write .src");
+    browser.set_value("#upload [name=name]", "wave").await;
+    browser
+        .client()
+        .find(fantoccini::Locator::Css("#upload [name=src]"))
+        .await
+        .expect("file input")
+        .send_keys(&src.to_string_lossy())
+        .await
+        .expect("choose the file");
+    browser.click("#upload button").await;
+    browser
+        .wait_js(
+            "document.getElementById('programs').textContent.includes('wave')",
+            WAIT,
+            "the uploaded program in the list",
+        )
+        .await;
+    browser.click("#programs li button").await;
+    let run = browser
+        .wait_js(
+            "[...window.dashboard.jobs.values()].find((j) => j.operation === 'run_program' && j.state === 'done')",
+            WAIT,
+            "the program run done",
+        )
+        .await;
+    let (_, trace) = t.get("/api/v1/sim/trace").await;
+    let a1_max = trace
+        .as_array()
+        .expect("trace")
+        .iter()
+        .filter(|s| s["cid"] == run["cid"])
+        .map(|s| f(&s["axes"][0]))
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!(
+        (a1_max - 20.0).abs() < 0.01,
+        "the program turned A1 to 20°: {a1_max}"
+    );
     browser.close().await;
 }
 
@@ -553,5 +595,95 @@ async fn a_viewer_sees_the_page_but_cannot_drive() {
             .await,
         true
     );
+    browser.close().await;
+}
+
+/// An installed plugin's route gets a form generated from its JSON schema;
+/// calling it from the page draws the circle.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn plugin_routes_are_callable_from_generated_forms() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let wasm = kuka_bridge_tests::example_plugins(
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")),
+        false,
+    )
+    .join("draw-circle.wasm");
+    let t = TestService::start(Options::default()).await;
+    let bytes = std::fs::read(&wasm).expect("draw-circle.wasm");
+    let (s, v) = t.put_bytes("/api/v1/plugins/draw-circle", bytes).await;
+    assert!(s == 200 || s == 201, "install: {s} {v}");
+    // Pen-down orientation in the configuration the drawings use.
+    let (s, v) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [{"type": "ptp", "target": {"x": 275, "y": 0, "z": 100, "a": 0, "b": 180, "c": 0, "s": 6}}]}),
+        )
+        .await;
+    assert_eq!(s, 200, "{v}");
+    open(&browser, &t).await;
+    let form = "form[data-url='/api/v1/plugins/draw-circle/circle']";
+    browser
+        .wait_js(
+            &format!("document.querySelector(\"{form}\") !== null"),
+            WAIT,
+            "the plugin's form",
+        )
+        .await;
+    // The inputs follow the schema: names, required marks, types, enum, default, example.
+    let inputs = browser
+        .eval(&format!(
+            "return [...document.querySelectorAll(\"{form} input, {form} select\")].map((i) =>
+               [i.name, i.tagName, i.type, i.required, i.value, i.placeholder]);"
+        ))
+        .await;
+    let by_name = |n: &str| {
+        inputs
+            .as_array()
+            .expect("inputs")
+            .iter()
+            .find(|i| i[0] == n)
+            .cloned()
+            .unwrap_or_else(|| panic!("no input {n} in {inputs}"))
+    };
+    assert_eq!(
+        by_name("radius"),
+        json!(["radius", "INPUT", "number", true, "", "40"])
+    );
+    assert_eq!(by_name("speed_m_s")[3], false, "optional");
+    assert_eq!(by_name("speed_m_s")[4], "0.1", "default");
+    assert_eq!(by_name("mode")[1], "SELECT");
+    assert_eq!(by_name("mode")[4], "\"circ\"");
+    for (name, value) in [("x", "220"), ("y", "0"), ("z", "70"), ("radius", "30")] {
+        browser
+            .set_value(&format!("{form} input[name={name}]"), value)
+            .await;
+    }
+    browser.click(&format!("{form} button")).await;
+    browser
+        .wait_js(
+            &format!("document.querySelector(\"{form} pre\").textContent.startsWith('200')"),
+            WAIT,
+            "the plugin's answer",
+        )
+        .await;
+    let (_, jobs) = t.get("/api/v1/jobs?limit=1").await;
+    let job = &jobs[0];
+    assert_eq!(job["origin"], "plugin:draw-circle@0.1.0", "{job}");
+    assert_eq!(job["state"], "done", "{job}");
+    let (_, trace) = t.get("/api/v1/sim/trace").await;
+    let on_paper: Vec<&Value> = trace
+        .as_array()
+        .expect("trace")
+        .iter()
+        .filter(|s| s["cid"] == job["cid"] && (f(&s["pose"][2]) - 70.0).abs() < 0.01)
+        .collect();
+    assert!(on_paper.len() > 50, "{} samples on paper", on_paper.len());
+    for s in on_paper {
+        let r = (f(&s["pose"][0]) - 220.0).hypot(f(&s["pose"][1]));
+        assert!((r - 30.0).abs() < 0.5, "sample off the circle: r = {r}");
+    }
+    browser.screenshot("plugin").await;
     browser.close().await;
 }

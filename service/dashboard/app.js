@@ -475,6 +475,7 @@ $("export-csv").addEventListener("click", () => download("tcp-path.csv", "text/c
 $("export-svg").addEventListener("click", () => download("tcp-path-top.svg", "image/svg+xml", state.top.svg({ executed: state.path.map((s) => s.pose), planned: [...state.plans.values()].map((p) => p.points) })));
 
 $("event-filter").addEventListener("input", showEvents);
+$("refresh-plugins").addEventListener("click", () => loadDoc().then(loadPlugins));
 
 $("upload").addEventListener("submit", async (e) => {
   e.preventDefault();
@@ -525,6 +526,7 @@ async function loadPlugins() {
     ...r.body.map((plugin) => {
       const div = document.createElement("details");
       div.className = "plugin";
+      div.open = r.body.length <= 3; // a few: open; many: a list to expand
       div.innerHTML = `<summary><b>${plugin.name}</b> ${plugin.version || ""} <small>${plugin.status}</small></summary>`;
       for (const route of plugin.routes) {
         const op = state.doc?.paths?.[route.url]?.[route.method.toLowerCase()];

@@ -11,13 +11,14 @@ function deref(schema, doc) {
   return s;
 }
 
-/** The fields of an operation: [{name, schema, required}] from its body schema or query parameters. */
+/** The fields of an operation: [{name, schema, required, example}] from its body schema (with its first example) or query parameters. */
 export function fieldsOf(op, doc) {
   const body = op.requestBody?.content?.["application/json"]?.schema;
   if (body) {
     const s = deref(body, doc);
     const required = new Set(s.required || []);
-    return Object.entries(s.properties || {}).map(([name, p]) => ({ name, schema: deref(p, doc), required: required.has(name) }));
+    const example = (s.examples || [])[0] || {};
+    return Object.entries(s.properties || {}).map(([name, p]) => ({ name, schema: deref(p, doc), required: required.has(name), example: example[name] }));
   }
   return (op.parameters || [])
     .filter((p) => p.in === "query")
@@ -38,6 +39,7 @@ export function buildInputs(form, fields) {
     if (Array.isArray(f.schema.enum)) {
       input = document.createElement("select");
       for (const v of f.schema.enum) input.append(new Option(String(v), JSON.stringify(v)));
+      if (f.schema.default !== undefined) input.value = JSON.stringify(f.schema.default);
     } else if (type === "boolean") {
       input = document.createElement("input");
       input.type = "checkbox";
@@ -49,7 +51,8 @@ export function buildInputs(form, fields) {
       if (f.schema.minimum !== undefined) input.min = f.schema.minimum;
       if (f.schema.maximum !== undefined) input.max = f.schema.maximum;
       if (f.schema.default !== undefined) input.value = typeof f.schema.default === "object" ? JSON.stringify(f.schema.default) : f.schema.default;
-      if (type === "object" || type === "array") input.placeholder = "JSON";
+      if (f.example !== undefined) input.placeholder = typeof f.example === "object" ? JSON.stringify(f.example) : String(f.example);
+      else if (type === "object" || type === "array") input.placeholder = "JSON";
     }
     input.name = f.name;
     input.dataset.type = type;
