@@ -134,11 +134,14 @@ function renderState(s) {
   });
   showAxes(s.axes);
   showRunning();
-  if (state.model && s.axes) {
+  // The 3D view and the projections only when the arm or its frames moved.
+  const pose = JSON.stringify([s.axes, s.tool, s.base]);
+  if (state.model && s.axes && pose !== state.drawnPose) {
+    state.drawnPose = pose;
     const a = s.axes;
     state.view.setPose(state.model, [a.a1, a.a2, a.a3, a.a4, a.a5, a.a6], frame(s.tool), frame(s.base));
+    drawPath();
   }
-  drawPath();
 }
 
 const frame = (f) => (f ? [f.x, f.y, f.z, f.a, f.b, f.c] : [0, 0, 0, 0, 0, 0]);
@@ -237,20 +240,26 @@ function showPlans() {
   drawPath();
 }
 
+/** Draws the projections at the next frame (coalesces many updates). */
 function drawPath() {
   if (state.drawPending) return;
   state.drawPending = true;
   requestAnimationFrame(() => {
     state.drawPending = false;
-    const executed = state.path.map((s) => s.pose);
-    const planned = [...state.plans.values()].map((p) => p.points);
-    const p = state.robot?.position;
-    const tcp = p ? [p.x, p.y, p.z] : null;
-    state.top.draw({ executed, planned, tcp });
-    state.side.draw({ executed, planned, tcp });
-    $("path-count").textContent = `${state.path.length} points`;
+    drawPathNow();
   });
 }
+
+function drawPathNow() {
+  const executed = state.path.map((s) => s.pose);
+  const planned = [...state.plans.values()].map((p) => p.points);
+  const p = state.robot?.position;
+  const tcp = p ? [p.x, p.y, p.z] : null;
+  state.top.draw({ executed, planned, tcp });
+  state.side.draw({ executed, planned, tcp });
+  $("path-count").textContent = `${state.path.length} points`;
+}
+state.drawPathNow = drawPathNow;
 
 function download(name, type, text) {
   const a = document.createElement("a");

@@ -52,7 +52,7 @@ class Polyline {
 export class ArmView {
   constructor(container) {
     this.container = container;
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer = new THREE.WebGLRenderer({ antialias: true });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     container.appendChild(this.renderer.domElement);
     this.scene = new THREE.Scene();
@@ -188,9 +188,14 @@ export class ArmView {
     this.pending = true;
     requestAnimationFrame(() => {
       this.pending = false;
-      this.renderer.render(this.scene, this.camera);
-      this.frames = (this.frames || 0) + 1;
+      this.renderNow();
     });
+  }
+
+  /** Renders now (benchmarks and screenshots). */
+  renderNow() {
+    this.renderer.render(this.scene, this.camera);
+    this.frames = (this.frames || 0) + 1;
   }
 }
 

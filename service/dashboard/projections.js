@@ -39,7 +39,9 @@ export class Projection {
     if (!w || !h) return;
     if (c.width !== Math.round(w * dpr)) c.width = Math.round(w * dpr);
     if (c.height !== Math.round(h * dpr)) c.height = Math.round(h * dpr);
-    const g = c.getContext("2d");
+    // CPU-backed (willReadFrequently): long polylines rasterise faster there than on
+    // software GL, and the tests read the pixels back.
+    const g = c.getContext("2d", { willReadFrequently: true });
     g.setTransform(dpr, 0, 0, dpr, 0, 0);
     g.clearRect(0, 0, w, h);
     g.fillStyle = "#5b6470";
