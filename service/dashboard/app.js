@@ -614,8 +614,9 @@ async function start() {
 }
 
 state.view = new ArmView($("arm"));
-state.top = new Projection($("top"), 0, 1, "top (X–Y)");
-state.side = new Projection($("side"), 0, 2, "side (X–Z)");
+// Seen from above with the robot at the bottom: X up, Y to the left (a drawing reads upright).
+state.top = new Projection($("top"), 1, 0, "top (X ↑, Y ←)", true);
+state.side = new Projection($("side"), 0, 2, "side (X →, Z ↑)");
 
 $("token-form").addEventListener("submit", async (e) => {
   e.preventDefault();

@@ -106,7 +106,7 @@ export class ArmView {
   fit(model) {
     const { c1, c2, c3, c4, a1 } = model.opw_mm;
     const reach = a1 + c2 + c3 + c4;
-    this.camera.position.set(reach * 1.6, -reach * 2.0, c1 + reach * 1.1);
+    this.camera.position.set(reach * 1.3, -reach * 1.5, c1 + reach * 0.9);
     this.controls.target.set(reach * 0.3, 0, c1 * 0.8);
     this.controls.update();
     const r = Math.max(10, reach / 30);

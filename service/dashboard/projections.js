@@ -1,16 +1,21 @@
-// Top (X–Y) and side (X–Z) projections of the TCP path on 2D canvases:
+// Top (X up, Y to the left: as seen standing in front of the robot) and
+// side (X–Z) projections of the TCP path on 2D canvases:
 // executed path, planned paths and the current TCP, equal scale on both
 // axes, fitted to what is shown. Also the SVG export of the same view.
 
 const EXECUTED = "#1f6feb";
 const PLANNED = "#f08c00";
 
-/** One projection: `u`, `v` = indices into [x, y, z] for the horizontal and vertical axis. */
+/**
+ * One projection: `u`, `v` = indices into [x, y, z] for the horizontal and
+ * vertical axis; `flipU` draws the horizontal axis growing to the left.
+ */
 export class Projection {
-  constructor(canvas, u, v, label) {
+  constructor(canvas, u, v, label, flipU = false) {
     this.canvas = canvas;
     this.u = u;
     this.v = v;
+    this.su = flipU ? -1 : 1;
     this.label = label;
     new ResizeObserver(() => this.draw(this.last || {})).observe(canvas);
   }
@@ -19,8 +24,9 @@ export class Projection {
   bounds(executed, planned, tcp) {
     let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
     const take = (p) => {
-      lo = [Math.min(lo[0], p[this.u]), Math.min(lo[1], p[this.v])];
-      hi = [Math.max(hi[0], p[this.u]), Math.max(hi[1], p[this.v])];
+      const u = this.su * p[this.u];
+      lo = [Math.min(lo[0], u), Math.min(lo[1], p[this.v])];
+      hi = [Math.max(hi[0], u), Math.max(hi[1], p[this.v])];
     };
     for (let i = 0; i < executed.length; i++) take(executed[i]);
     planned.forEach((line) => line.forEach(take));
@@ -52,7 +58,7 @@ export class Projection {
     const [u0, v0, size] = box;
     const k = Math.min(w, h) / size;
     const ox = (w - size * k) / 2, oy = (h - size * k) / 2;
-    const X = (p) => ox + (p[this.u] - u0) * k;
+    const X = (p) => ox + (this.su * p[this.u] - u0) * k;
     const Y = (p) => h - oy - (p[this.v] - v0) * k;
     // scale bar
     const step = niceStep(size / 4);
@@ -87,14 +93,14 @@ export class Projection {
   svg({ executed = [], planned = [] }) {
     const box = this.bounds(executed, planned, null) || [0, 0, 100];
     const [u0, v0, size] = box;
-    const pts = (list) => list.map((p) => `${(p[this.u] - u0).toFixed(3)},${(size - (p[this.v] - v0)).toFixed(3)}`).join(" ");
+    const pts = (list) => list.map((p) => `${(this.su * p[this.u] - u0).toFixed(3)},${(size - (p[this.v] - v0)).toFixed(3)}`).join(" ");
     const lines = planned
       .map((p) => `<polyline fill="none" stroke="${PLANNED}" stroke-dasharray="6 4" stroke-width="0.8" points="${pts(p)}"/>`)
       .concat([`<polyline fill="none" stroke="${EXECUTED}" stroke-width="0.8" points="${pts(executed)}"/>`]);
     return (
       `<?xml version="1.0" encoding="UTF-8"?>\n` +
       `<svg xmlns="http://www.w3.org/2000/svg" width="${size.toFixed(1)}mm" height="${size.toFixed(1)}mm" viewBox="0 0 ${size.toFixed(3)} ${size.toFixed(3)}">\n` +
-      `<title>kuka-bridge TCP path, ${this.label}; origin at (${u0.toFixed(3)}, ${v0.toFixed(3)}) mm</title>\n` +
+      `<title>kuka-bridge TCP path, ${this.label}; lower left corner at ${this.su < 0 ? "−" : ""}${"XYZ"[this.u]} = ${(this.su * u0).toFixed(3)} mm, ${"XYZ"[this.v]} = ${v0.toFixed(3)} mm</title>\n` +
       lines.join("\n") +
       "\n</svg>\n"
     );
