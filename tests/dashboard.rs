@@ -687,3 +687,76 @@ async fn plugin_routes_are_callable_from_generated_forms() {
     browser.screenshot("plugin").await;
     browser.close().await;
 }
+
+/// A controller error and a lost heartbeat are shown with their code and
+/// sentence; Acknowledge on the page resets the error.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn controller_errors_and_offline_are_shown() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options::default()).await;
+    open(&browser, &t).await;
+    let sim = t.service.sim.as_ref().expect("simulator");
+    assert_eq!(
+        browser
+            .eval("return document.getElementById('alarm-bar').hidden;")
+            .await,
+        true
+    );
+    sim.inject_error(kuka_protocol::ResultCode::ControllerError, 0);
+    let (_, state) = {
+        let mut last = (0, Value::Null);
+        for _ in 0..200 {
+            last = t.get("/api/v1/state").await;
+            if !last.1["controller"]["error"].is_null() {
+                break;
+            }
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+        last
+    };
+    let code = state["controller"]["error"]["code"]
+        .as_str()
+        .expect("error code")
+        .to_string();
+    browser
+        .wait_js(
+            &format!(
+                "!document.getElementById('alarm-bar').hidden && document.getElementById('alarm').textContent.includes('{code}') && !document.getElementById('reset').hidden"
+            ),
+            WAIT,
+            "the error bar with the code and Acknowledge",
+        )
+        .await;
+    assert_eq!(browser.text("#status").await, "error");
+    browser.screenshot("controller-error").await;
+    browser.click("#reset").await;
+    browser
+        .wait_js(
+            "document.getElementById('alarm-bar').hidden && window.dashboard.robot.controller.error === null",
+            WAIT,
+            "the error acknowledged",
+        )
+        .await;
+    let (_, state) = t.get("/api/v1/state").await;
+    assert!(state["controller"]["error"].is_null(), "{state}");
+
+    sim.pause();
+    browser
+        .wait_js(
+            "document.getElementById('connection').textContent === 'offline' && document.getElementById('alarm').textContent.includes('controller_offline')",
+            WAIT,
+            "offline shown",
+        )
+        .await;
+    sim.resume();
+    browser
+        .wait_js(
+            "document.getElementById('connection').textContent === 'online' && document.getElementById('alarm-bar').hidden",
+            WAIT,
+            "online again",
+        )
+        .await;
+    browser.close().await;
+}

@@ -112,15 +112,13 @@ function renderState(s) {
     $("override-value").textContent = fmt(s.speed.override_pct, 0);
   }
   const err = s.controller.error;
-  const alarm = $("alarm");
+  $("reset").hidden = !err;
   if (err) {
-    alarm.textContent = `Controller error — ${err.code}: ${err.detail}`;
-    alarm.hidden = false;
+    showAlarm(`Controller error — ${err.code}: ${err.detail}`);
   } else if (s.connection !== "online") {
-    alarm.textContent = s.connection === "locked" ? "The command file is locked by another process (channel_locked)." : "No heartbeat from the controller (controller_offline).";
-    alarm.hidden = false;
+    showAlarm(s.connection === "locked" ? "The command file is locked by another process (channel_locked)." : "No heartbeat from the controller (controller_offline).");
   } else if (!state.alarmUntil || Date.now() > state.alarmUntil) {
-    alarm.hidden = true;
+    $("alarm-bar").hidden = true;
   }
   const p = s.position;
   const rows = [["X", "x", "mm"], ["Y", "y", "mm"], ["Z", "z", "mm"], ["A", "a", "°"], ["B", "b", "°"], ["C", "c", "°"], ["S", "s", ""], ["T", "t", ""]];
@@ -142,6 +140,11 @@ function renderState(s) {
     state.view.setPose(state.model, [a.a1, a.a2, a.a3, a.a4, a.a5, a.a6], frame(s.tool), frame(s.base));
     drawPath();
   }
+}
+
+function showAlarm(text) {
+  $("alarm").textContent = text;
+  $("alarm-bar").hidden = false;
 }
 
 const frame = (f) => (f ? [f.x, f.y, f.z, f.a, f.b, f.c] : [0, 0, 0, 0, 0, 0]);
@@ -364,8 +367,7 @@ function listen() {
   events.addEventListener("alarm", (e) => {
     const a = JSON.parse(e.data);
     logEvent("alarm", `${a.code}: ${a.detail}`);
-    $("alarm").textContent = `${a.code}: ${a.detail}`;
-    $("alarm").hidden = false;
+    showAlarm(`${a.code}: ${a.detail}`);
     state.alarmUntil = Date.now() + 10000;
   });
   events.addEventListener("lagged", (e) => logEvent("alarm", `missed ${e.data} events (page too slow)`));
@@ -468,6 +470,7 @@ for (const b of document.querySelectorAll("[data-step]")) {
 }
 
 onClick("home", () => api("POST", "/api/v1/home"));
+onClick("reset", () => api("POST", "/api/v1/reset"));
 onClick("take-control", () => api("POST", "/api/v1/control", {}));
 onClick("release-control", () => api("DELETE", "/api/v1/control"));
 
