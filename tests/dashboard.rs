@@ -227,6 +227,34 @@ async fn the_page_draws_what_the_robot_draws() {
     let errors = browser.page_errors().await;
     assert!(errors.is_empty(), "console errors: {errors:#?}");
     browser.screenshot("smiley").await;
+
+    // Tablet and phone sizes: nothing wider than the screen, and Stop stays
+    // on screen when scrolled to the bottom.
+    for (name, w, h) in [("tablet", 820, 1180), ("phone", 390, 844)] {
+        browser.resize(w, h).await;
+        let fit = browser
+            .eval_async(
+                "await new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
+                 window.scrollTo(0, document.body.scrollHeight);
+                 await new Promise((r) => requestAnimationFrame(r));
+                 const stop = document.getElementById('stop').getBoundingClientRect();
+                 return [document.documentElement.scrollWidth, window.innerWidth, stop.top, stop.bottom, window.innerHeight];",
+            )
+            .await;
+        let v: Vec<f64> = fit.as_array().expect("sizes").iter().map(f).collect();
+        assert!(
+            v[0] <= v[1],
+            "{name}: page {} px wide in a {} px window",
+            v[0],
+            v[1]
+        );
+        assert!(
+            v[2] >= 0.0 && v[3] <= v[4],
+            "{name}: Stop off screen at the bottom: {fit}"
+        );
+        browser.eval("window.scrollTo(0, 0);").await;
+        browser.screenshot(name).await;
+    }
     browser.close().await;
 }
 
