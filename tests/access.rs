@@ -1091,3 +1091,47 @@ async fn full_service_makes_room_and_drops_clients_that_do_not_read() {
     );
     t.service.shutdown().await.expect("shutdown");
 }
+
+/// An event stream ends when its token is revoked (it does not keep
+/// pushing positions to a client that lost its access).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn event_streams_end_with_their_token() {
+    use futures_util::StreamExt;
+    let t = secured(|_| {}).await;
+    let admin = initial_admin_secret(&t.config.data_dir);
+    let viewer = create_token(&t, &admin, "wall", "viewer").await;
+    let other = create_token(&t, &admin, "wall-2", "viewer").await;
+    let open = |secret: String| {
+        let url = t.url(&format!("/api/v1/events?access_token={secret}"));
+        let http = t.http.clone();
+        async move {
+            let r = http.get(url).send().await.expect("events");
+            assert_eq!(r.status(), 200);
+            r.bytes_stream()
+        }
+    };
+    let mut stream = open(viewer.clone()).await;
+    let mut kept = open(other).await;
+    assert!(stream.next().await.is_some(), "first event");
+    let (s, v, _) = call(&t, "DELETE", "/api/v1/tokens/wall", Some(&admin), None).await;
+    assert_eq!(s, 200, "{v}");
+    let ended = tokio::time::timeout(Duration::from_secs(3), async {
+        while let Some(Ok(_)) = stream.next().await {}
+    })
+    .await;
+    assert!(ended.is_ok(), "the revoked token's stream ended within 3 s");
+    // Another token's stream goes on.
+    let (s, _, _) = call(&t, "POST", "/api/v1/home", Some(&admin), None).await;
+    assert_eq!(s, 200);
+    let next = tokio::time::timeout(Duration::from_secs(3), kept.next()).await;
+    assert!(matches!(next, Ok(Some(Ok(_)))), "the other stream still delivers");
+    // And the revoked secret opens no new one.
+    let r = t
+        .http
+        .get(t.url(&format!("/api/v1/events?access_token={viewer}")))
+        .send()
+        .await
+        .expect("events");
+    assert_eq!(r.status(), 401);
+    t.service.shutdown().await.expect("shutdown");
+}

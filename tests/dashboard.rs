@@ -219,6 +219,31 @@ async fn the_page_draws_what_the_robot_draws() {
         "3D path points vs page path: {counts}"
     );
     assert_eq!(counts[0], counts[4], "CSV rows vs page path: {counts}");
+    // The SVG export is a valid SVG document with one vertex per sample.
+    let svg = browser
+        .eval(
+            "const doc = new DOMParser().parseFromString(window.dashboard.pathSvg(), 'image/svg+xml');
+             const err = doc.querySelector('parsererror');
+             const lines = [...doc.querySelectorAll('polyline')];
+             return [err ? err.textContent : null, doc.documentElement.nodeName,
+                     lines.at(-1).getAttribute('points').trim().split(/\\s+/).length];",
+        )
+        .await;
+    assert!(svg[0].is_null(), "SVG parse error: {svg}");
+    assert_eq!(svg[1], "svg");
+    assert_eq!(svg[2], counts[0], "SVG vertices vs page path: {svg}");
+    // The event list filters by text.
+    browser.set_value("#event-text", "plan #").await;
+    let listed = browser
+        .wait_js(
+            "(() => { const li = [...document.querySelectorAll('#events li')]; return li.length > 0 && li.every((l) => l.textContent.includes('plan #')) && li.length; })()",
+            WAIT,
+            "only plan events listed",
+        )
+        .await;
+    assert_eq!(listed, 1, "one plan in this run");
+    browser.set_value("#event-text", "").await;
+    assert_eq!(browser.text("#simulated").await, "simulated");
     assert!(
         f(&counts[2]) > 500.0 && f(&counts[3]) > 200.0,
         "ink in the projections: {counts}"

@@ -484,7 +484,9 @@ $("clear-path").addEventListener("click", () => {
   showPlans();
 });
 $("export-csv").addEventListener("click", () => download("tcp-path.csv", "text/csv", pathCsv()));
-$("export-svg").addEventListener("click", () => download("tcp-path-top.svg", "image/svg+xml", state.top.svg({ executed: state.path.map((s) => s.pose), planned: [...state.plans.values()].map((p) => p.points) })));
+/** The top view as SVG (what Export SVG downloads). */
+state.pathSvg = () => state.top.svg({ executed: state.path.map((s) => s.pose), planned: [...state.plans.values()].map((p) => p.points) });
+$("export-svg").addEventListener("click", () => download("tcp-path-top.svg", "image/svg+xml", state.pathSvg()));
 
 $("event-filter").addEventListener("input", showEvents);
 $("refresh-plugins").addEventListener("click", () => loadDoc().then(loadPlugins));
@@ -632,7 +634,9 @@ $("token-form").addEventListener("submit", async (e) => {
 try {
   const h = await (await fetch("/health")).json();
   state.simulated = !!h.simulated;
-  $("simulated").hidden = !h.simulated;
+  $("simulated").textContent = h.simulated ? "simulated" : "real controller";
+  $("simulated").classList.toggle("sim", !!h.simulated);
+  $("simulated").hidden = false;
 } catch {
   // /health answers whenever the service runs; nothing to show otherwise
 }

@@ -244,6 +244,11 @@ impl TokenStore {
         self.read().list.iter().any(|t| t.name == name)
     }
 
+    /// The token with this name, if it exists.
+    pub fn get(&self, name: &str) -> Option<TokenInfo> {
+        self.read().list.iter().find(|t| t.name == name).cloned()
+    }
+
     /// True if an admin token exists.
     pub fn has_admin(&self) -> bool {
         self.read().list.iter().any(|t| t.role == Role::Admin)

@@ -35,7 +35,8 @@ pub struct EventsQuery {
 /// planned path of a move job (`JobPlan`, sent when its motions are written to the
 /// controller, before they run). A state event follows each heartbeat
 /// that changed something. A `lagged` event says the client was too slow and missed
-/// some. The stream starts with the current state.
+/// some. The stream starts with the current state, and ends when the service
+/// shuts down or the caller's token is revoked.
 #[utoipa::path(get, path = "/api/v1/events", tag = "events", params(EventsQuery),
     responses((status = 200, description = "text/event-stream of job, state, alarm and plan events", content_type = "text/event-stream", body = String), (status = 422, description = "Unknown event type", body = super::problem::ProblemDetails, content_type = super::problem::PROBLEM_JSON)))]
 async fn events(
@@ -83,10 +84,36 @@ async fn events(
             std::future::ready(out)
         });
     let mut closing = app.closing.clone();
+    let revoked = token_revoked(&app);
     let stream = stream.take_until(async move {
-        let _ = closing.wait_for(|c| *c).await;
+        tokio::select! {
+            _ = closing.wait_for(|c| *c) => {}
+            () = revoked => {}
+        }
     });
     Ok(Sse::new(stream).keep_alive(KeepAlive::new().interval(Duration::from_secs(15))))
+}
+
+/// Resolves when the caller's token is revoked (or replaced by a new one
+/// with the same name), so a stream never outlives its token; never when
+/// access control is off.
+fn token_revoked(app: &AppState) -> impl std::future::Future<Output = ()> + use<> {
+    let access = app.access.clone();
+    let token = crate::access::current_principal()
+        .filter(|_| access.enabled)
+        .and_then(|p| access.tokens.get(&p.name));
+    async move {
+        let Some(token) = token else {
+            return std::future::pending().await;
+        };
+        let mut tick = tokio::time::interval(Duration::from_millis(250));
+        loop {
+            tick.tick().await;
+            if access.tokens.get(&token.name).map(|t| t.created_ms) != Some(token.created_ms) {
+                return;
+            }
+        }
+    }
 }
 
 pub(super) fn router() -> OpenApiRouter<AppState> {
