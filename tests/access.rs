@@ -1124,7 +1124,10 @@ async fn event_streams_end_with_their_token() {
     let (s, _, _) = call(&t, "POST", "/api/v1/home", Some(&admin), None).await;
     assert_eq!(s, 200);
     let next = tokio::time::timeout(Duration::from_secs(3), kept.next()).await;
-    assert!(matches!(next, Ok(Some(Ok(_)))), "the other stream still delivers");
+    assert!(
+        matches!(next, Ok(Some(Ok(_)))),
+        "the other stream still delivers"
+    );
     // And the revoked secret opens no new one.
     let r = t
         .http

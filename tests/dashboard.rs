@@ -560,6 +560,7 @@ async fn a_viewer_sees_the_page_but_cannot_drive() {
         "#take-control",
         "#goto input",
         "#upload button",
+        "#stop",
     ] {
         let states = browser.eval(&format!("return {};", disabled(css))).await;
         let states = states.as_array().expect("elements");
@@ -568,11 +569,15 @@ async fn a_viewer_sees_the_page_but_cannot_drive() {
             "{css} disabled for a viewer: {states:?}"
         );
     }
-    assert_eq!(
-        browser
-            .eval("return document.getElementById('stop').disabled;")
-            .await,
-        false
+    // Stop stays on screen but says that a viewer cannot stop (the
+    // server requires the operator role for it).
+    let stop = browser
+        .eval("const b = document.getElementById('stop'); return [b.getBoundingClientRect().height, b.title];")
+        .await;
+    assert!(stop[0].as_f64().unwrap_or(0.0) > 30.0, "{stop}");
+    assert!(
+        stop[1].as_str().unwrap_or("").contains("operator"),
+        "{stop}"
     );
     let why = browser
         .eval("return document.getElementById('go').title;")
@@ -648,6 +653,13 @@ async fn a_viewer_sees_the_page_but_cannot_drive() {
             .await,
         true
     );
+    assert_eq!(
+        browser
+            .eval("return document.getElementById('stop').disabled;")
+            .await,
+        false,
+        "an operator may stop"
+    );
     browser.close().await;
 }
 
@@ -665,6 +677,17 @@ async fn plugin_routes_are_callable_from_generated_forms() {
     .join("draw-circle.wasm");
     let t = TestService::start(Options::default()).await;
     let bytes = std::fs::read(&wasm).expect("draw-circle.wasm");
+    // The route summary carries markup (same length, replaced in the
+    // component's data): the page must show it as text, never run it.
+    let from = "Draw a horizontal circle (PTP to its start,";
+    let to = "<img src=x onerror=window.pwned=1>XXXXXXXXX";
+    assert_eq!(from.len(), to.len());
+    let at = bytes
+        .windows(from.len())
+        .position(|w| w == from.as_bytes())
+        .expect("the summary in the component");
+    let mut bytes = bytes;
+    bytes[at..at + to.len()].copy_from_slice(to.as_bytes());
     let (s, v) = t.put_bytes("/api/v1/plugins/draw-circle", bytes).await;
     assert!(s == 200 || s == 201, "install: {s} {v}");
     // Pen-down orientation in the configuration the drawings use.
@@ -684,6 +707,17 @@ async fn plugin_routes_are_callable_from_generated_forms() {
             "the plugin's form",
         )
         .await;
+    let summary = browser
+        .eval(&format!(
+            "return [document.querySelector(\"{form} p\").textContent, document.querySelectorAll('#plugins img').length, window.pwned === undefined];"
+        ))
+        .await;
+    assert!(
+        summary[0].as_str().unwrap_or("").starts_with("<img src=x"),
+        "summary shown as text: {summary}"
+    );
+    assert_eq!(summary[1], 0, "no element made from plugin text: {summary}");
+    assert_eq!(summary[2], true, "no plugin script ran: {summary}");
     // The inputs follow the schema: names, required marks, types, enum, default, example.
     let inputs = browser
         .eval(&format!(
@@ -742,7 +776,8 @@ async fn plugin_routes_are_callable_from_generated_forms() {
 }
 
 /// A controller error and a lost heartbeat are shown with their code and
-/// sentence; Acknowledge on the page resets the error.
+/// sentence; Acknowledge on the page resets the error; a lost service is
+/// shown as such.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn controller_errors_and_offline_are_shown() {
     let Some(browser) = Browser::start().await else {
@@ -809,6 +844,15 @@ async fn controller_errors_and_offline_are_shown() {
             "document.getElementById('connection').textContent === 'online' && document.getElementById('alarm-bar').hidden",
             WAIT,
             "online again",
+        )
+        .await;
+    // The service itself gone (a tablet losing the network looks the same).
+    t.service.shutdown().await.expect("shutdown");
+    browser
+        .wait_js(
+            "document.getElementById('connection').textContent === 'no service' && document.getElementById('alarm').textContent.includes('No connection to the kuka-bridge service') && document.body.classList.contains('stale')",
+            WAIT,
+            "the lost service shown",
         )
         .await;
     browser.close().await;

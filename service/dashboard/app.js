@@ -10,6 +10,18 @@ import { arc, tcpInBase } from "./kinematics.js";
 import { fieldsOf, buildInputs, valuesOf } from "./forms.js";
 
 const $ = (id) => document.getElementById(id);
+
+/** Creates an element; string children become text, never markup (plugin and controller text is untrusted). */
+function el(tag, props = {}, ...children) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(props)) {
+    if (k === "class") e.className = v;
+    else if (k === "dataset") Object.assign(e.dataset, v);
+    else e[k] = v;
+  }
+  e.append(...children.filter((c) => c !== null && c !== undefined && c !== false));
+  return e;
+}
 const MAX_PATH = 100000; // executed samples kept (oldest dropped)
 const MAX_EVENTS = 500;
 const RANK = { viewer: 1, operator: 2, admin: 3 };
@@ -23,11 +35,12 @@ const state = {
   you: null,
   doc: null,
   jobs: new Map(),
+  mine: new Set(), // jobs this page started: their outcome is reported
+
   plans: new Map(),
   path: [],
   traceSince: null,
   traceSeen: new Set(),
-  simulated: false,
   events: [],
   actions: [],
 };
@@ -68,9 +81,11 @@ async function api(method, path, body) {
 }
 state.api = api;
 
+/** A short message at the bottom of the page; it goes away after 8 s. */
 function say(text) {
   $("message").textContent = text;
-  $("message").hidden = !text;
+  clearTimeout(state.sayTimer);
+  if (text) state.sayTimer = setTimeout(() => ($("message").textContent = ""), 8000);
 }
 
 // ---------------------------------------------------------------- state
@@ -84,7 +99,7 @@ function showState(s) {
   const p = s.position;
   const moved = !before || JSON.stringify(before.axes) !== JSON.stringify(s.axes) || before.busy !== s.busy || before.controller.last_cid !== s.controller.last_cid;
   if (moved) {
-    if (state.simulated) fetchTrace();
+    if (state.traceApi) fetchTrace();
     else if (p) addPositions([{ t: Date.now() / 1000, cid: s.controller.last_cid, motion: null, pose: [p.x, p.y, p.z, p.a, p.b, p.c] }], true);
   }
   if (!before || before.connection !== s.connection || before.busy !== s.busy || before.controller.status !== s.controller.status || before.controller.error?.code !== s.controller.error?.code) {
@@ -100,8 +115,14 @@ function showState(s) {
 
 function renderState(s) {
   const c = $("connection");
-  c.textContent = s.connection;
-  c.className = `pill ${s.connection}`;
+  const reachable = !state.streamDown;
+  c.textContent = reachable ? s.connection : "no service";
+  c.className = `pill ${reachable ? s.connection : "offline"}`;
+  document.body.classList.toggle("stale", !reachable || s.connection !== "online");
+  const sim = $("simulated");
+  sim.textContent = s.controller.simulated ? "simulated" : "real controller";
+  sim.className = `pill ${s.controller.simulated ? "sim" : "real"}`;
+  sim.hidden = false;
   const st = $("status");
   st.textContent = s.busy ? "busy" : s.controller.status;
   st.className = `pill ${s.controller.error ? "error" : s.busy ? "busy" : ""}`;
@@ -113,7 +134,9 @@ function renderState(s) {
   }
   const err = s.controller.error;
   $("reset").hidden = !err;
-  if (err) {
+  if (!reachable) {
+    showAlarm(`No connection to the kuka-bridge service since ${state.streamDown.toLocaleTimeString()} — reconnecting; the values shown are from then.`);
+  } else if (err) {
     showAlarm(`Controller error — ${err.code}: ${err.detail}`);
   } else if (s.connection !== "online") {
     showAlarm(s.connection === "locked" ? "The command file is locked by another process (channel_locked)." : "No heartbeat from the controller (controller_offline).");
@@ -124,7 +147,7 @@ function renderState(s) {
   const rows = [["X", "x", "mm"], ["Y", "y", "mm"], ["Z", "z", "mm"], ["A", "a", "°"], ["B", "b", "°"], ["C", "c", "°"], ["S", "s", ""], ["T", "t", ""]];
   const body = $("pose").tBodies[0];
   if (!body.rows.length) {
-    for (const [label, , unit] of rows) body.insertRow().innerHTML = `<th>${label}</th><td></td><td>${unit}</td>`;
+    for (const [label, , unit] of rows) body.append(el("tr", {}, el("th", {}, label), el("td"), el("td", {}, unit)));
   }
   rows.forEach(([, key], i) => {
     const v = p?.[key];
@@ -159,7 +182,12 @@ function showAxes(axes) {
       const row = document.createElement("div");
       row.className = "axis";
       const [lo, hi] = limits ? limits[i] : [0, 0];
-      row.innerHTML = `<b>A${i + 1}</b><span class="value"></span>` + (limits ? `<span class="bar"><span class="zero" style="left:${(-lo / (hi - lo)) * 100}%"></span><span class="mark"></span></span><small>${lo}…${hi}</small>` : "");
+      row.append(el("b", {}, `A${i + 1}`), el("span", { class: "value" }));
+      if (limits) {
+        const zero = el("span", { class: "zero" });
+        zero.style.left = `${(-lo / (hi - lo)) * 100}%`;
+        row.append(el("span", { class: "bar" }, zero, el("span", { class: "mark" })), el("small", {}, `${lo}…${hi}`));
+      }
       box.append(row);
     }
   }
@@ -283,30 +311,48 @@ state.pathCsv = pathCsv;
 
 function showJob(job) {
   state.jobs.set(job.id, job);
+  if (state.mine.has(job.id) && ["done", "failed", "cancelled"].includes(job.state)) {
+    state.mine.delete(job.id);
+    if (job.error) {
+      showAlarm(`Job #${job.id} (${job.operation}) ${job.state} — ${job.error.code}: ${job.error.detail}`);
+      state.alarmUntil = Date.now() + 15000;
+      say(`job #${job.id} ${job.state}: ${job.error.code}`);
+    } else {
+      say(`job #${job.id} ${job.operation} done`);
+    }
+  }
   if (job.state === "done" || job.state === "failed" || job.state === "cancelled") {
     if (state.plans.delete(job.id)) showPlans();
   }
   if (state.jobs.size > 200) state.jobs.delete(Math.min(...state.jobs.keys()));
-  const ids = [...state.jobs.keys()].sort((a, b) => b - a).slice(0, 20);
-  $("jobs").replaceChildren(
-    ...ids.map((id) => {
-      const j = state.jobs.get(id);
-      const li = document.createElement("li");
-      li.value = id;
-      li.className = j.state;
-      const who = j.origin || j.requested_by || "";
-      li.innerHTML = `<b>#${id}</b> ${j.operation}${j.motions ? ` (${j.motions})` : ""} <span class="state">${j.state}</span> <small>${who}</small>`;
-      if (j.error) {
-        const e = document.createElement("div");
-        e.className = "error";
-        e.textContent = `${j.error.code}: ${j.error.detail}`;
-        li.append(e);
-      }
-      return li;
-    }),
-  );
-  showRunning();
-  if (state.simulated) fetchTrace();
+  renderJobs();
+  if (state.traceApi) fetchTrace();
+}
+
+/** The job list and the running job, at the next frame. */
+function renderJobs() {
+  if (state.jobsPending) return;
+  state.jobsPending = true;
+  requestAnimationFrame(() => {
+    state.jobsPending = false;
+    const ids = [...state.jobs.keys()].sort((a, b) => b - a).slice(0, 20);
+    $("jobs").replaceChildren(
+      ...ids.map((id) => {
+        const j = state.jobs.get(id);
+        return el(
+          "li",
+          { class: j.state },
+          el("b", {}, `#${id}`),
+          ` ${j.operation}${j.motions ? ` (${j.motions})` : ""} `,
+          el("span", { class: "state" }, j.state),
+          " ",
+          el("small", {}, j.origin || j.requested_by || ""),
+          j.error && el("div", { class: "error" }, `${j.error.code}: ${j.error.detail}`),
+        );
+      }),
+    );
+    showRunning();
+  });
 }
 
 function showRunning() {
@@ -318,7 +364,9 @@ function showRunning() {
     return;
   }
   const pct = j.motions ? Math.round((100 * j.completed) / j.motions) : null;
-  box.innerHTML = `<b>#${j.id}</b> ${j.operation} — ${j.state}${pct !== null ? ` — ${j.completed}/${j.motions} motions` : ""}<progress max="100" ${pct !== null ? `value="${pct}"` : ""}></progress>`;
+  const bar = el("progress", { max: 100 });
+  if (pct !== null) bar.value = pct;
+  box.replaceChildren(el("b", {}, `#${j.id}`), ` ${j.operation} — ${j.state}${pct !== null ? ` — ${j.completed}/${j.motions} motions` : ""}`, bar);
 }
 
 function logEvent(type, text) {
@@ -335,14 +383,10 @@ function showEvents() {
     const types = new Set([...$("event-filter").querySelectorAll("input[type=checkbox]:checked")].map((i) => i.value));
     types.add("refused");
     const needle = $("event-text").value.trim().toLowerCase();
-    const shown = state.events.filter((e) => types.has(e.type) && (!needle || e.text.toLowerCase().includes(needle))).slice(-150).reverse();
+    const shown = state.events.filter((e) => types.has(e.type) && (!needle || `${e.type} ${e.text}`.toLowerCase().includes(needle))).slice(-150).reverse();
     $("events").replaceChildren(
       ...shown.map((e) => {
-        const li = document.createElement("li");
-        li.className = e.type;
-        li.innerHTML = `<time>${e.at.toLocaleTimeString()}</time> <b>${e.type}</b> `;
-        li.append(e.text);
-        return li;
+        return el("li", { class: e.type }, el("time", {}, e.at.toLocaleTimeString()), " ", el("b", {}, e.type), " ", e.text);
       }),
     );
   });
@@ -371,8 +415,18 @@ function listen() {
     state.alarmUntil = Date.now() + 10000;
   });
   events.addEventListener("lagged", (e) => logEvent("alarm", `missed ${e.data} events (page too slow)`));
-  events.onerror = () => say(events.readyState === EventSource.CLOSED ? "event stream closed" : "reconnecting…");
-  events.onopen = () => say("");
+  events.onerror = () => {
+    state.streamDown = state.streamDown || new Date();
+    if (state.robot) renderState(state.robot);
+    // A refused reconnection (token revoked) closes the stream for good.
+    if (events.readyState === EventSource.CLOSED) setTimeout(reconnect, 2000);
+  };
+  events.onopen = () => {
+    if (state.streamDown) {
+      state.streamDown = null;
+      resync();
+    }
+  };
   state.stream = events;
 }
 
@@ -399,11 +453,11 @@ state.drawnTcp = () => {
 
 /** Disables what the caller's role may not do, saying which role it needs. */
 function applyRole() {
-  for (const el of document.querySelectorAll("[data-op]")) {
-    if (el.tagName === "SECTION" || el.tagName === "FORM") continue;
-    const ok = allowed(el.dataset.op);
-    el.disabled = !ok;
-    el.title = ok ? "" : `needs the ${requiredRole(el.dataset.op)} role (you are ${state.you?.role || "unknown"})`;
+  for (const node of document.querySelectorAll("[data-op]")) {
+    if (node.tagName === "SECTION" || node.tagName === "FORM") continue;
+    const ok = allowed(node.dataset.op);
+    node.disabled = !ok;
+    node.title = ok ? node.dataset.hint || "" : `needs the ${requiredRole(node.dataset.op)} role (you are ${state.you?.role || "unknown"})`;
   }
   for (const form of document.querySelectorAll("form[data-op]")) {
     const ok = allowed(form.dataset.op);
@@ -412,7 +466,9 @@ function applyRole() {
   const jog = allowed("POST /api/v1/motions");
   for (const i of $("goto").querySelectorAll("input, select, #fill-current")) i.disabled = !jog;
   $("step").disabled = !jog;
-  $("stop").disabled = false; // Stop is always allowed with a valid token
+  const auth = !!state.control?.auth;
+  if (!auth) for (const b of [$("take-control"), $("release-control")]) b.disabled = true;
+  $("logout").hidden = !auth;
 }
 
 async function loadControl() {
@@ -437,14 +493,23 @@ function onClick(id, f) {
 
 async function move(motion) {
   const r = await api("POST", "/api/v1/motions", { motions: [motion], wait: false });
-  if (r.ok) say(`job #${r.body.id} queued`);
+  if (r.ok) {
+    state.mine.add(r.body.id);
+    say(`job #${r.body.id} queued`);
+  }
   return r;
 }
 state.move = move;
 
 $("stop").addEventListener("click", async () => {
   const r = await api("POST", "/api/v1/stop");
-  if (r.ok) say("stopped");
+  if (r.ok) {
+    say("stopped");
+  } else {
+    const why = r.body?.code ? `${r.body.code}: ${r.body.detail}` : r.status ? `HTTP ${r.status}` : "the service cannot be reached";
+    showAlarm(`STOP DID NOT GO THROUGH — ${why}. Use the teach pendant's stop.`);
+    state.alarmUntil = Date.now() + 30000;
+  }
 });
 
 $("goto").addEventListener("submit", (e) => {
@@ -470,6 +535,10 @@ for (const b of document.querySelectorAll("[data-step]")) {
 }
 
 onClick("home", () => api("POST", "/api/v1/home"));
+$("logout").addEventListener("click", () => {
+  sessionStorage.removeItem("kb-token");
+  location.reload();
+});
 onClick("reset", () => api("POST", "/api/v1/reset"));
 onClick("take-control", () => api("POST", "/api/v1/control", {}));
 onClick("release-control", () => api("DELETE", "/api/v1/control"));
@@ -506,14 +575,16 @@ async function loadPrograms() {
   if (!r.ok) return;
   $("programs").replaceChildren(
     ...r.body.map((p) => {
-      const li = document.createElement("li");
-      li.innerHTML = `<b>${p.name}</b> <small>${p.entry}() · ${p.src_lines} lines</small> `;
+      const li = el("li", {}, el("b", {}, p.name), " ", el("small", {}, `${p.entry}() · ${p.src_lines} lines`), " ");
       const run = document.createElement("button");
       run.textContent = "Run";
       run.dataset.op = "POST /api/v1/programs/{name}/run";
       run.addEventListener("click", async () => {
         const res = await api("POST", `/api/v1/programs/${encodeURIComponent(p.name)}/run`, { wait: false });
-        if (res.ok) say(`program ${p.name}: job #${res.body.id}`);
+        if (res.ok) {
+          state.mine.add(res.body.id);
+          say(`program ${p.name}: job #${res.body.id}`);
+        }
       });
       li.append(run);
       return li;
@@ -538,16 +609,11 @@ async function loadPlugins() {
   }
   box.replaceChildren(
     ...r.body.map((plugin) => {
-      const div = document.createElement("details");
-      div.className = "plugin";
+      const div = el("details", { class: "plugin" }, el("summary", {}, el("b", {}, plugin.name), ` ${plugin.version || ""} `, el("small", {}, plugin.status)));
       div.open = r.body.length <= 3; // a few: open; many: a list to expand
-      div.innerHTML = `<summary><b>${plugin.name}</b> ${plugin.version || ""} <small>${plugin.status}</small></summary>`;
       for (const route of plugin.routes) {
         const op = state.doc?.paths?.[route.url]?.[route.method.toLowerCase()];
-        const form = document.createElement("form");
-        form.className = "plugin-route";
-        form.dataset.url = route.url;
-        form.innerHTML = `<h4>${route.method} ${route.url.replace(`/api/v1/plugins/${plugin.name}`, "")}</h4><p>${route.summary}</p>`;
+        const form = el("form", { class: "plugin-route", dataset: { url: route.url } }, el("h4", {}, `${route.method} ${route.url.replace(`/api/v1/plugins/${plugin.name}`, "")}`), el("p", {}, route.summary));
         buildInputs(form, op ? fieldsOf(op, state.doc) : []);
         const go = document.createElement("button");
         go.textContent = "Call";
@@ -556,6 +622,7 @@ async function loadPlugins() {
         form.append(go, out);
         form.addEventListener("submit", async (e) => {
           e.preventDefault();
+          if (go.disabled) return;
           let values;
           try {
             values = valuesOf(form);
@@ -563,12 +630,14 @@ async function loadPlugins() {
             out.textContent = `bad JSON in a field: ${err.message}`;
             return;
           }
+          go.disabled = true;
+          out.textContent = "running…";
           const res =
             route.method === "GET"
               ? await api("GET", `${route.url}?${new URLSearchParams(values)}`)
               : await api(route.method, route.url, values);
           out.textContent = `${res.status}\n${JSON.stringify(res.body, null, 2)}`;
-          loadControl();
+          await loadControl(); // re-enables what the role allows
         });
         div.append(form);
       }
@@ -584,7 +653,7 @@ async function loadState() {
   const r = await fetch("/api/v1/state", { headers: headers() });
   if (r.status === 401) {
     $("auth").hidden = false;
-    say("a token is needed");
+    say(state.token ? "the token was rejected: check it or paste another" : "a token is needed");
     return false;
   }
   if (!r.ok) {
@@ -598,16 +667,53 @@ async function loadState() {
     state.model = m.body;
     $("model").textContent = m.body.name;
     state.view.fit(m.body);
+  } else {
+    $("model").textContent = "no robot model configured: the arm cannot be drawn";
   }
-  if (state.simulated) {
-    // The last two minutes of simulated motion, then everything new.
-    const sim = await api("GET", "/api/v1/sim");
-    if (sim.ok) state.traceSince = Math.max(0, sim.body.sim_time_s - 120);
-  }
+  // The embedded simulator's trace gives every 12 ms sample; without it
+  // the path comes from the positions in the state events.
+  const sim = await api("GET", "/api/v1/sim");
+  state.traceApi = sim.ok;
+  // The last two minutes of simulated motion, then everything new.
+  if (sim.ok) state.traceSince = Math.max(0, sim.body.sim_time_s - 120);
   await loadDoc();
   await Promise.all([loadPlugins(), loadControl(), loadPrograms()]);
   showState(s);
   return true;
+}
+
+/** After the stream was down (service restarted, network lost): start from the service's state again. */
+async function resync() {
+  state.jobs.clear();
+  state.plans.clear();
+  state.mine.clear();
+  showPlans();
+  const r = await api("GET", "/api/v1/jobs?limit=20");
+  if (r.ok) r.body.reverse().forEach(showJob);
+  renderJobs();
+  if (state.traceApi) {
+    const sim = await api("GET", "/api/v1/sim");
+    // A restarted simulator starts its clock again: read from its start.
+    if (sim.ok && sim.body.sim_time_s < (state.traceSince ?? 0)) {
+      state.traceSince = 0;
+      state.traceSeen.clear();
+    }
+  }
+  await loadControl();
+  const s = await api("GET", "/api/v1/state");
+  if (s.ok) showState(s.body);
+}
+
+/** The stream was closed for good (e.g. 401): ask for a token if that is why, else try again. */
+async function reconnect() {
+  const r = await fetch("/api/v1/state", { headers: headers() }).catch(() => null);
+  if (r && r.status === 401) {
+    $("auth").hidden = false;
+    say("the token was rejected or revoked: paste another");
+    return;
+  }
+  if (state.stream) state.stream.close();
+  listen();
 }
 
 async function start() {
@@ -631,14 +737,5 @@ $("token-form").addEventListener("submit", async (e) => {
   state.ready = true;
 });
 
-try {
-  const h = await (await fetch("/health")).json();
-  state.simulated = !!h.simulated;
-  $("simulated").textContent = h.simulated ? "simulated" : "real controller";
-  $("simulated").classList.toggle("sim", !!h.simulated);
-  $("simulated").hidden = false;
-} catch {
-  // /health answers whenever the service runs; nothing to show otherwise
-}
 if (await loadState()) await start();
 state.ready = true;

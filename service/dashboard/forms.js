@@ -18,7 +18,10 @@ export function fieldsOf(op, doc) {
     const s = deref(body, doc);
     const required = new Set(s.required || []);
     const example = (s.examples || [])[0] || {};
-    return Object.entries(s.properties || {}).map(([name, p]) => ({ name, schema: deref(p, doc), required: required.has(name), example: example[name] }));
+    // Required fields first, each group in the schema's order.
+    return Object.entries(s.properties || {})
+      .map(([name, p]) => ({ name, schema: deref(p, doc), required: required.has(name), example: example[name] }))
+      .sort((a, b) => b.required - a.required);
   }
   return (op.parameters || [])
     .filter((p) => p.in === "query")

@@ -100,7 +100,7 @@ export class Projection {
     return (
       `<?xml version="1.0" encoding="UTF-8"?>\n` +
       `<svg xmlns="http://www.w3.org/2000/svg" width="${size.toFixed(1)}mm" height="${size.toFixed(1)}mm" viewBox="0 0 ${size.toFixed(3)} ${size.toFixed(3)}">\n` +
-      `<title>kuka-bridge TCP path, ${this.label}; lower left corner at ${this.su < 0 ? "−" : ""}${"XYZ"[this.u]} = ${(this.su * u0).toFixed(3)} mm, ${"XYZ"[this.v]} = ${v0.toFixed(3)} mm</title>\n` +
+      `<title>kuka-bridge TCP path, ${this.label}; lower left corner at ${"XYZ"[this.u]} = ${(this.su * u0).toFixed(3)} mm, ${"XYZ"[this.v]} = ${v0.toFixed(3)} mm</title>\n` +
       lines.join("\n") +
       "\n</svg>\n"
     );
