@@ -197,11 +197,17 @@ async fn the_page_draws_what_the_robot_draws() {
         drawn.distance_mm(&reported) < 0.01 && drawn.angle_deg(&reported) < 0.01,
         "arm tip drawn at {tip:?}, TCP reported at {p}"
     );
-    assert_eq!(
-        browser.text("#pose tbody tr:nth-child(3) td").await,
-        format!("{:.3}", f(&state["position"]["z"])),
-        "Z in the pose table"
-    );
+    // The pose table (drawn at the next animation frame) shows the same Z.
+    browser
+        .wait_js(
+            &format!(
+                "document.querySelector('#pose tbody tr:nth-child(3) td').textContent === '{:.3}'",
+                f(&state["position"]["z"])
+            ),
+            WAIT,
+            "Z in the pose table",
+        )
+        .await;
 
     // The 3D view holds every sample; the projections drew something; the CSV has a row per sample.
     let counts = browser
@@ -328,8 +334,15 @@ async fn stop_on_the_page_cancels_the_running_job() {
     assert_eq!(job["error"]["code"], "cancelled", "{job}");
     let a1 = f(&job["axes"]["a1"]);
     assert!(a1 > 0.0 && a1 < 150.0, "stopped part way: A1 = {a1}");
-    let jobs = browser.text("#jobs").await;
-    assert!(jobs.contains("cancelled"), "jobs panel: {jobs}");
+    browser
+        .wait_js(
+            &format!(
+                "document.getElementById('jobs').textContent.includes('#{id} move (1) cancelled')"
+            ),
+            WAIT,
+            "the jobs panel to show the job cancelled",
+        )
+        .await;
     browser.screenshot("stopped").await;
     browser.close().await;
 }
