@@ -7,21 +7,9 @@
 import { ArmView } from "./arm.js";
 import { Projection } from "./projections.js";
 import { arc, tcpInBase } from "./kinematics.js";
-import { fieldsOf, buildInputs, valuesOf } from "./forms.js";
+import { $, el, fmt, download } from "./dom.js";
+import { renderPlugins } from "./plugins.js";
 
-const $ = (id) => document.getElementById(id);
-
-/** Creates an element; string children become text, never markup (plugin and controller text is untrusted). */
-function el(tag, props = {}, ...children) {
-  const e = document.createElement(tag);
-  for (const [k, v] of Object.entries(props)) {
-    if (k === "class") e.className = v;
-    else if (k === "dataset") Object.assign(e.dataset, v);
-    else e[k] = v;
-  }
-  e.append(...children.filter((c) => c !== null && c !== undefined && c !== false));
-  return e;
-}
 const MAX_PATH = 100000; // executed samples kept (oldest dropped)
 const MAX_EVENTS = 500;
 const RANK = { viewer: 1, operator: 2, admin: 3 };
@@ -89,8 +77,6 @@ function say(text) {
 }
 
 // ---------------------------------------------------------------- state
-
-const fmt = (v, d = 3) => (typeof v === "number" && isFinite(v) ? v.toFixed(d) : "–");
 
 /** Takes a state (from an event or GET): data at once, drawing once per frame. */
 function showState(s) {
@@ -179,8 +165,7 @@ function showAxes(axes) {
   if (!axes) return;
   if (!box.children.length) {
     for (let i = 0; i < 6; i++) {
-      const row = document.createElement("div");
-      row.className = "axis";
+      const row = el("div", { class: "axis" });
       const [lo, hi] = limits ? limits[i] : [0, 0];
       row.append(el("b", {}, `A${i + 1}`), el("span", { class: "value" }));
       if (limits) {
@@ -291,14 +276,6 @@ function drawPathNow() {
   $("path-count").textContent = `${state.path.length} points`;
 }
 state.drawPathNow = drawPathNow;
-
-function download(name, type, text) {
-  const a = document.createElement("a");
-  a.href = URL.createObjectURL(new Blob([text], { type }));
-  a.download = name;
-  a.click();
-  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
-}
 
 /** The executed path as CSV (what Export CSV downloads). */
 function pathCsv() {
@@ -576,9 +553,7 @@ async function loadPrograms() {
   $("programs").replaceChildren(
     ...r.body.map((p) => {
       const li = el("li", {}, el("b", {}, p.name), " ", el("small", {}, `${p.entry}() · ${p.src_lines} lines`), " ");
-      const run = document.createElement("button");
-      run.textContent = "Run";
-      run.dataset.op = "POST /api/v1/programs/{name}/run";
+      const run = el("button", { dataset: { op: "POST /api/v1/programs/{name}/run" } }, "Run");
       run.addEventListener("click", async () => {
         const res = await api("POST", `/api/v1/programs/${encodeURIComponent(p.name)}/run`, { wait: false });
         if (res.ok) {
@@ -603,47 +578,14 @@ async function loadPlugins() {
   const r = await api("GET", "/api/v1/plugins");
   if (!r.ok) return;
   const box = $("plugins");
-  if (!r.body.length) {
-    box.replaceChildren(Object.assign(document.createElement("p"), { className: "muted", textContent: "none installed" }));
-    return;
-  }
-  box.replaceChildren(
-    ...r.body.map((plugin) => {
-      const div = el("details", { class: "plugin" }, el("summary", {}, el("b", {}, plugin.name), ` ${plugin.version || ""} `, el("small", {}, plugin.status)));
-      div.open = r.body.length <= 3; // a few: open; many: a list to expand
-      for (const route of plugin.routes) {
-        const op = state.doc?.paths?.[route.url]?.[route.method.toLowerCase()];
-        const form = el("form", { class: "plugin-route", dataset: { url: route.url } }, el("h4", {}, `${route.method} ${route.url.replace(`/api/v1/plugins/${plugin.name}`, "")}`), el("p", {}, route.summary));
-        buildInputs(form, op ? fieldsOf(op, state.doc) : []);
-        const go = document.createElement("button");
-        go.textContent = "Call";
-        go.dataset.op = `${route.method} ${route.url}`;
-        const out = document.createElement("pre");
-        form.append(go, out);
-        form.addEventListener("submit", async (e) => {
-          e.preventDefault();
-          if (go.disabled) return;
-          let values;
-          try {
-            values = valuesOf(form);
-          } catch (err) {
-            out.textContent = `bad JSON in a field: ${err.message}`;
-            return;
-          }
-          go.disabled = true;
-          out.textContent = "running…";
-          const res =
-            route.method === "GET"
-              ? await api("GET", `${route.url}?${new URLSearchParams(values)}`)
-              : await api(route.method, route.url, values);
-          out.textContent = `${res.status}\n${JSON.stringify(res.body, null, 2)}`;
-          await loadControl(); // re-enables what the role allows
-        });
-        div.append(form);
-      }
-      return div;
-    }),
-  );
+  renderPlugins(box, r.body, state.doc, async (route, values) => {
+    const res =
+      route.method === "GET"
+        ? await api("GET", `${route.url}?${new URLSearchParams(values)}`)
+        : await api(route.method, route.url, values);
+    await loadControl(); // re-enables what the role allows
+    return res;
+  });
   applyRole();
 }
 

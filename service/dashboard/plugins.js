@@ -1,6 +1,8 @@
-// Forms generated from JSON schemas: a plugin route's request body (POST)
-// or query parameters (GET) as listed in /openapi.json become labelled
-// inputs; the form's values become the JSON body or the query string.
+// The plugins panel: each installed plugin with its routes, each route a
+// form generated from its JSON schema — the request body (POST) or query
+// parameters (GET) as listed in /openapi.json become labelled inputs; the
+// form's values become the JSON body or the query string.
+import { el } from "./dom.js";
 
 /** Resolves a local `$ref` (`#/components/schemas/...`) against the OpenAPI document. */
 function deref(schema, doc) {
@@ -12,7 +14,7 @@ function deref(schema, doc) {
 }
 
 /** The fields of an operation: [{name, schema, required, example}] from its body schema (with its first example) or query parameters. */
-export function fieldsOf(op, doc) {
+function fieldsOf(op, doc) {
   const body = op.requestBody?.content?.["application/json"]?.schema;
   if (body) {
     const s = deref(body, doc);
@@ -34,7 +36,7 @@ function typeOf(schema) {
 }
 
 /** Builds the inputs of `fields` into `form`. */
-export function buildInputs(form, fields) {
+function buildInputs(form, fields) {
   for (const f of fields) {
     const label = document.createElement("label");
     const type = typeOf(f.schema);
@@ -67,7 +69,7 @@ export function buildInputs(form, fields) {
 }
 
 /** The form's values as an object; empty optional fields are left out. Throws on bad JSON. */
-export function valuesOf(form) {
+function valuesOf(form) {
   const out = {};
   for (const input of form.querySelectorAll("input, select")) {
     if (!input.name) continue;
@@ -80,4 +82,48 @@ export function valuesOf(form) {
     else out[input.name] = input.value;
   }
   return out;
+}
+
+/**
+ * Shows `plugins` (GET /api/v1/plugins) in `box`, one form per route;
+ * `call(route, values)` performs a call and resolves to {status, body}.
+ */
+export function renderPlugins(box, plugins, doc, call) {
+  if (!plugins.length) {
+    box.replaceChildren(el("p", { class: "muted" }, "none installed"));
+    return;
+  }
+  box.replaceChildren(
+    ...plugins.map((plugin) => {
+      const div = el("details", { class: "plugin" }, el("summary", {}, el("b", {}, plugin.name), ` ${plugin.version || ""} `, el("small", {}, plugin.status)));
+      div.open = plugins.length <= 3; // a few: open; many: a list to expand
+      for (const route of plugin.routes) div.append(routeForm(plugin, route, doc, call));
+      return div;
+    }),
+  );
+}
+
+function routeForm(plugin, route, doc, call) {
+  const op = doc?.paths?.[route.url]?.[route.method.toLowerCase()];
+  const form = el("form", { class: "plugin-route", dataset: { url: route.url } }, el("h4", {}, `${route.method} ${route.url.replace(`/api/v1/plugins/${plugin.name}`, "")}`), el("p", {}, route.summary));
+  buildInputs(form, op ? fieldsOf(op, doc) : []);
+  const go = el("button", { dataset: { op: `${route.method} ${route.url}` } }, "Call");
+  const out = el("pre");
+  form.append(go, out);
+  form.addEventListener("submit", async (e) => {
+    e.preventDefault();
+    if (go.disabled) return;
+    let values;
+    try {
+      values = valuesOf(form);
+    } catch (err) {
+      out.textContent = `bad JSON in a field: ${err.message}`;
+      return;
+    }
+    go.disabled = true;
+    out.textContent = "running…";
+    const res = await call(route, values);
+    out.textContent = `${res.status}\n${JSON.stringify(res.body, null, 2)}`;
+  });
+  return form;
 }
