@@ -870,3 +870,87 @@ async fn controller_errors_and_offline_are_shown() {
         .await;
     browser.close().await;
 }
+
+/// After the service restarts (same port, same data), the open page
+/// reconnects and starts again from the service's jobs and trace: no job
+/// left "executing", new jobs listed, the path keeps growing.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_page_resyncs_after_a_service_restart() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("free port")
+        .port();
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(move |c| c.server.listen = ([127, 0, 0, 1], port).into()),
+        ..Options::default()
+    })
+    .await;
+    open(&browser, &t).await;
+    // A slow job running when the service goes away.
+    let slow = json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 160}, "velocity_pct": 5}], "wait": false});
+    let (s, job) = t.post_json("/api/v1/motions", &slow).await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    browser
+        .wait_js(
+            &format!("window.dashboard.jobs.get({id})?.state === 'executing'"),
+            WAIT,
+            "the job executing on the page",
+        )
+        .await;
+    let TestService {
+        service,
+        dirs,
+        config,
+        ..
+    } = t;
+    service.shutdown().await.expect("shutdown");
+    browser
+        .wait_js(
+            "document.getElementById('connection').textContent === 'no service'",
+            WAIT,
+            "the page to notice",
+        )
+        .await;
+    let mut config = config;
+    config.simulator.time_scale = 0.0;
+    let t = TestService::start_with(config, dirs).await;
+    browser
+        .wait_js(
+            "window.dashboard.streamDown === null && document.getElementById('connection').textContent === 'online'",
+            WAIT,
+            "the page to reconnect",
+        )
+        .await;
+    // The interrupted job is no longer shown as executing; a new one appears.
+    let (s, v) = t.post("/api/v1/home").await;
+    assert_eq!(s, 200, "{v}");
+    let new_id = v["id"].as_u64().expect("id");
+    browser
+        .wait_js(
+            &format!(
+                "window.dashboard.jobs.get({new_id})?.operation === 'home' && window.dashboard.jobs.get({new_id})?.state === 'done' && ![...window.dashboard.jobs.values()].some((j) => j.state === 'executing')"
+            ),
+            WAIT,
+            "the page's jobs to come from the restarted service",
+        )
+        .await;
+    let (_, trace) = t.get("/api/v1/sim/trace").await;
+    let n = trace.as_array().map_or(0, Vec::len);
+    assert!(n > 0, "the home run left a trace");
+    browser
+        .wait_js(
+            &format!(
+                "window.dashboard.path.filter((s) => s.cid === {}).length === {n}",
+                v["cid"]
+            ),
+            WAIT,
+            "the restarted simulator's samples on the page",
+        )
+        .await;
+    browser.close().await;
+}
