@@ -1138,3 +1138,65 @@ async fn event_streams_end_with_their_token() {
     assert_eq!(r.status(), 401);
     t.service.shutdown().await.expect("shutdown");
 }
+
+/// Without tokens (loopback), a foreign web page cannot drive the robot
+/// through the operator's browser: cross-site state-changing requests and
+/// non-loopback Host names (DNS rebinding) are refused; the service's own
+/// pages, configured CORS origins and clients without `Origin` still work.
+#[tokio::test]
+async fn cross_site_requests_are_refused_without_tokens() {
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| c.server.cors_origins = vec!["http://trusted.example".into()]),
+        ..Options::default()
+    })
+    .await;
+    let own = t.service.base_url();
+    let send = |method: reqwest::Method, path: &str, headers: &[(&str, &str)]| {
+        let mut req = t.http.request(method, t.url(path));
+        for (k, v) in headers {
+            req = req.header(*k, *v);
+        }
+        async move { kuka_bridge_tests::decode(req.send().await.expect("request")).await }
+    };
+    use reqwest::Method;
+    // A foreign page's POST (form or no-cors fetch): refused, nothing moves.
+    let (s, v) = send(
+        Method::POST,
+        "/api/v1/home",
+        &[("origin", "http://evil.example")],
+    )
+    .await;
+    assert_eq!((s, v["code"].as_str()), (403, Some("forbidden")), "{v}");
+    assert!(
+        v["detail"].as_str().unwrap_or("").contains("cross-site"),
+        "{v}"
+    );
+    let (s, v) = send(Method::POST, "/krl/ptp?x=300", &[("origin", "null")]).await;
+    assert_eq!(s, 403, "{v}");
+    assert_eq!(v["statuscode"], 71, "thesis format: {v}");
+    let (_, jobs) = t.get("/api/v1/jobs").await;
+    assert_eq!(jobs, json!([]), "no job was created");
+    // DNS rebinding: a foreign name resolving to 127.0.0.1 reads nothing either.
+    let (s, v) = send(
+        Method::GET,
+        "/api/v1/state",
+        &[("host", "rebind.evil.example")],
+    )
+    .await;
+    assert_eq!(s, 403, "{v}");
+    // The service's own pages, a configured origin, and curl-like clients work.
+    let (s, v) = send(Method::POST, "/api/v1/home", &[("origin", own.as_str())]).await;
+    assert_eq!(s, 200, "{v}");
+    let (s, v) = send(
+        Method::POST,
+        "/api/v1/home",
+        &[("origin", "http://trusted.example")],
+    )
+    .await;
+    assert_eq!(s, 200, "{v}");
+    let (s, v) = t.post("/api/v1/home").await;
+    assert_eq!(s, 200, "{v}");
+    let (s, _) = send(Method::GET, "/api/v1/state", &[("host", "localhost")]).await;
+    assert_eq!(s, 200);
+    t.service.shutdown().await.expect("shutdown");
+}

@@ -90,6 +90,12 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
         time_ms: crate::engine::now_ms(),
         started: Instant::now(),
     };
+    if !app.access.enabled
+        && let Some(why) = cross_site(&req, &app.server.cors_origins)
+    {
+        let e = BridgeError::new(ErrorCode::Forbidden, why);
+        return refused(&app, &call, rule.audited, &Principal::anonymous(), e).await;
+    }
     let principal = match identify(&app, &req, query_secret, call.client, rule.safety) {
         Ok(p) => p,
         Err(resp) => return *resp,
@@ -188,6 +194,61 @@ fn take_query_token(req: &mut Request) -> Option<String> {
 /// The caller, or the 401/429 answer. `safety` (Stop) is never refused by
 /// the failed-attempt limiter: a valid token stops the robot even from an
 /// address that guessed wrong (a shared HMI PC, a NAT).
+/// Without tokens (loopback only) any web page the operator's browser
+/// opens could otherwise drive the robot: a cross-site form or `fetch`
+/// needs no CORS to *send* a request, and DNS rebinding turns a foreign
+/// name into 127.0.0.1. So a request must name this machine by a loopback
+/// name or address (`Host`), and a browser's state-changing request must
+/// come from this service's own pages (`Origin` = this host) or from a
+/// configured `server.cors_origins` entry. Clients that send no `Origin`
+/// (curl, scripts, the thesis's clients) are not affected.
+fn cross_site(req: &Request, cors_origins: &[String]) -> Option<String> {
+    let host = req
+        .headers()
+        .get(header::HOST)
+        .and_then(|h| h.to_str().ok())
+        .map(str::to_string)
+        .or_else(|| req.uri().authority().map(|a| a.as_str().to_string()));
+    if let Some(host) = &host
+        && !is_loopback_host(host)
+    {
+        return Some(format!(
+            "without access tokens the service answers only to loopback names (localhost, 127.0.0.1, [::1]), not {host:?}; use one of those or turn tokens on"
+        ));
+    }
+    let reads = matches!(req.method().as_str(), "GET" | "HEAD" | "OPTIONS");
+    let origin = req
+        .headers()
+        .get(header::ORIGIN)?
+        .to_str()
+        .unwrap_or("null");
+    if reads || cors_origins.iter().any(|o| o == origin) {
+        return None;
+    }
+    let same = host.is_some_and(|h| {
+        origin
+            .split_once("://")
+            .is_some_and(|(_, rest)| rest.eq_ignore_ascii_case(&h))
+    });
+    (!same).then(|| {
+        format!(
+            "a page from {origin} may not change the robot (cross-site request); only this service's own pages and server.cors_origins may"
+        )
+    })
+}
+
+/// `localhost`, a loopback IP literal, with or without a port.
+fn is_loopback_host(host: &str) -> bool {
+    let name = match host.strip_prefix('[') {
+        Some(v6) => v6.split(']').next().unwrap_or_default(),
+        None => host.rsplit_once(':').map_or(host, |(n, _)| n),
+    };
+    name.eq_ignore_ascii_case("localhost")
+        || name
+            .parse::<std::net::IpAddr>()
+            .is_ok_and(|ip| ip.is_loopback())
+}
+
 fn identify(
     app: &AppState,
     req: &Request,
@@ -510,6 +571,36 @@ pub(super) fn document(doc: &mut serde_json::Value) {
                     "Another client holds control (`control_held`), or the controller refused",
                 );
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::is_loopback_host;
+
+    #[test]
+    fn loopback_hosts() {
+        for h in [
+            "localhost",
+            "LOCALHOST:8080",
+            "127.0.0.1",
+            "127.0.0.1:80",
+            "[::1]:8080",
+            "[::1]",
+            "127.3.4.5:9",
+        ] {
+            assert!(is_loopback_host(h), "{h}");
+        }
+        for h in [
+            "evil.example",
+            "evil.example:8080",
+            "10.0.0.1:8080",
+            "localhost.evil.example",
+            "[::2]:80",
+            "",
+        ] {
+            assert!(!is_loopback_host(h), "{h}");
         }
     }
 }
