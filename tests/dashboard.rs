@@ -412,6 +412,18 @@ async fn the_jog_panel_drives_the_robot() {
         "LIN stayed on x = 275"
     );
 
+    // A target out of reach: the page says why its own job failed.
+    browser.set_value("#goto [name=x]", "2000").await;
+    browser.click("#go").await;
+    browser
+        .wait_js(
+            "!document.getElementById('alarm-bar').hidden && document.getElementById('alarm').textContent.includes('unreachable')",
+            WAIT,
+            "the failure of the page's own job in the red bar",
+        )
+        .await;
+    browser.set_value("#goto [name=x]", "275").await;
+
     // Relative steps: 50 mm along −X, then 1 mm along −Z.
     browser
         .eval("document.getElementById('step').value = '50';")
@@ -637,7 +649,42 @@ async fn a_viewer_sees_the_page_but_cannot_drive() {
         before["position"], after["position"],
         "the robot did not move"
     );
+    // On the page, not only in tooltips (touch screens show none).
+    let notes = browser
+        .eval("return [document.getElementById('jog-note').textContent, document.getElementById('stop-note').textContent];")
+        .await;
+    assert!(
+        notes[0]
+            .as_str()
+            .unwrap_or("")
+            .contains("needs the operator role"),
+        "{notes}"
+    );
+    assert!(
+        notes[1]
+            .as_str()
+            .unwrap_or("")
+            .contains("needs the operator role"),
+        "{notes}"
+    );
     browser.screenshot("viewer").await;
+
+    // Revoking the token: the page asks for another (it does not pretend the service is gone).
+    let r = t
+        .http
+        .delete(t.url("/api/v1/tokens/wall-screen"))
+        .bearer_auth(&admin)
+        .send()
+        .await
+        .expect("revoke");
+    assert_eq!(r.status().as_u16(), 200);
+    browser
+        .wait_js(
+            "!document.getElementById('auth').hidden && document.getElementById('role').textContent === 'no access' && document.getElementById('alarm').textContent.includes('rejected or revoked')",
+            WAIT,
+            "the page to ask for another token",
+        )
+        .await;
 
     // An operator in a fresh tab may drive but not upload programs.
     browser
@@ -703,6 +750,12 @@ async fn plugin_routes_are_callable_from_generated_forms() {
     bytes[at..at + to.len()].copy_from_slice(to.as_bytes());
     let (s, v) = t.put_bytes("/api/v1/plugins/draw-circle", bytes).await;
     assert!(s == 200 || s == 201, "install: {s} {v}");
+    // Swagger UI renders Markdown/HTML: the plugin's text is escaped in /openapi.json.
+    let (_, doc) = t.get("/openapi.json").await;
+    let summary = doc["paths"]["/api/v1/plugins/draw-circle/circle"]["post"]["summary"]
+        .as_str()
+        .unwrap_or_default();
+    assert!(summary.starts_with("&lt;img src=x"), "{summary}");
     // Pen-down orientation in the configuration the drawings use.
     let (s, v) = t
         .post_json(

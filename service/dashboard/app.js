@@ -49,6 +49,7 @@ async function api(method, path, body) {
     r = await fetch(path, { method, headers: headers(body !== undefined), body: body === undefined ? undefined : JSON.stringify(body) });
   } catch (e) {
     say(`${method} ${path}: ${e.message}`);
+    if (method !== "GET") logEvent("refused", `${method} ${path}: the service cannot be reached (${e.message})`);
     return { ok: false, status: 0, body: null };
   }
   const text = await r.text();
@@ -120,15 +121,18 @@ function renderState(s) {
   }
   const err = s.controller.error;
   $("reset").hidden = !err;
-  if (!reachable) {
-    showAlarm(`No connection to the kuka-bridge service since ${state.streamDown.toLocaleTimeString()} — reconnecting; the values shown are from then.`);
-  } else if (err) {
-    showAlarm(`Controller error — ${err.code}: ${err.detail}`);
-  } else if (s.connection !== "online") {
-    showAlarm(s.connection === "locked" ? "The command file is locked by another process (channel_locked)." : "No heartbeat from the controller (controller_offline).");
-  } else if (!state.alarmUntil || Date.now() > state.alarmUntil) {
-    $("alarm-bar").hidden = true;
-  }
+  state.condition = state.authLost
+    ? "The token was rejected or revoked: paste another below."
+    : !reachable
+      ? `No connection to the kuka-bridge service since ${state.streamDown.toLocaleTimeString()} — reconnecting; the values shown are from then.`
+      : err
+        ? `Controller error — ${err.code}: ${err.detail}`
+        : s.connection === "locked"
+          ? "The command file is locked by another process (channel_locked)."
+          : s.connection !== "online"
+            ? "No heartbeat from the controller (controller_offline)."
+            : null;
+  renderAlarm();
   const p = s.position;
   const rows = [["X", "x", "mm"], ["Y", "y", "mm"], ["Z", "z", "mm"], ["A", "a", "°"], ["B", "b", "°"], ["C", "c", "°"], ["S", "s", ""], ["T", "t", ""]];
   const body = $("pose").tBodies[0];
@@ -151,9 +155,19 @@ function renderState(s) {
   }
 }
 
-function showAlarm(text) {
-  $("alarm").textContent = text;
-  $("alarm-bar").hidden = false;
+/** A notice in the red bar for `ms` (a failed job of this page, an alarm, a Stop that did not go through). */
+function showAlarm(text, ms = 15000) {
+  state.notice = { text, until: Date.now() + ms };
+  renderAlarm();
+  setTimeout(renderAlarm, ms + 50);
+}
+
+/** The red bar: the standing condition (from the state) and the latest notice while it lasts. */
+function renderAlarm() {
+  const notice = state.notice && Date.now() < state.notice.until ? state.notice.text : null;
+  const parts = [notice, state.condition].filter(Boolean);
+  $("alarm").textContent = parts.join(" · ");
+  $("alarm-bar").hidden = !parts.length;
 }
 
 const frame = (f) => (f ? [f.x, f.y, f.z, f.a, f.b, f.c] : [0, 0, 0, 0, 0, 0]);
@@ -286,13 +300,19 @@ state.pathCsv = pathCsv;
 
 // ---------------------------------------------------------------- jobs and events
 
+/** Remembers a job this page started; reports it at once if its end already arrived. */
+function track(id) {
+  state.mine.add(id);
+  const j = state.jobs.get(id);
+  if (j) showJob(j);
+}
+
 function showJob(job) {
   state.jobs.set(job.id, job);
   if (state.mine.has(job.id) && ["done", "failed", "cancelled"].includes(job.state)) {
     state.mine.delete(job.id);
     if (job.error) {
       showAlarm(`Job #${job.id} (${job.operation}) ${job.state} — ${job.error.code}: ${job.error.detail}`);
-      state.alarmUntil = Date.now() + 15000;
       say(`job #${job.id} ${job.state}: ${job.error.code}`);
     } else {
       say(`job #${job.id} ${job.operation} done`);
@@ -388,15 +408,25 @@ function listen() {
   events.addEventListener("alarm", (e) => {
     const a = JSON.parse(e.data);
     logEvent("alarm", `${a.code}: ${a.detail}`);
-    showAlarm(`${a.code}: ${a.detail}`);
-    state.alarmUntil = Date.now() + 10000;
+    showAlarm(`${a.code}: ${a.detail}`, 10000);
   });
   events.addEventListener("lagged", (e) => logEvent("alarm", `missed ${e.data} events (page too slow)`));
-  events.onerror = () => {
-    state.streamDown = state.streamDown || new Date();
+  events.onerror = async () => {
+    // Lost service, or lost access? Ask once; a revoked token needs a new one, not patience.
+    const r = await fetch("/api/v1/state", { headers: headers() }).catch(() => null);
+    if (r && (r.status === 401 || r.status === 429)) {
+      events.close();
+      state.authLost = true;
+      state.streamDown = null;
+      $("role").textContent = "no access";
+      $("auth").hidden = false;
+      say("the token was rejected or revoked: paste another");
+    } else if (!r || !r.ok) {
+      state.streamDown = state.streamDown || new Date();
+    }
     if (state.robot) renderState(state.robot);
-    // A refused reconnection (token revoked) closes the stream for good.
-    if (events.readyState === EventSource.CLOSED) setTimeout(reconnect, 2000);
+    // A refused reconnection closes the stream for good: try again later.
+    if (events.readyState === EventSource.CLOSED && !state.authLost) setTimeout(reconnect, 2000);
   };
   events.onopen = () => {
     if (state.streamDown) {
@@ -418,6 +448,24 @@ function requiredRole(op) {
 function allowed(op) {
   return (RANK[state.you?.role] || 0) >= (RANK[requiredRole(op)] || 3);
 }
+
+/** Who else holds control, if anyone (then operations marked `x-needs-control` are refused). */
+function heldBy() {
+  const l = state.control?.lease;
+  return l && l.holder !== state.you?.name ? l.holder : null;
+}
+
+function needsControl(op) {
+  const [method, path] = op.split(" ");
+  return !!state.doc?.paths?.[path]?.[method.toLowerCase()]?.["x-needs-control"];
+}
+
+/** Why this operation is not possible for this page now, or null. */
+function blocked(op) {
+  if (!allowed(op)) return `needs the ${requiredRole(op)} role (you are ${state.you?.role || "unknown"})`;
+  if (needsControl(op) && heldBy()) return `${heldBy()} holds control of the robot`;
+  return null;
+}
 state.allowed = allowed;
 
 /** The TCP in the base frame as the page's own kinematics put it (the drawn arm's tip). */
@@ -432,20 +480,27 @@ state.drawnTcp = () => {
 function applyRole() {
   for (const node of document.querySelectorAll("[data-op]")) {
     if (node.tagName === "SECTION" || node.tagName === "FORM") continue;
-    const ok = allowed(node.dataset.op);
-    node.disabled = !ok;
-    node.title = ok ? node.dataset.hint || "" : `needs the ${requiredRole(node.dataset.op)} role (you are ${state.you?.role || "unknown"})`;
+    if (node.dataset.hint === undefined) node.dataset.hint = node.title; // its own explanation
+    const why = blocked(node.dataset.op);
+    node.disabled = !!why;
+    node.title = why || node.dataset.hint;
   }
   for (const form of document.querySelectorAll("form[data-op]")) {
-    const ok = allowed(form.dataset.op);
+    const ok = !blocked(form.dataset.op);
     for (const i of form.querySelectorAll("input, select")) i.disabled = !ok;
   }
-  const jog = allowed("POST /api/v1/motions");
-  for (const i of $("goto").querySelectorAll("input, select, #fill-current")) i.disabled = !jog;
-  $("step").disabled = !jog;
+  const jog = blocked("POST /api/v1/motions");
+  for (const i of $("goto").querySelectorAll("input, select, #fill-current")) i.disabled = !!jog;
+  $("step").disabled = !!jog;
   const auth = !!state.control?.auth;
   if (!auth) for (const b of [$("take-control"), $("release-control")]) b.disabled = true;
   $("logout").hidden = !auth;
+  // Said on the page, not only in tooltips (touch screens show none).
+  $("jog-note").textContent = jog ? `Driving is off: ${jog}.` : "";
+  $("jog-note").hidden = !jog;
+  const stop = blocked("POST /api/v1/stop");
+  $("stop-note").textContent = stop ? `Stop ${stop}` : "";
+  $("stop-note").hidden = !stop;
 }
 
 async function loadControl() {
@@ -471,8 +526,8 @@ function onClick(id, f) {
 async function move(motion) {
   const r = await api("POST", "/api/v1/motions", { motions: [motion], wait: false });
   if (r.ok) {
-    state.mine.add(r.body.id);
     say(`job #${r.body.id} queued`);
+    track(r.body.id);
   }
   return r;
 }
@@ -484,8 +539,8 @@ $("stop").addEventListener("click", async () => {
     say("stopped");
   } else {
     const why = r.body?.code ? `${r.body.code}: ${r.body.detail}` : r.status ? `HTTP ${r.status}` : "the service cannot be reached";
-    showAlarm(`STOP DID NOT GO THROUGH — ${why}. Use the teach pendant's stop.`);
-    state.alarmUntil = Date.now() + 30000;
+    showAlarm(`STOP DID NOT GO THROUGH — ${why}. Use the teach pendant's stop.`, 30000);
+    logEvent("refused", `STOP did not go through — ${why}`);
   }
 });
 
@@ -557,8 +612,8 @@ async function loadPrograms() {
       run.addEventListener("click", async () => {
         const res = await api("POST", `/api/v1/programs/${encodeURIComponent(p.name)}/run`, { wait: false });
         if (res.ok) {
-          state.mine.add(res.body.id);
           say(`program ${p.name}: job #${res.body.id}`);
+          track(res.body.id);
         }
       });
       li.append(run);
@@ -598,11 +653,17 @@ async function loadState() {
     say(state.token ? "the token was rejected: check it or paste another" : "a token is needed");
     return false;
   }
+  if (r.status === 429) {
+    $("auth").hidden = false;
+    say(`too many wrong tokens from this address: try again in ${r.headers.get("retry-after") || "a few"} s`);
+    return false;
+  }
   if (!r.ok) {
     say(`state: HTTP ${r.status}`);
     return false;
   }
   $("auth").hidden = true;
+  state.authLost = false;
   const s = await r.json();
   const m = await api("GET", "/api/v1/model");
   if (m.ok) {
@@ -661,12 +722,19 @@ async function reconnect() {
 async function start() {
   const r = await api("GET", "/api/v1/jobs?limit=20");
   if (r.ok) r.body.reverse().forEach(showJob);
+  if (state.stream) state.stream.close();
   listen();
   // Control and role change without events (leases lapse): refresh now and then.
-  setInterval(loadControl, 10000);
+  state.controlTimer = state.controlTimer || setInterval(loadControl, 10000);
 }
 
 state.view = new ArmView($("arm"));
+// Touch screens: the 3D view scrolls the page until asked to turn.
+$("turn-view").hidden = state.view.interactive;
+$("turn-view").addEventListener("click", () => {
+  state.view.setInteractive(!state.view.interactive);
+  $("turn-view").textContent = state.view.interactive ? "Done turning" : "Turn / zoom";
+});
 // Seen from above with the robot at the bottom: X up, Y to the left (a drawing reads upright).
 state.top = new Projection($("top"), 1, 0, "top (X ↑, Y ←)", true);
 state.side = new Projection($("side"), 0, 2, "side (X →, Z ↑)");
@@ -674,8 +742,12 @@ state.side = new Projection($("side"), 0, 2, "side (X →, Z ↑)");
 $("token-form").addEventListener("submit", async (e) => {
   e.preventDefault();
   state.token = $("token").value.trim();
+  $("token").value = "";
   sessionStorage.setItem("kb-token", state.token);
-  if (await loadState()) await start();
+  if (await loadState()) {
+    say("");
+    await start();
+  }
   state.ready = true;
 });
 

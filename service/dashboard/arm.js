@@ -63,6 +63,9 @@ export class ArmView {
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.target.set(200, 0, 300);
     this.controls.addEventListener("change", () => this.render());
+    // On touch screens the view starts still, so a swipe scrolls the page;
+    // the page offers a button to turn and zoom (see setInteractive).
+    if (window.matchMedia("(pointer: coarse)").matches) this.setInteractive(false);
     this.scene.add(new THREE.HemisphereLight(0xffffff, 0x667788, 2.2));
     const sun = new THREE.DirectionalLight(0xffffff, 1.5);
     sun.position.set(1000, -800, 2000);
@@ -84,6 +87,17 @@ export class ArmView {
     this.baseMatrix = frameMatrix([0, 0, 0, 0, 0, 0]);
     new ResizeObserver(() => this.resize()).observe(container);
     this.resize();
+  }
+
+  /** Lets touches and the mouse turn and zoom the view (true), or scroll the page (false). */
+  setInteractive(on) {
+    this.controls.enabled = on;
+    this.renderer.domElement.style.touchAction = on ? "none" : "pan-y";
+  }
+
+  /** True when the view turns and zooms with touches and the mouse. */
+  get interactive() {
+    return this.controls.enabled;
   }
 
   frameHelper(size) {

@@ -220,7 +220,7 @@ pub(super) fn add_plugin_paths(doc: &mut Value, plugins: &[Arc<LoadedPlugin>]) {
         if let Some(tags) = doc.get_mut("tags").and_then(Value::as_array_mut) {
             tags.push(json!({
                 "name": tag,
-                "description": format!("WASM plugin {} {} (installed at runtime)", plugin.name, plugin.version),
+                "description": format!("WASM plugin {} {} (installed at runtime)", plugin.name, plain(&plugin.version)),
             }));
         }
         for (index, route) in plugin.routes.iter().enumerate() {
@@ -244,12 +244,43 @@ pub(super) fn add_plugin_paths(doc: &mut Value, plugins: &[Arc<LoadedPlugin>]) {
             } else {
                 op["parameters"] = Value::Array(query_parameters(&route.request_schema));
             }
+            plain_descriptions(&mut op);
             let Some(paths) = doc.get_mut("paths").and_then(Value::as_object_mut) else {
                 return;
             };
             let entry = paths.entry(url).or_insert_with(|| json!({}));
             entry[route.method.to_lowercase()] = op;
         }
+    }
+}
+
+/// A plugin's text as plain text for documentation viewers that render
+/// Markdown and HTML (Swagger UI): markup characters escaped, so a plugin
+/// cannot put elements or links on the documentation page.
+fn plain(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// [`plain`] applied to every `description`, `title` and `summary` string
+/// inside a plugin's operation (its schemas included).
+fn plain_descriptions(v: &mut Value) {
+    match v {
+        Value::Object(map) => {
+            for (k, item) in map.iter_mut() {
+                match item {
+                    Value::String(text)
+                        if matches!(k.as_str(), "description" | "title" | "summary") =>
+                    {
+                        *text = plain(text);
+                    }
+                    _ => plain_descriptions(item),
+                }
+            }
+        }
+        Value::Array(items) => items.iter_mut().for_each(plain_descriptions),
+        _ => {}
     }
 }
 
