@@ -589,7 +589,7 @@ $("export-csv").addEventListener("click", () => download("tcp-path.csv", "text/c
 state.pathSvg = () => state.top.svg({ executed: state.path.map((s) => s.pose), planned: [...state.plans.values()].map((p) => p.points) });
 $("export-svg").addEventListener("click", () => download("tcp-path-top.svg", "image/svg+xml", state.pathSvg()));
 
-$("event-filter").addEventListener("input", showEvents);
+for (const type of ["input", "change", "search"]) $("event-filter").addEventListener(type, showEvents);
 $("refresh-plugins").addEventListener("click", () => loadDoc().then(loadPlugins));
 
 $("upload").addEventListener("submit", async (e) => {

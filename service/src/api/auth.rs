@@ -191,9 +191,6 @@ fn take_query_token(req: &mut Request) -> Option<String> {
     Some(secret)
 }
 
-/// The caller, or the 401/429 answer. `safety` (Stop) is never refused by
-/// the failed-attempt limiter: a valid token stops the robot even from an
-/// address that guessed wrong (a shared HMI PC, a NAT).
 /// Without tokens (loopback only) any web page the operator's browser
 /// opens could otherwise drive the robot: a cross-site form or `fetch`
 /// needs no CORS to *send* a request, and DNS rebinding turns a foreign
@@ -249,6 +246,9 @@ fn is_loopback_host(host: &str) -> bool {
             .is_ok_and(|ip| ip.is_loopback())
 }
 
+/// The caller, or the 401/429 answer. `safety` (Stop) is never refused by
+/// the failed-attempt limiter: a valid token stops the robot even from an
+/// address that guessed wrong (a shared HMI PC, a NAT).
 fn identify(
     app: &AppState,
     req: &Request,
