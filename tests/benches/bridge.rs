@@ -103,14 +103,14 @@ fn main() {
         report("POST /krl/getpos", round_trips(&t, n, || http.post(&url)).await);
         let addr = t.service.addr;
         let raw = tokio::task::spawn_blocking(move || {
-            raw_round_trips(addr, "POST /krl/getpos HTTP/1.1\r\nHost: bench\r\nContent-Length: 0\r\n\r\n", n)
+            raw_round_trips(addr, "POST /krl/getpos HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\n\r\n", n)
         })
         .await
         .expect("raw client");
         report("POST /krl/getpos (plain TCP client)", raw);
         let addr = t.service.addr;
         let raw = tokio::task::spawn_blocking(move || {
-            raw_round_trips(addr, "GET /health HTTP/1.1\r\nHost: bench\r\n\r\n", n)
+            raw_round_trips(addr, "GET /health HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n", n)
         })
         .await
         .expect("raw client");

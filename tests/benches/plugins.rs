@@ -169,14 +169,14 @@ fn main() {
         };
         for _ in 0..rounds {
             let a = tokio::task::spawn_blocking(move || {
-                raw_round_trips(addr, "GET /health HTTP/1.1\r\nHost: bench\r\n\r\n", n / rounds)
+                raw_round_trips(addr, "GET /health HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n", n / rounds)
             })
             .await
             .expect("raw client");
             let b = tokio::task::spawn_blocking(move || {
                 raw_round_trips(
                     addr,
-                    "POST /api/v1/plugins/misbehave/ok HTTP/1.1\r\nHost: bench\r\nContent-Type: application/json\r\nContent-Length: 2\r\n\r\n{}",
+                    "POST /api/v1/plugins/misbehave/ok HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: 2\r\n\r\n{}",
                     n / rounds,
                 )
             })
@@ -185,7 +185,7 @@ fn main() {
             let c = tokio::task::spawn_blocking(move || {
                 raw_round_trips(
                     addr,
-                    "GET /api/v1/plugins/misbehave/ping HTTP/1.1\r\nHost: bench\r\n\r\n",
+                    "GET /api/v1/plugins/misbehave/ping HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n",
                     n / rounds,
                 )
             })
