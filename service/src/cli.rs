@@ -313,6 +313,7 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
             rt.block_on(async move {
                 let simulated = config.simulator.enabled;
                 let service = crate::app::start(config).await?;
+                let stop = shutdown_signal();
                 let url = service.base_url();
                 println!(
                     "kuka-bridge {} listening on {url}",
@@ -346,7 +347,7 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
                     );
                 }
                 println!("Press Ctrl-C to stop.");
-                crate::app::run_service(service, shutdown_signal(), std::future::pending()).await
+                crate::app::run_service(service, stop, std::future::pending()).await
             })?;
             Ok(())
         }
@@ -387,22 +388,45 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
 }
 
 /// Ctrl-C, or SIGTERM on Unix (systemd, `kill`).
-async fn shutdown_signal() {
+/// Ctrl-C or SIGTERM. The handlers are registered when this is called —
+/// before the banner says the service runs — so a signal sent right after
+/// the banner stops the service cleanly instead of killing it.
+fn shutdown_signal() -> impl std::future::Future<Output = ()> {
     #[cfg(unix)]
     {
         use tokio::signal::unix::{SignalKind, signal};
-        match signal(SignalKind::terminate()) {
-            Ok(mut term) => {
-                tokio::select! {
-                    _ = tokio::signal::ctrl_c() => {}
-                    _ = term.recv() => {}
+        let streams = signal(SignalKind::terminate())
+            .and_then(|term| Ok((term, signal(SignalKind::interrupt())?)));
+        async move {
+            match streams {
+                Ok((mut term, mut interrupt)) => {
+                    tokio::select! {
+                        _ = term.recv() => {}
+                        _ = interrupt.recv() => {}
+                    }
                 }
-                return;
+                Err(e) => {
+                    tracing::warn!(error = %e, "cannot listen for SIGTERM");
+                    let _ = tokio::signal::ctrl_c().await;
+                }
             }
-            Err(e) => tracing::warn!(error = %e, "cannot listen for SIGTERM"),
         }
     }
-    let _ = tokio::signal::ctrl_c().await;
+    #[cfg(windows)]
+    {
+        let ctrl_c = tokio::signal::windows::ctrl_c();
+        async move {
+            match ctrl_c {
+                Ok(mut ctrl_c) => {
+                    ctrl_c.recv().await;
+                }
+                Err(e) => {
+                    tracing::warn!(error = %e, "cannot listen for Ctrl-C");
+                    std::future::pending::<()>().await;
+                }
+            }
+        }
+    }
 }
 
 fn build_config(args: RunArgs) -> anyhow::Result<Config> {
