@@ -58,20 +58,6 @@ async fn call(
     (status, v, headers)
 }
 
-async fn create_token(t: &TestService, admin: &str, name: &str, role: &str) -> String {
-    let (s, v, _) = call(
-        t,
-        "POST",
-        "/api/v1/tokens",
-        Some(admin),
-        Some(&json!({"name": name, "role": role})),
-    )
-    .await;
-    assert_eq!(s, 201, "{v}");
-    assert_eq!(v["role"], role);
-    v["secret"].as_str().expect("secret").to_string()
-}
-
 fn rank(role: &str) -> u8 {
     match role {
         "none" => 0,
@@ -88,8 +74,8 @@ fn rank(role: &str) -> u8 {
 async fn every_documented_operation_answers_as_its_role_says() {
     let t = secured(|_| {}).await;
     let admin = initial_admin_secret(&t.dirs.path().join("data"));
-    let viewer = create_token(&t, &admin, "view", "viewer").await;
-    let operator = create_token(&t, &admin, "op", "operator").await;
+    let viewer = t.create_token(&admin, "view", "viewer").await;
+    let operator = t.create_token(&admin, "op", "operator").await;
     // A plugin, so that plugin routes are in the document too.
     let wasm = std::fs::read(
         example_plugins(Path::new(env!("CARGO_TARGET_TMPDIR")), false).join("draw-circle.wasm"),
@@ -280,8 +266,8 @@ fn ptp_to(z: f64) -> Value {
 async fn control_lease_conflicts_expiry_and_audit() {
     let t = secured(|c| c.auth.lease_ms = 1000).await;
     let admin = initial_admin_secret(&t.dirs.path().join("data"));
-    let one = create_token(&t, &admin, "op-one", "operator").await;
-    let two = create_token(&t, &admin, "op-two", "operator").await;
+    let one = t.create_token(&admin, "op-one", "operator").await;
+    let two = t.create_token(&admin, "op-two", "operator").await;
     let (s, v, _) = call(
         &t,
         "POST",
@@ -853,7 +839,7 @@ async fn stop_gets_through_overload_and_lockout() {
     })
     .await;
     let admin = initial_admin_secret(&t.dirs.path().join("data"));
-    let op = create_token(&t, &admin, "op", "operator").await;
+    let op = t.create_token(&admin, "op", "operator").await;
     let slow = |z: f64| {
         let (http, url, op) = (t.http.clone(), t.url("/api/v1/motions"), op.clone());
         async move {
@@ -915,8 +901,8 @@ async fn lease_outlives_a_long_call_and_ends_with_its_token() {
     })
     .await;
     let admin = initial_admin_secret(&t.dirs.path().join("data"));
-    let one = create_token(&t, &admin, "op-one", "operator").await;
-    let two = create_token(&t, &admin, "op-two", "operator").await;
+    let one = t.create_token(&admin, "op-one", "operator").await;
+    let two = t.create_token(&admin, "op-two", "operator").await;
     let (s, _, _) = call(&t, "POST", "/api/v1/control", Some(&one), None).await;
     assert_eq!(s, 200);
     // A motion of about 3 s, longer than the 1 s lease.
@@ -1099,8 +1085,8 @@ async fn event_streams_end_with_their_token() {
     use futures_util::StreamExt;
     let t = secured(|_| {}).await;
     let admin = initial_admin_secret(&t.config.data_dir);
-    let viewer = create_token(&t, &admin, "wall", "viewer").await;
-    let other = create_token(&t, &admin, "wall-2", "viewer").await;
+    let viewer = t.create_token(&admin, "wall", "viewer").await;
+    let other = t.create_token(&admin, "wall-2", "viewer").await;
     let open = |secret: String| {
         let url = t.url(&format!("/api/v1/events?access_token={secret}"));
         let http = t.http.clone();

@@ -530,25 +530,8 @@ async fn a_viewer_sees_the_page_but_cannot_drive() {
     })
     .await;
     let admin = initial_admin_secret(&t.config.data_dir);
-    let token = |name: &'static str, role: &'static str| {
-        let admin = admin.clone();
-        let http = t.http.clone();
-        let url = t.url("/api/v1/tokens");
-        async move {
-            let r = http
-                .post(url)
-                .bearer_auth(admin)
-                .json(&json!({"name": name, "role": role}))
-                .send()
-                .await
-                .expect("create token");
-            assert_eq!(r.status().as_u16(), 201);
-            let v: Value = r.json().await.expect("token JSON");
-            v["secret"].as_str().expect("secret").to_string()
-        }
-    };
-    let viewer = token("wall-screen", "viewer").await;
-    let operator = token("tablet-1", "operator").await;
+    let viewer = t.create_token(&admin, "wall-screen", "viewer").await;
+    let operator = t.create_token(&admin, "tablet-1", "operator").await;
 
     browser.goto(&t.url("/")).await;
     browser
@@ -615,16 +598,7 @@ async fn a_viewer_sees_the_page_but_cannot_drive() {
     );
 
     // A motion from the page anyway (as a script could) is refused by the server.
-    let before = t
-        .http
-        .get(t.url("/api/v1/state"))
-        .bearer_auth(&viewer)
-        .send()
-        .await
-        .expect("state")
-        .json::<Value>()
-        .await
-        .expect("state JSON");
+    let (_, before) = t.get_as("/api/v1/state", &viewer).await;
     let answer = browser
         .eval_async("return await window.dashboard.move({type: 'ptp', target: {z: 400}});")
         .await;
@@ -635,16 +609,7 @@ async fn a_viewer_sees_the_page_but_cannot_drive() {
         message.contains("forbidden"),
         "the page says why: {message}"
     );
-    let after = t
-        .http
-        .get(t.url("/api/v1/state"))
-        .bearer_auth(&viewer)
-        .send()
-        .await
-        .expect("state")
-        .json::<Value>()
-        .await
-        .expect("state JSON");
+    let (_, after) = t.get_as("/api/v1/state", &viewer).await;
     assert_eq!(
         before["position"], after["position"],
         "the robot did not move"

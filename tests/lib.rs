@@ -126,6 +126,34 @@ impl TestService {
         decode(r).await
     }
 
+    /// GET as the bearer of `token` → (status, JSON).
+    pub async fn get_as(&self, path: &str, token: &str) -> (u16, Value) {
+        let r = self
+            .http
+            .get(self.url(path))
+            .bearer_auth(token)
+            .send()
+            .await
+            .expect("request");
+        decode(r).await
+    }
+
+    /// Creates a token through the API as `admin`; returns its secret.
+    pub async fn create_token(&self, admin: &str, name: &str, role: &str) -> String {
+        let r = self
+            .http
+            .post(self.url("/api/v1/tokens"))
+            .bearer_auth(admin)
+            .json(&serde_json::json!({"name": name, "role": role}))
+            .send()
+            .await
+            .expect("request");
+        let (status, v) = decode(r).await;
+        assert_eq!(status, 201, "{v}");
+        assert_eq!(v["role"], role);
+        v["secret"].as_str().expect("secret").to_string()
+    }
+
     /// POST without body.
     pub async fn post(&self, path: &str) -> (u16, Value) {
         let r = self

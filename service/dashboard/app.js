@@ -30,7 +30,6 @@ const state = {
   traceSince: null,
   traceSeen: new Set(),
   events: [],
-  actions: [],
 };
 window.dashboard = state;
 
@@ -65,7 +64,6 @@ async function api(method, path, body) {
     say(`${method} ${path} refused — ${why}`);
     logEvent("refused", `${method} ${path} → ${why}`);
   }
-  if (method !== "GET") state.actions.push({ method, path, status: r.status, code: parsed?.code });
   return out;
 }
 state.api = api;
@@ -466,7 +464,6 @@ function blocked(op) {
   if (needsControl(op) && heldBy()) return `${heldBy()} holds control of the robot`;
   return null;
 }
-state.allowed = allowed;
 
 /** The TCP in the base frame as the page's own kinematics put it (the drawn arm's tip). */
 state.drawnTcp = () => {

@@ -65,14 +65,7 @@ async fn run() {
 
     // 1. ingest of a ≥ 10,000-sample drawing
     let t = TestService::start(Options::default()).await;
-    browser.goto(&t.url("/")).await;
-    browser
-        .wait_js(
-            "window.dashboard && window.dashboard.ready === true",
-            WAIT,
-            "page ready",
-        )
-        .await;
+    open_page(&browser, &t).await;
     let (s, v) = t.post_json("/api/v1/motions", &strokes(13, 0.01)).await;
     assert_eq!(s, 200, "{v}");
     let answered = Instant::now();
@@ -121,14 +114,7 @@ async fn run() {
         ..Options::default()
     })
     .await;
-    browser.goto(&t.url("/")).await;
-    browser
-        .wait_js(
-            "window.dashboard && window.dashboard.ready === true",
-            WAIT,
-            "page ready",
-        )
-        .await;
+    open_page(&browser, &t).await;
     // Preload the page with a 10,000-point path (as if drawn earlier).
     browser
         .eval(
@@ -234,4 +220,16 @@ async fn pacing(browser: &Browser) -> Value {
                       heap_mib: performance.memory ? performance.memory.usedJSHeapSize / 1048576 : null };",
         )
         .await
+}
+
+/// Opens the dashboard of `t` and waits until its script has started.
+async fn open_page(browser: &Browser, t: &TestService) {
+    browser.goto(&t.url("/")).await;
+    browser
+        .wait_js(
+            "window.dashboard && window.dashboard.ready === true",
+            WAIT,
+            "page ready",
+        )
+        .await;
 }
