@@ -477,18 +477,78 @@ pub mod bench {
     /// HTTP/1.1 client, like curl's): separates the bridge's latency from the
     /// cost of a full-featured async client.
     pub fn raw_round_trips(addr: std::net::SocketAddr, request: &str, n: usize) -> Vec<Duration> {
-        use std::io::{Read, Write};
-        let mut sock = std::net::TcpStream::connect(addr).expect("connect");
-        sock.set_nodelay(true).expect("nodelay");
-        let mut buf = vec![0u8; 64 * 1024];
-        let mut one = |sock: &mut std::net::TcpStream| {
-            sock.write_all(request.as_bytes()).expect("send");
+        interleaved_round_trips(addr, &[request], n)
+            .pop()
+            .unwrap_or_default()
+    }
+
+    /// Like [`raw_round_trips`] for several requests at once, one connection
+    /// each, sent in turn (request 1, 2, ..., 1, 2, ...): noise of the
+    /// machine hits every kind alike, so `times[k][i] - times[0][i]` is a
+    /// paired estimate of what kind `k` costs more than kind 0. Every answer
+    /// must be 200.
+    pub fn interleaved_round_trips(
+        addr: std::net::SocketAddr,
+        requests: &[&str],
+        n: usize,
+    ) -> Vec<Vec<Duration>> {
+        let mut clients: Vec<RawClient> = requests
+            .iter()
+            .map(|r| RawClient::connect(addr, r))
+            .collect();
+        for _ in 0..200 {
+            clients.iter_mut().for_each(RawClient::round_trip);
+        }
+        let mut times = vec![Vec::with_capacity(n); clients.len()];
+        for _ in 0..n {
+            for (client, times) in clients.iter_mut().zip(&mut times) {
+                let start = Instant::now();
+                client.round_trip();
+                times.push(start.elapsed());
+            }
+        }
+        times
+    }
+
+    /// Median of the paired differences `b[i] - a[i]`, in µs.
+    pub fn paired_median_us(a: &[Duration], b: &[Duration]) -> f64 {
+        let mut d: Vec<f64> = a
+            .iter()
+            .zip(b)
+            .map(|(a, b)| (b.as_secs_f64() - a.as_secs_f64()) * 1e6)
+            .collect();
+        d.sort_by(f64::total_cmp);
+        d.get(d.len() / 2).copied().unwrap_or(f64::NAN)
+    }
+
+    /// One keep-alive connection sending one fixed request.
+    struct RawClient {
+        sock: std::net::TcpStream,
+        request: Vec<u8>,
+        buf: Vec<u8>,
+    }
+
+    impl RawClient {
+        fn connect(addr: std::net::SocketAddr, request: &str) -> RawClient {
+            let sock = std::net::TcpStream::connect(addr).expect("connect");
+            sock.set_nodelay(true).expect("nodelay");
+            RawClient {
+                sock,
+                request: request.as_bytes().to_vec(),
+                buf: vec![0u8; 64 * 1024],
+            }
+        }
+
+        /// Sends the request and reads the whole answer (Content-Length).
+        fn round_trip(&mut self) {
+            use std::io::{Read, Write};
+            self.sock.write_all(&self.request).expect("send");
             let mut have = 0;
             loop {
-                let got = sock.read(&mut buf[have..]).expect("read");
+                let got = self.sock.read(&mut self.buf[have..]).expect("read");
                 assert!(got > 0, "connection closed");
                 have += got;
-                let text = String::from_utf8_lossy(&buf[..have]);
+                let text = String::from_utf8_lossy(&self.buf[..have]);
                 if let Some(end) = text.find("\r\n\r\n") {
                     let len: usize = text[..end]
                         .lines()
@@ -504,17 +564,7 @@ pub mod bench {
                     }
                 }
             }
-        };
-        for _ in 0..200 {
-            one(&mut sock);
         }
-        (0..n)
-            .map(|_| {
-                let start = Instant::now();
-                one(&mut sock);
-                start.elapsed()
-            })
-            .collect()
     }
 }
 

@@ -3,9 +3,12 @@
 //!
 //! 1. overhead of a plugin endpoint over a native one: `GET
 //!    /api/v1/plugins/misbehave/ping` (fresh instance, `handle`, JSON
-//!    answer) against `GET /health`, and the POST route `/ok` (with a body),
-//!    sequential keep-alive requests from a plain TCP client, interleaved
-//!    rounds; p50/p90/p99/max;
+//!    answer, identified like a native read) against `GET /api/v1/state`,
+//!    and the POST route `/ok` (JSON body, audited) against `POST
+//!    /api/v1/control` (the same: renews the bench's lease), both also
+//!    against the bare `GET /health`;
+//!    keep-alive requests from a plain TCP client, one of each kind in turn;
+//!    p50/p90/p99/max of each and the median of the paired differences;
 //! 2. install of a plugin compiled from scratch (`PUT`, new bytes each time),
 //!    for the Rust draw-circle (and the Python py-square with `--python`);
 //! 3. reinstall of the same bytes, which loads the compiled artifact from
@@ -21,7 +24,7 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use kuka_bridge_tests::bench::{raw_round_trips, report};
+use kuka_bridge_tests::bench::{interleaved_round_trips, paired_median_us, report};
 use kuka_bridge_tests::{Options, TestService};
 use serde_json::Value;
 
@@ -157,56 +160,37 @@ fn main() {
         println!("-- plugin endpoint vs native endpoint, plain TCP client, sequential");
         let (status, v) = t.put_bytes("/api/v1/plugins/misbehave", read("misbehave")).await;
         assert_eq!(status, 201, "{v}");
-        // Interleaved rounds, so machine noise hits both paths alike.
+        // One request of each kind in turn, so machine noise hits all alike;
+        // the overhead is the median of the paired differences.
         let addr = t.service.addr;
-        let rounds = 10;
-        let (mut native, mut plugin, mut diffs) = (Vec::new(), Vec::new(), Vec::new());
-        let (mut plugin_get, mut get_diffs) = (Vec::new(), Vec::new());
-        let p50 = |v: &[Duration]| {
-            let mut v = v.to_vec();
-            v.sort();
-            v[v.len() / 2]
-        };
-        for _ in 0..rounds {
-            let a = tokio::task::spawn_blocking(move || {
-                raw_round_trips(addr, "GET /health HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n", n / rounds)
-            })
+        let kinds = [
+            ("GET /health (native)", "GET /health HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"),
+            ("GET /api/v1/state (native)", "GET /api/v1/state HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"),
+            (
+                "POST /api/v1/control (native)",
+                "POST /api/v1/control HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: 2\r\n\r\n{}",
+            ),
+            ("GET /api/v1/plugins/misbehave/ping", "GET /api/v1/plugins/misbehave/ping HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"),
+            (
+                "POST /api/v1/plugins/misbehave/ok",
+                "POST /api/v1/plugins/misbehave/ok HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: 2\r\n\r\n{}",
+            ),
+        ];
+        let requests: Vec<&'static str> = kinds.iter().map(|k| k.1).collect();
+        let times = tokio::task::spawn_blocking(move || interleaved_round_trips(addr, &requests, n))
             .await
             .expect("raw client");
-            let b = tokio::task::spawn_blocking(move || {
-                raw_round_trips(
-                    addr,
-                    "POST /api/v1/plugins/misbehave/ok HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: 2\r\n\r\n{}",
-                    n / rounds,
-                )
-            })
-            .await
-            .expect("raw client");
-            let c = tokio::task::spawn_blocking(move || {
-                raw_round_trips(
-                    addr,
-                    "GET /api/v1/plugins/misbehave/ping HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n",
-                    n / rounds,
-                )
-            })
-            .await
-            .expect("raw client");
-            diffs.push(p50(&b).as_secs_f64() - p50(&a).as_secs_f64());
-            get_diffs.push(p50(&c).as_secs_f64() - p50(&a).as_secs_f64());
-            native.extend(a);
-            plugin.extend(b);
-            plugin_get.extend(c);
+        for ((name, _), t) in kinds.iter().zip(&times) {
+            report(name, t.clone());
         }
-        report("GET /health (native)", native);
-        report("GET /api/v1/plugins/misbehave/ping", plugin_get);
-        report("POST /api/v1/plugins/misbehave/ok", plugin);
-        for (what, mut d) in [("GET plugin route - GET /health", get_diffs), ("POST plugin route - GET /health", diffs)] {
-            d.sort_by(f64::total_cmp);
+        // Like for like first: GET identified vs GET identified, POST audited
+        // with a JSON body vs the same; then against the bare /health.
+        for (k, base) in [(3, 1), (4, 2), (3, 0), (4, 0)] {
             println!(
-                "{what}: median over {rounds} interleaved rounds of the p50 difference {:.1} µs (min {:.1}, max {:.1})",
-                d[rounds / 2] * 1e6,
-                d[0] * 1e6,
-                d[rounds - 1] * 1e6
+                "{} - {}: median of {n} paired differences {:.1} µs",
+                kinds[k].0,
+                kinds[base].0,
+                paired_median_us(&times[base], &times[k])
             );
         }
         let rss_end = kuka_bridge_tests::bench::rss_mib(None);

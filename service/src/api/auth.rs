@@ -141,7 +141,7 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
                 resp.status().as_u16(),
                 Some(code),
             );
-            app.access.audit.record(record).await;
+            app.access.audit.record(&record);
             return resp;
         }
     };
@@ -154,7 +154,7 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
         response.status().as_u16(),
         code,
     );
-    app.access.audit.record(record).await;
+    app.access.audit.record(&record);
     response
 }
 
@@ -381,7 +381,7 @@ async fn refused(
             resp.status().as_u16(),
             Some(code),
         );
-        app.access.audit.record(record).await;
+        app.access.audit.record(&record);
     }
     resp
 }
