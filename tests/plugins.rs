@@ -498,6 +498,60 @@ async fn misbehaving_plugins_get_their_error_and_the_service_keeps_running() {
     assert_eq!(status, 200, "{v}");
 }
 
+/// As many requests at once as the host runs (64): 32 that keep their
+/// instance for a while (`/loop` until its CPU budget ends) and 32 clients
+/// calling `/ping` again as soon as they are answered. None is refused as
+/// busy (finished instances are released after their answer; the pool
+/// keeps room for those still being released).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn sixty_four_requests_at_once_are_all_served() {
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| c.plugins.cpu_time_ms = 1500),
+        ..Options::default()
+    })
+    .await;
+    let (status, v) = install(&t, "misbehave", example_plugin("misbehave")).await;
+    assert_eq!(status, 201, "{v}");
+    let t = std::sync::Arc::new(t);
+    let loops_left = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(32));
+    let mut clients = Vec::new();
+    for i in 0..64 {
+        let (t, loops_left) = (t.clone(), loops_left.clone());
+        clients.push(tokio::spawn(async move {
+            let mut answers = Vec::new();
+            if i % 2 == 0 {
+                let (status, v) = t
+                    .post_json("/api/v1/plugins/misbehave/loop", &json!({}))
+                    .await;
+                loops_left.fetch_sub(1, std::sync::atomic::Ordering::SeqCst);
+                answers.push((status, v["code"].as_str().unwrap_or_default().to_string()));
+            } else {
+                while loops_left.load(std::sync::atomic::Ordering::SeqCst) > 0 {
+                    let (status, v) = t.get("/api/v1/plugins/misbehave/ping").await;
+                    answers.push((status, v["code"].as_str().unwrap_or_default().to_string()));
+                }
+            }
+            answers
+        }));
+    }
+    let mut answers = Vec::new();
+    for c in clients {
+        answers.extend(c.await.expect("client"));
+    }
+    let pings = answers.iter().filter(|a| a.0 == 200).count();
+    let unexpected: Vec<_> = answers
+        .iter()
+        .filter(|(status, code)| *status != 200 && !(*status == 504 && code == "plugin_timeout"))
+        .collect();
+    assert!(
+        unexpected.is_empty(),
+        "{} answers, {pings} pings, unexpected: {:?}",
+        answers.len(),
+        &unexpected[..unexpected.len().min(5)]
+    );
+    assert!(pings > 32, "only {pings} pings ran while the loops did");
+}
+
 #[tokio::test]
 async fn limits_can_be_set_per_plugin() {
     let t = TestService::start(Options {
