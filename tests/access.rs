@@ -8,7 +8,7 @@
 
 use std::path::Path;
 use std::process::Command;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use kuka_bridge_tests::{Options, TestService, example_plugins, initial_admin_secret};
 use serde_json::{Value, json};
@@ -1184,5 +1184,75 @@ async fn cross_site_requests_are_refused_without_tokens() {
     assert_eq!(s, 200, "{v}");
     let (s, _) = send(Method::GET, "/api/v1/state", &[("host", "localhost")]).await;
     assert_eq!(s, 200);
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// A client that gives up before the answer does not take its request off
+/// the record: the motion it started runs on and its audit line says so
+/// (status 499, `client_disconnected`, the job). And a body sent without a
+/// JSON content type (`curl -d` sends a form) is recorded with its content.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn requests_are_on_record_when_the_client_leaves_or_sends_a_form() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    // A PTP of A1 by 60° takes about a second on the KR 3.
+    let motion = json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 60}}]});
+    let gave_up = t
+        .http
+        .post(t.url("/api/v1/motions"))
+        .json(&motion)
+        .timeout(Duration::from_millis(300))
+        .send()
+        .await;
+    assert!(gave_up.is_err(), "the motion answered within 0.3 s");
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let record = loop {
+        let (_, records) = t.get("/api/v1/audit?path=/api/v1/motions").await;
+        if let Some(r) = records.as_array().and_then(|r| r.first()).cloned() {
+            break r;
+        }
+        assert!(Instant::now() < deadline, "no audit record: {records}");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    };
+    assert_eq!(record["status"], 499, "{record}");
+    assert_eq!(record["code"], "client_disconnected", "{record}");
+    assert_eq!(record["params"]["body"], motion, "{record}");
+    let job = record["jobs"][0].as_u64().expect("the job is on record");
+    let (_, j) = t.get(&format!("/api/v1/jobs/{job}")).await;
+    assert!(
+        ["sent", "executing", "done"].contains(&j["state"].as_str().unwrap_or_default()),
+        "the motion runs on: {j}"
+    );
+
+    // `curl -d '{"override_percent": 50}'` (a form, by curl's default).
+    let r = t
+        .http
+        .put(t.url("/api/v1/speed"))
+        .header("content-type", "application/x-www-form-urlencoded")
+        .body(r#"{"override_percent": 50}"#)
+        .send()
+        .await
+        .expect("request");
+    assert_eq!(r.status().as_u16(), 415);
+    let (_, records) = t.get("/api/v1/audit?path=/api/v1/speed").await;
+    assert_eq!(
+        records[0]["params"]["body"],
+        json!({"override_percent": 50}),
+        "{records}"
+    );
+    let r = t
+        .http
+        .put(t.url("/api/v1/speed"))
+        .header("content-type", "text/plain")
+        .body("not json")
+        .send()
+        .await
+        .expect("request");
+    assert_eq!(r.status().as_u16(), 415);
+    let (_, records) = t.get("/api/v1/audit?path=/api/v1/speed").await;
+    assert_eq!(records[0]["params"]["body_text"], "not json", "{records}");
     t.service.shutdown().await.expect("shutdown");
 }

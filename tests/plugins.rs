@@ -282,6 +282,14 @@ async fn install_list_openapi_and_remove() {
         (405, Some("method_not_allowed")),
         "{v}"
     );
+    let r = t
+        .http
+        .delete(t.url("/api/v1/plugins/draw-circle/circle"))
+        .send()
+        .await
+        .expect("request");
+    assert_eq!(r.status().as_u16(), 405);
+    assert_eq!(r.headers()["allow"], "POST", "as for native routes");
     let (status, v) = t
         .post_json("/api/v1/plugins/draw-circle/square", &json!({}))
         .await;
@@ -438,6 +446,24 @@ async fn misbehaving_plugins_get_their_error_and_the_service_keeps_running() {
     };
     let (status, v) = call("ok").await;
     assert_eq!((status, v["ok"].as_bool()), (200, Some(true)), "{v}");
+    // HEAD on a GET route is the GET without its body, as for native routes.
+    let r = t
+        .http
+        .head(t.url("/api/v1/plugins/misbehave/ping"))
+        .send()
+        .await
+        .expect("request");
+    assert_eq!(r.status().as_u16(), 200);
+    assert_eq!(r.headers()["content-type"], "application/json");
+    assert_eq!(r.bytes().await.expect("body").len(), 0);
+    let r = t
+        .http
+        .put(t.url("/api/v1/plugins/misbehave/ping"))
+        .send()
+        .await
+        .expect("request");
+    assert_eq!(r.status().as_u16(), 405);
+    assert_eq!(r.headers()["allow"], "GET,HEAD");
     // The state a plugin reads is the REST API's.
     let (status, state) = call("state").await;
     assert_eq!(status, 200, "{state}");
@@ -500,11 +526,12 @@ async fn misbehaving_plugins_get_their_error_and_the_service_keeps_running() {
 
 /// As many requests at once as the host runs (64): 32 that keep their
 /// instance for a while (`/loop` until its CPU budget ends) and 32 clients
-/// calling `/ping` again as soon as they are answered. None is refused as
-/// busy (finished instances are released after their answer; the pool
-/// keeps room for those still being released).
+/// calling `/ping` again as soon as they are answered: every ping is served
+/// (finished instances are released after their answer; the pool keeps
+/// room for those still being released). Then 70 at once: exactly 64 run,
+/// 6 are refused with 503 `queue_full` and `Retry-After`.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn sixty_four_requests_at_once_are_all_served() {
+async fn sixty_four_requests_run_at_once_and_no_more() {
     let t = TestService::start(Options {
         tweak: Box::new(|c| c.plugins.cpu_time_ms = 1500),
         ..Options::default()
@@ -513,43 +540,80 @@ async fn sixty_four_requests_at_once_are_all_served() {
     let (status, v) = install(&t, "misbehave", example_plugin("misbehave")).await;
     assert_eq!(status, 201, "{v}");
     let t = std::sync::Arc::new(t);
+    let post_loop = |t: std::sync::Arc<TestService>| async move {
+        let r = t
+            .http
+            .post(t.url("/api/v1/plugins/misbehave/loop"))
+            .json(&json!({}))
+            .send()
+            .await
+            .expect("request");
+        let retry_after = r.headers().get("retry-after").is_some();
+        let (status, v) = kuka_bridge_tests::decode(r).await;
+        (
+            status,
+            v["code"].as_str().unwrap_or_default().to_string(),
+            retry_after,
+        )
+    };
     let loops_left = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(32));
-    let mut clients = Vec::new();
-    for i in 0..64 {
-        let (t, loops_left) = (t.clone(), loops_left.clone());
-        clients.push(tokio::spawn(async move {
+    let mut loops = Vec::new();
+    let mut pingers = Vec::new();
+    for _ in 0..32 {
+        let (t2, left) = (t.clone(), loops_left.clone());
+        loops.push(tokio::spawn(async move {
+            let answer = post_loop(t2).await;
+            left.fetch_sub(1, std::sync::atomic::Ordering::SeqCst);
+            answer
+        }));
+        let (t2, left) = (t.clone(), loops_left.clone());
+        pingers.push(tokio::spawn(async move {
             let mut answers = Vec::new();
-            if i % 2 == 0 {
-                let (status, v) = t
-                    .post_json("/api/v1/plugins/misbehave/loop", &json!({}))
-                    .await;
-                loops_left.fetch_sub(1, std::sync::atomic::Ordering::SeqCst);
-                answers.push((status, v["code"].as_str().unwrap_or_default().to_string()));
-            } else {
-                while loops_left.load(std::sync::atomic::Ordering::SeqCst) > 0 {
-                    let (status, v) = t.get("/api/v1/plugins/misbehave/ping").await;
-                    answers.push((status, v["code"].as_str().unwrap_or_default().to_string()));
-                }
+            while left.load(std::sync::atomic::Ordering::SeqCst) > 0 {
+                let (status, v) = t2.get("/api/v1/plugins/misbehave/ping").await;
+                answers.push(format!("{status} {v}"));
             }
             answers
         }));
     }
-    let mut answers = Vec::new();
-    for c in clients {
-        answers.extend(c.await.expect("client"));
+    for l in loops {
+        let (status, code, _) = l.await.expect("loop");
+        assert_eq!((status, code.as_str()), (504, "plugin_timeout"));
     }
-    let pings = answers.iter().filter(|a| a.0 == 200).count();
-    let unexpected: Vec<_> = answers
-        .iter()
-        .filter(|(status, code)| *status != 200 && !(*status == 504 && code == "plugin_timeout"))
-        .collect();
+    let mut pings = Vec::new();
+    for p in pingers {
+        pings.extend(p.await.expect("pinger"));
+    }
+    let failed: Vec<_> = pings.iter().filter(|p| !p.starts_with("200 ")).collect();
     assert!(
-        unexpected.is_empty(),
-        "{} answers, {pings} pings, unexpected: {:?}",
-        answers.len(),
-        &unexpected[..unexpected.len().min(5)]
+        failed.is_empty(),
+        "{} of {} pings failed: {:?}",
+        failed.len(),
+        pings.len(),
+        &failed[..failed.len().min(3)]
     );
-    assert!(pings > 32, "only {pings} pings ran while the loops did");
+    assert!(
+        pings.len() > 32,
+        "only {} pings ran while the loops did",
+        pings.len()
+    );
+
+    let seventy: Vec<_> = (0..70)
+        .map(|_| tokio::spawn(post_loop(t.clone())))
+        .collect();
+    let mut answers = Vec::new();
+    for a in seventy {
+        answers.push(a.await.expect("loop"));
+    }
+    let ran = answers
+        .iter()
+        .filter(|a| a.0 == 504 && a.1 == "plugin_timeout")
+        .count();
+    let busy = answers
+        .iter()
+        .filter(|a| a.0 == 503 && a.1 == "queue_full" && a.2)
+        .count();
+    assert_eq!((ran, busy), (64, 6), "{answers:?}");
 }
 
 #[tokio::test]
@@ -671,6 +735,14 @@ async fn reinstalling_while_requests_run_lets_them_finish_on_the_old_version() {
     assert_eq!(status, 200, "the request in flight failed: {v}");
     let (_, info) = t.get("/api/v1/plugins/draw-circle").await;
     assert_eq!(info["version"], "0.2.0");
+    // Back to the first version: its compiled code is still in the cache.
+    let (status, v) = install(&t, "draw-circle", example_plugin("draw-circle")).await;
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(
+        (&v["version"], &v["from_cache"]),
+        (&json!("0.1.0"), &json!(true)),
+        "{v}"
+    );
 }
 
 /// Waits until `GET /api/v1/plugins/{name}` satisfies `ok` (10 s).

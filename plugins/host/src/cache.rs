@@ -69,25 +69,39 @@ impl ArtifactCache {
         }
     }
 
-    /// Removes artifacts whose source is no longer installed.
+    /// Removes artifacts of other wasmtime versions, and those whose source
+    /// is no longer installed except the [`KEEP_UNINSTALLED`] newest: going
+    /// back to a recent version does not recompile it.
     pub(crate) fn prune(&self, keep: &[String]) {
         let Some(dir) = &self.dir else { return };
         let Ok(entries) = std::fs::read_dir(dir) else {
             return;
         };
+        let mut uninstalled = Vec::new();
         for entry in entries.flatten() {
             let name = entry.file_name().to_string_lossy().into_owned();
             let Some(stem) = name.strip_suffix(".cwasm") else {
                 continue;
             };
             let sha = stem.split('-').next().unwrap_or_default();
-            let current = stem.ends_with(&self.engine_key);
-            if !current || !keep.iter().any(|k| k == sha) {
+            if !stem.ends_with(&self.engine_key) {
                 let _ = std::fs::remove_file(entry.path());
+            } else if !keep.iter().any(|k| k == sha) {
+                let modified = entry.metadata().and_then(|m| m.modified()).ok();
+                uninstalled.push((modified, entry.path()));
             }
+        }
+        // Newest first; the oldest beyond the allowance go.
+        uninstalled.sort_by(|a, b| b.0.cmp(&a.0));
+        for (_, path) in uninstalled.into_iter().skip(KEEP_UNINSTALLED) {
+            let _ = std::fs::remove_file(path);
         }
     }
 }
+
+/// Artifacts of plugin versions no longer installed that are kept (newest
+/// first) for a quick roll-back.
+const KEEP_UNINSTALLED: usize = 8;
 
 /// Loads an artifact; `None` when missing or not loadable (then it is rebuilt).
 fn load(engine: &Engine, path: &Path) -> Option<Component> {

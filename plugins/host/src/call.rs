@@ -102,6 +102,7 @@ pub(crate) async fn handle(
     limits: &PluginLimits,
     api: Arc<dyn BridgeApi>,
 ) -> Result<Response, PluginError> {
+    let _running = runtime.admit()?;
     let ctx = CallContext {
         plugin: plugin.name.clone(),
         version: plugin.version.clone(),

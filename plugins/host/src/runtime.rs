@@ -4,7 +4,7 @@
 //! an empty WASI.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
 use std::time::Duration;
 
 use wasmtime::component::{Component, HasSelf, Linker};
@@ -36,7 +36,8 @@ pub(crate) const MAX_DEFERRED_DROPS: usize = 8;
 /// zeroed in place, up to [`KEEP_RESIDENT`] bytes, instead of `madvise`
 /// (which costs page faults on the next request): p50 10–14 µs. Elsewhere
 /// the two options change nothing. More than [`MAX_CONCURRENT_REQUESTS`]
-/// requests at once are refused as busy.
+/// requests at once are refused as busy by [`Runtime::admit`] (the pool
+/// itself has room for [`MAX_DEFERRED_DROPS`] more).
 fn pooling(memory_bytes: usize) -> PoolingAllocationConfig {
     let mut pool = PoolingAllocationConfig::new();
     let n = MAX_CONCURRENT_REQUESTS + MAX_DEFERRED_DROPS as u32;
@@ -62,6 +63,17 @@ pub(crate) struct Runtime {
     ticker_stop: Arc<AtomicBool>,
     /// Stores waiting to be dropped (at most [`MAX_DEFERRED_DROPS`]).
     pub(crate) deferred_drops: Arc<AtomicUsize>,
+    /// Requests running (at most [`MAX_CONCURRENT_REQUESTS`]).
+    running: AtomicU32,
+}
+
+/// A running request's place; given back on drop.
+pub(crate) struct Running<'a>(&'a AtomicU32);
+
+impl Drop for Running<'_> {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::AcqRel);
+    }
 }
 
 impl Runtime {
@@ -97,7 +109,17 @@ impl Runtime {
             linker,
             ticker_stop,
             deferred_drops: Arc::default(),
+            running: AtomicU32::new(0),
         })
+    }
+
+    /// A place for one more request, unless [`MAX_CONCURRENT_REQUESTS`] run.
+    pub(crate) fn admit(&self) -> Result<Running<'_>, PluginError> {
+        if self.running.fetch_add(1, Ordering::AcqRel) >= MAX_CONCURRENT_REQUESTS {
+            self.running.fetch_sub(1, Ordering::AcqRel);
+            return Err(PluginError::Busy(MAX_CONCURRENT_REQUESTS));
+        }
+        Ok(Running(&self.running))
     }
 
     pub(crate) fn engine(&self) -> &Engine {

@@ -184,9 +184,23 @@ fn read(dir: &Path, q: &AuditQuery) -> std::io::Result<Vec<AuditRecord>> {
     Ok(out)
 }
 
+/// Largest body recorded with its content (bigger ones by size only).
+pub const MAX_RECORDED_BODY: usize = 16 * 1024;
+
+/// Bodies of this media type are recorded as text when they are not JSON:
+/// forms (what `curl -d` sends without a content type) and `text/*`.
+pub fn is_text(content_type: &str) -> bool {
+    let essence = content_type.split(';').next().unwrap_or_default().trim();
+    essence.eq_ignore_ascii_case("application/x-www-form-urlencoded")
+        || essence
+            .get(..5)
+            .is_some_and(|t| t.eq_ignore_ascii_case("text/"))
+}
+
 /// Parameters for the record: the query string without secrets, and the
-/// body if it is small JSON (`body`, read by the caller) or else its size
-/// and type.
+/// body if it is small (read by the caller): as `body` when it is JSON
+/// (whatever its content type says), as `body_text` when it is a form or
+/// text, else by size and type (`body_bytes`).
 pub fn params(
     query: Option<&str>,
     content_type: Option<&str>,
@@ -206,15 +220,21 @@ pub fn params(
         }
     }
     if !body.is_empty() {
-        let json = content_type.is_some_and(|c| c.starts_with("application/json"));
-        let parsed = (json && body.len() <= 16 * 1024)
+        let small = body.len() <= MAX_RECORDED_BODY;
+        let parsed = small
             .then(|| serde_json::from_slice::<serde_json::Value>(body).ok())
             .flatten();
-        match parsed {
-            Some(v) => {
+        let text = (small && content_type.is_none_or(is_text))
+            .then(|| std::str::from_utf8(body).ok())
+            .flatten();
+        match (parsed, text) {
+            (Some(v), _) => {
                 out.insert("body".into(), v);
             }
-            None => {
+            (None, Some(t)) => {
+                out.insert("body_text".into(), t.into());
+            }
+            (None, None) => {
                 out.insert(
                     "body_bytes".into(),
                     serde_json::json!({"bytes": body.len(), "content_type": content_type}),

@@ -5,6 +5,7 @@
 //! 409 `control_held` or 429 as problem+json (thesis format on `/krl/*`).
 
 use std::net::SocketAddr;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use axum::extract::{ConnectInfo, MatchedPath, Request, State};
@@ -145,17 +146,57 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
             return resp;
         }
     };
+    let mut unanswered = Unanswered {
+        app: app.clone(),
+        call,
+        ctx: ctx.clone(),
+        params: Some(params),
+    };
     let response = ctx.clone().scope(next.run(req)).await;
     let (response, code) = problem_code(response).await;
-    let record = call.record(
-        &ctx.principal,
-        params,
-        ctx.jobs(),
-        response.status().as_u16(),
-        code,
-    );
-    app.access.audit.record(&record);
+    if let Some(params) = unanswered.params.take() {
+        let record = unanswered.call.record(
+            &ctx.principal,
+            params,
+            ctx.jobs(),
+            response.status().as_u16(),
+            code,
+        );
+        app.access.audit.record(&record);
+    }
     response
+}
+
+/// HTTP status recorded for a request whose client went away before the
+/// answer (nginx's "client closed request").
+const CLIENT_CLOSED: u16 = 499;
+
+/// The audit record of a request being served. When the client goes away
+/// first, the server drops the request's future and this with it: the
+/// record is then written on drop, with status 499, code
+/// `client_disconnected` and the jobs started so far (they run on), so a
+/// motion is on record even if nobody waited for its answer.
+struct Unanswered {
+    app: AppState,
+    call: Call,
+    ctx: Arc<RequestContext>,
+    params: Option<serde_json::Value>,
+}
+
+impl Drop for Unanswered {
+    fn drop(&mut self) {
+        if let Some(params) = self.params.take() {
+            let record = self.call.record(
+                &self.ctx.principal,
+                params,
+                self.ctx.jobs(),
+                CLIENT_CLOSED,
+                Some("client_disconnected".into()),
+            );
+            tracing::warn!(who = %record.who, path = %record.path, jobs = ?record.jobs, "client went away before the answer");
+            self.app.access.audit.record(&record);
+        }
+    }
 }
 
 fn article(role: Role) -> &'static str {
@@ -417,7 +458,11 @@ async fn audit_params(
         .and_then(|v| v.parse::<u64>().ok());
     let query = req.uri().query().map(str::to_string);
     let json = content_type.as_deref().is_some_and(is_json);
-    if !json {
+    // `curl -d` without a content type sends a form: a plugin reads it as
+    // its JSON text anyway, so small ones are recorded too.
+    let small_text = content_type.as_deref().is_none_or(audit::is_text)
+        && size.is_some_and(|n| n > 0 && n <= audit::MAX_RECORDED_BODY as u64);
+    if !json && !small_text {
         let params = audit::params(query.as_deref(), content_type.as_deref(), &[], size);
         return Ok((req, params));
     }

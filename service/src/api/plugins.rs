@@ -9,7 +9,7 @@ use std::sync::Arc;
 use axum::body::Body;
 use axum::extract::{Path, RawQuery, State};
 use axum::http::{Method, StatusCode};
-use axum::response::Response;
+use axum::response::{IntoResponse, Response};
 use kuka_plugin_host::{LoadedPlugin, Request};
 use serde_json::{Value, json};
 use utoipa_axum::router::OpenApiRouter;
@@ -131,25 +131,47 @@ pub(super) async fn call(
     let registry = registry(&app)?;
     let plugin = registry.get(&name).ok_or_else(|| not_installed(&name))?;
     let path = format!("/{path}");
+    // HEAD is GET without the body (hyper leaves the body out).
+    let method = if method == Method::HEAD {
+        Method::GET
+    } else {
+        method
+    };
     if plugin.route(method.as_str(), &path).is_none() {
         let routes: Vec<String> = plugin
             .routes
             .iter()
             .map(|r| format!("{} /api/v1/plugins/{name}{}", r.method, r.path))
             .collect();
-        let code = if plugin.routes.iter().any(|r| r.path == path) {
-            ErrorCode::MethodNotAllowed
-        } else {
+        let allowed: Vec<&str> = plugin
+            .routes
+            .iter()
+            .filter(|r| r.path == path)
+            .map(|r| r.method.as_str())
+            .collect();
+        let code = if allowed.is_empty() {
             ErrorCode::NotFound
+        } else {
+            ErrorCode::MethodNotAllowed
         };
-        return Err(BridgeError::new(
+        let mut resp = Problem::from(BridgeError::new(
             code,
             format!(
                 "plugin {name} has no route {method} {path}; its routes: {}",
                 routes.join(", ")
             ),
-        )
-        .into());
+        ))
+        .into_response();
+        if !allowed.is_empty() {
+            let mut allow = allowed.join(",");
+            if allowed.contains(&"GET") {
+                allow.push_str(",HEAD");
+            }
+            if let Ok(v) = axum::http::HeaderValue::from_str(&allow) {
+                resp.headers_mut().insert(axum::http::header::ALLOW, v);
+            }
+        }
+        return Ok(resp);
     }
     let body = read_body(body, registry.max_body_bytes(), "request body").await?;
     let body = String::from_utf8(body.to_vec())

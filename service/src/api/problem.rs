@@ -119,7 +119,16 @@ impl IntoResponse for Problem {
         if body.code == ErrorCode::Internal {
             tracing::error!(detail = %self.error.detail, "internal error");
         }
-        json_response(body.status, PROBLEM_JSON, &body)
+        let busy = body.code == ErrorCode::QueueFull;
+        let mut resp = json_response(body.status, PROBLEM_JSON, &body);
+        if busy {
+            // Full now, free again as soon as something running ends.
+            resp.headers_mut().insert(
+                axum::http::header::RETRY_AFTER,
+                axum::http::HeaderValue::from_static("1"),
+            );
+        }
+        resp
     }
 }
 
