@@ -92,7 +92,7 @@ impl ArtifactCache {
             }
         }
         // Newest first; the oldest beyond the allowance go.
-        uninstalled.sort_by(|a, b| b.0.cmp(&a.0));
+        uninstalled.sort_by_key(|u| std::cmp::Reverse(u.0));
         for (_, path) in uninstalled.into_iter().skip(KEEP_UNINSTALLED) {
             let _ = std::fs::remove_file(path);
         }
