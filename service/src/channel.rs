@@ -54,6 +54,14 @@ pub enum ReadOutcome<T> {
     Failed(String),
 }
 
+/// A version of a file as its metadata tells (see [`Channel::results_stamp`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FileStamp {
+    id: u64,
+    len: u64,
+    modified: Option<std::time::SystemTime>,
+}
+
 /// Which controller files a watcher event (or a poll) says to read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Changed {
@@ -123,6 +131,22 @@ impl Channel {
     /// True while another process holds the command file locked.
     pub fn command_locked(&self) -> bool {
         files::is_locked(&self.dir, COMMAND_FILE)
+    }
+
+    /// What identifies the result file's current version, without opening
+    /// it (an open would wake every watcher of the directory): its inode
+    /// (Unix), size and modification time. A new value means a new file.
+    pub fn results_stamp(&self) -> Option<FileStamp> {
+        let m = std::fs::metadata(self.dir.join(RESULT_FILE)).ok()?;
+        #[cfg(unix)]
+        let id = std::os::unix::fs::MetadataExt::ino(&m);
+        #[cfg(not(unix))]
+        let id = 0;
+        Some(FileStamp {
+            id,
+            len: m.len(),
+            modified: m.modified().ok(),
+        })
     }
 
     /// Reads the result file.

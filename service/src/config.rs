@@ -161,6 +161,11 @@ pub struct ChannelConfig {
     pub command_timeout_ms: u64,
     /// How long to retry writing a locked command file before failing with `channel_locked`.
     pub lock_timeout_ms: u64,
+    /// After writing a command, how long (µs) the engine watches for the
+    /// answer in a busy loop (result file metadata and its queue) before it
+    /// waits for file events: a quick answer arrives without two thread
+    /// wake-ups. 0 turns it off (saves that CPU on a busy controller PC).
+    pub answer_spin_us: u64,
 }
 
 /// Which robot the checks use.
@@ -377,6 +382,7 @@ impl Default for ChannelConfig {
             ack_timeout_ms: 2000,
             command_timeout_ms: 60_000,
             lock_timeout_ms: 2000,
+            answer_spin_us: 300,
         }
     }
 }
@@ -457,6 +463,10 @@ fn ms(v: u64) -> Duration {
 }
 
 impl ChannelConfig {
+    /// Busy-wait for a quick answer.
+    pub fn answer_spin(&self) -> Duration {
+        Duration::from_micros(self.answer_spin_us)
+    }
     /// Poll period.
     pub fn poll_interval(&self) -> Duration {
         ms(self.poll_interval_ms)
@@ -615,6 +625,15 @@ impl Config {
             if v < min {
                 return Err(self.invalid(key, format!("{v} is below the minimum {min}")));
             }
+        }
+        if c.answer_spin_us > 10_000 {
+            return Err(self.invalid(
+                "channel.answer_spin_us",
+                format!(
+                    "{} is above the maximum 10000 (a busy loop longer than 10 ms wastes a core)",
+                    c.answer_spin_us
+                ),
+            ));
         }
         for (name, l) in &self.plugins.limits {
             let key = "plugins.limits";
@@ -936,6 +955,16 @@ mod tests {
             .to_string();
         assert!(
             text.contains("robot.model") && text.contains("kr3_r540"),
+            "{text}"
+        );
+        std::fs::write(&p, "[channel]\nanswer_spin_us = 20000\n").expect("write");
+        let text = Config::load(&p)
+            .expect("parses")
+            .validate()
+            .expect_err("spin too long")
+            .to_string();
+        assert!(
+            text.contains("channel.answer_spin_us") && text.contains("10000"),
             "{text}"
         );
     }

@@ -11,12 +11,12 @@ use kuka_protocol::{
     Cid, Command, CommandFile, ControllerStatus, Frame, OperatingMode, ResultCode, ResultRecord,
     SpeedRecord, StateFile,
 };
-use std::sync::mpsc::{self, RecvTimeoutError};
+use std::sync::mpsc::{self, RecvTimeoutError, TryRecvError};
 
 use tokio::sync::oneshot;
 
 use super::{Msg, Shared};
-use crate::channel::{Changed, Channel, ChannelError, CidStore, ReadOutcome};
+use crate::channel::{Changed, Channel, ChannelError, CidStore, FileStamp, ReadOutcome};
 use crate::config::{ChannelConfig, Config};
 use crate::engine::types::*;
 use crate::error::{BridgeError, ErrorCode, Result};
@@ -80,6 +80,8 @@ pub(crate) struct Actor {
     rx: mpsc::Receiver<Msg>,
     queue: VecDeque<QueuedJob>,
     inflight: Option<InFlight>,
+    /// The result file as it was when the last command was written.
+    spin_stamp: Option<FileStamp>,
     stop: Option<StopInFlight>,
     pending: Option<PendingWrite>,
     ctl: ControllerView,
@@ -257,6 +259,7 @@ impl Actor {
             rx,
             queue: VecDeque::new(),
             inflight: None,
+            spin_stamp: None,
             stop: None,
             pending: None,
             ctl: ControllerView::default(),
@@ -284,10 +287,7 @@ impl Actor {
             if let Some(p) = &self.pending {
                 wake_at = wake_at.min(p.next_try);
             }
-            match self
-                .rx
-                .recv_timeout(wake_at.saturating_duration_since(Instant::now()))
-            {
+            match self.next_msg(wake_at) {
                 Ok(msg) => self.handle(msg),
                 Err(RecvTimeoutError::Timeout) => {}
                 Err(RecvTimeoutError::Disconnected) => break,
@@ -319,6 +319,36 @@ impl Actor {
             let _ = done.send(());
         }
         tracing::info!("engine stopped");
+    }
+
+    /// The next message, or a timeout at `wake_at`. For
+    /// `channel.answer_spin_us` after a command was written the engine watches for the answer itself,
+    /// checking its queue and the result file's metadata in a busy loop:
+    /// a quick answer (the simulator, a query) is then seen without two
+    /// thread wake-ups (the file watcher's and this thread's).
+    fn next_msg(&mut self, wake_at: Instant) -> Result<Msg, RecvTimeoutError> {
+        if let Some(f) = &self.inflight {
+            let spin_until = (f.sent_at + self.cfg.answer_spin()).min(wake_at);
+            let seen = self.spin_stamp;
+            while Instant::now() < spin_until {
+                match self.rx.try_recv() {
+                    Ok(msg) => return Ok(msg),
+                    Err(TryRecvError::Disconnected) => return Err(RecvTimeoutError::Disconnected),
+                    Err(TryRecvError::Empty) => {}
+                }
+                let now = self.channel.results_stamp();
+                if now != seen {
+                    self.spin_stamp = now;
+                    return Ok(Msg::Files(Changed {
+                        results: true,
+                        state: false,
+                    }));
+                }
+                std::hint::spin_loop();
+            }
+        }
+        self.rx
+            .recv_timeout(wake_at.saturating_duration_since(Instant::now()))
     }
 
     fn handle(&mut self, msg: Msg) {
@@ -519,6 +549,8 @@ impl Actor {
         if now < p.next_try {
             return;
         }
+        // The answer's file must differ from this one (see `next_msg`).
+        self.spin_stamp = self.channel.results_stamp();
         match self.channel.write_command(&p.cmd) {
             Ok(()) => {
                 if self.ctl.locked {
