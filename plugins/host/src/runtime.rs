@@ -10,15 +10,15 @@ use std::time::Duration;
 use wasmtime::component::{Component, HasSelf, Linker};
 use wasmtime::{Config, Enabled, Engine, InstanceAllocationStrategy, PoolingAllocationConfig};
 
-/// Bytes of each pooled memory and table kept mapped between requests.
-const KEEP_RESIDENT: usize = 1 << 20;
-
 use crate::PluginError;
 use crate::bindings::{BridgePlugin, BridgePluginPre};
 use crate::imports::RequestState;
 
 /// Period of the epoch ticker: CPU budgets are checked at this granularity.
 pub(crate) const TICK: Duration = Duration::from_millis(10);
+
+/// Bytes of each pooled memory and table kept mapped between requests.
+const KEEP_RESIDENT: usize = 1 << 20;
 
 /// Plugin requests (instances) that may run at the same time.
 pub const MAX_CONCURRENT_REQUESTS: u32 = 64;

@@ -152,18 +152,9 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
         ctx: ctx.clone(),
         params: Some(params),
     };
-    let response = ctx.clone().scope(next.run(req)).await;
+    let response = ctx.scope(next.run(req)).await;
     let (response, code) = problem_code(response).await;
-    if let Some(params) = unanswered.params.take() {
-        let record = unanswered.call.record(
-            &ctx.principal,
-            params,
-            ctx.jobs(),
-            response.status().as_u16(),
-            code,
-        );
-        app.access.audit.record(&record);
-    }
+    unanswered.write(response.status().as_u16(), code);
     response
 }
 
@@ -183,18 +174,23 @@ struct Unanswered {
     params: Option<serde_json::Value>,
 }
 
+impl Unanswered {
+    /// Writes the record (once).
+    fn write(&mut self, status: u16, code: Option<String>) {
+        if let Some(params) = self.params.take() {
+            let record =
+                self.call
+                    .record(&self.ctx.principal, params, self.ctx.jobs(), status, code);
+            self.app.access.audit.record(&record);
+        }
+    }
+}
+
 impl Drop for Unanswered {
     fn drop(&mut self) {
-        if let Some(params) = self.params.take() {
-            let record = self.call.record(
-                &self.ctx.principal,
-                params,
-                self.ctx.jobs(),
-                CLIENT_CLOSED,
-                Some("client_disconnected".into()),
-            );
-            tracing::warn!(who = %record.who, path = %record.path, jobs = ?record.jobs, "client went away before the answer");
-            self.app.access.audit.record(&record);
+        if self.params.is_some() {
+            tracing::warn!(who = %self.ctx.principal.name, path = %self.call.uri.path(), jobs = ?self.ctx.jobs(), "client went away before the answer");
+            self.write(CLIENT_CLOSED, Some("client_disconnected".into()));
         }
     }
 }
