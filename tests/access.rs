@@ -1254,5 +1254,21 @@ async fn requests_are_on_record_when_the_client_leaves_or_sends_a_form() {
     assert_eq!(r.status().as_u16(), 415);
     let (_, records) = t.get("/api/v1/audit?path=/api/v1/speed").await;
     assert_eq!(records[0]["params"]["body_text"], "not json", "{records}");
+    // Broken JSON is kept as text: the record shows what was sent.
+    let r = t
+        .http
+        .put(t.url("/api/v1/speed"))
+        .header("content-type", "application/json")
+        .body(r#"{"override_percent":"#)
+        .send()
+        .await
+        .expect("request");
+    assert_eq!(r.status().as_u16(), 422);
+    let (_, records) = t.get("/api/v1/audit?path=/api/v1/speed").await;
+    assert_eq!(
+        records[0]["params"]["body_text"], r#"{"override_percent":"#,
+        "{records}"
+    );
+    assert_eq!(records[0]["code"], "invalid_input", "{records}");
     t.service.shutdown().await.expect("shutdown");
 }

@@ -28,6 +28,10 @@ pub const MAX_CONCURRENT_REQUESTS: u32 = 64;
 /// [`MAX_CONCURRENT_REQUESTS`], so they never make a request busy.
 pub(crate) const MAX_DEFERRED_DROPS: usize = 8;
 
+/// Instances for `describe()` at install and load time, which run outside
+/// [`Runtime::admit`] (installs are serialised, so one is enough).
+const DESCRIBE_SLOTS: u32 = 1;
+
 /// A pool of pre-reserved memories, tables, instances and fiber stacks: a
 /// fresh instance per request then maps and unmaps nothing (measured with
 /// `benches/call.rs`: p50 22–35 µs per request instead of 44 µs with the
@@ -36,11 +40,12 @@ pub(crate) const MAX_DEFERRED_DROPS: usize = 8;
 /// zeroed in place, up to [`KEEP_RESIDENT`] bytes, instead of `madvise`
 /// (which costs page faults on the next request): p50 10–14 µs. Elsewhere
 /// the two options change nothing. More than [`MAX_CONCURRENT_REQUESTS`]
-/// requests at once are refused as busy by [`Runtime::admit`] (the pool
-/// itself has room for [`MAX_DEFERRED_DROPS`] more).
+/// requests at once are refused as busy by [`Runtime::admit`]; the pool
+/// itself has room for [`MAX_DEFERRED_DROPS`] releases and an install's
+/// `describe()` more, so neither can make an admitted request busy.
 fn pooling(memory_bytes: usize) -> PoolingAllocationConfig {
     let mut pool = PoolingAllocationConfig::new();
-    let n = MAX_CONCURRENT_REQUESTS + MAX_DEFERRED_DROPS as u32;
+    let n = MAX_CONCURRENT_REQUESTS + MAX_DEFERRED_DROPS as u32 + DESCRIBE_SLOTS;
     pool.total_component_instances(n)
         // A componentize-py guest has a dozen core instances and several
         // memories and tables; a Rust guest has a few.

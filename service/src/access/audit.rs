@@ -199,8 +199,8 @@ pub fn is_text(content_type: &str) -> bool {
 
 /// Parameters for the record: the query string without secrets, and the
 /// body if it is small (read by the caller): as `body` when it is JSON
-/// (whatever its content type says), as `body_text` when it is a form or
-/// text, else by size and type (`body_bytes`).
+/// (whatever its content type says), as `body_text` when it is a form,
+/// text or broken JSON, else by size and type (`body_bytes`).
 pub fn params(
     query: Option<&str>,
     content_type: Option<&str>,
@@ -224,7 +224,10 @@ pub fn params(
         let parsed = small
             .then(|| serde_json::from_slice::<serde_json::Value>(body).ok())
             .flatten();
-        let text = (small && content_type.is_none_or(is_text))
+        // Text-like types, and JSON that does not parse (kept for the record).
+        let texty =
+            content_type.is_none_or(|c| is_text(c) || c.to_ascii_lowercase().contains("json"));
+        let text = (small && texty)
             .then(|| std::str::from_utf8(body).ok())
             .flatten();
         match (parsed, text) {
