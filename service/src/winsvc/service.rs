@@ -182,6 +182,10 @@ fn run_service() -> windows_service::Result<()> {
         };
         crate::app::run_service(service, stopping, ticker).await
     });
+    // Everything is released before the service manager hears STOPPED: an
+    // uninstall or upgrade deletes the executable as soon as it does (a
+    // process still tearing down keeps it in use; Wine's msiexec showed it).
+    rt.shutdown_timeout(Duration::from_secs(2));
     let (exit, id, what) = match (&result, stop_requested.load(Ordering::SeqCst)) {
         (Ok(()), true) => (
             ServiceExitCode::NO_ERROR,
