@@ -1227,48 +1227,39 @@ async fn requests_are_on_record_when_the_client_leaves_or_sends_a_form() {
         "the motion runs on: {j}"
     );
 
+    // A body of some content type, and the newest audit record of it.
+    let put_speed = |content_type: &'static str, body: &'static str| {
+        let t = &t;
+        async move {
+            let r = t
+                .http
+                .put(t.url("/api/v1/speed"))
+                .header("content-type", content_type)
+                .body(body)
+                .send()
+                .await
+                .expect("request");
+            let (_, records) = t.get("/api/v1/audit?path=/api/v1/speed").await;
+            (r.status().as_u16(), records[0].clone())
+        }
+    };
     // `curl -d '{"override_percent": 50}'` (a form, by curl's default).
-    let r = t
-        .http
-        .put(t.url("/api/v1/speed"))
-        .header("content-type", "application/x-www-form-urlencoded")
-        .body(r#"{"override_percent": 50}"#)
-        .send()
-        .await
-        .expect("request");
-    assert_eq!(r.status().as_u16(), 415);
-    let (_, records) = t.get("/api/v1/audit?path=/api/v1/speed").await;
+    let form = r#"{"override_percent": 50}"#;
+    let (status, record) = put_speed("application/x-www-form-urlencoded", form).await;
+    assert_eq!(status, 415);
     assert_eq!(
-        records[0]["params"]["body"],
+        record["params"]["body"],
         json!({"override_percent": 50}),
-        "{records}"
+        "{record}"
     );
-    let r = t
-        .http
-        .put(t.url("/api/v1/speed"))
-        .header("content-type", "text/plain")
-        .body("not json")
-        .send()
-        .await
-        .expect("request");
-    assert_eq!(r.status().as_u16(), 415);
-    let (_, records) = t.get("/api/v1/audit?path=/api/v1/speed").await;
-    assert_eq!(records[0]["params"]["body_text"], "not json", "{records}");
+    let (status, record) = put_speed("text/plain", "not json").await;
+    assert_eq!(status, 415);
+    assert_eq!(record["params"]["body_text"], "not json", "{record}");
     // Broken JSON is kept as text: the record shows what was sent.
-    let r = t
-        .http
-        .put(t.url("/api/v1/speed"))
-        .header("content-type", "application/json")
-        .body(r#"{"override_percent":"#)
-        .send()
-        .await
-        .expect("request");
-    assert_eq!(r.status().as_u16(), 422);
-    let (_, records) = t.get("/api/v1/audit?path=/api/v1/speed").await;
-    assert_eq!(
-        records[0]["params"]["body_text"], r#"{"override_percent":"#,
-        "{records}"
-    );
-    assert_eq!(records[0]["code"], "invalid_input", "{records}");
+    let broken = r#"{"override_percent":"#;
+    let (status, record) = put_speed("application/json", broken).await;
+    assert_eq!(status, 422);
+    assert_eq!(record["params"]["body_text"], broken, "{record}");
+    assert_eq!(record["code"], "invalid_input", "{record}");
     t.service.shutdown().await.expect("shutdown");
 }

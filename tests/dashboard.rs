@@ -26,6 +26,23 @@ async fn open(browser: &Browser, t: &TestService) {
         .await;
 }
 
+/// Starts a slow motion (A1 to 160° at 5 %, time scale 1) without waiting
+/// and waits until the page shows it executing; its job id.
+async fn slow_job_on_page(browser: &Browser, t: &TestService) -> u64 {
+    let slow = json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 160}, "velocity_pct": 5}], "wait": false});
+    let (s, job) = t.post_json("/api/v1/motions", &slow).await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("job id");
+    browser
+        .wait_js(
+            &format!("window.dashboard.jobs.get({id})?.state === 'executing'"),
+            WAIT,
+            "the page to show the slow job executing",
+        )
+        .await;
+    id
+}
+
 fn smiley() -> Value {
     serde_json::from_str(include_str!("../docs/smiley.json")).expect("docs/smiley.json is JSON")
 }
@@ -301,17 +318,7 @@ async fn stop_on_the_page_cancels_the_running_job() {
     })
     .await;
     open(&browser, &t).await;
-    let slow = json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 160}, "velocity_pct": 5}], "wait": false});
-    let (s, job) = t.post_json("/api/v1/motions", &slow).await;
-    assert_eq!(s, 202, "{job}");
-    let id = job["id"].as_u64().expect("job id");
-    browser
-        .wait_js(
-            &format!("window.dashboard.jobs.get({id})?.state === 'executing'"),
-            WAIT,
-            "the page to show the slow job executing",
-        )
-        .await;
+    let id = slow_job_on_page(&browser, &t).await;
     browser
         .wait_js(
             &format!(
@@ -909,17 +916,7 @@ async fn the_page_resyncs_after_a_service_restart() {
     .await;
     open(&browser, &t).await;
     // A slow job running when the service goes away.
-    let slow = json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 160}, "velocity_pct": 5}], "wait": false});
-    let (s, job) = t.post_json("/api/v1/motions", &slow).await;
-    assert_eq!(s, 202, "{job}");
-    let id = job["id"].as_u64().expect("id");
-    browser
-        .wait_js(
-            &format!("window.dashboard.jobs.get({id})?.state === 'executing'"),
-            WAIT,
-            "the job executing on the page",
-        )
-        .await;
+    slow_job_on_page(&browser, &t).await;
     let TestService {
         service,
         dirs,

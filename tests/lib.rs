@@ -120,6 +120,15 @@ impl TestService {
         panic!("connection never became {want}");
     }
 
+    /// A request with no body, answered as is (status, headers, body).
+    pub async fn request(&self, method: reqwest::Method, path: &str) -> reqwest::Response {
+        self.http
+            .request(method, self.url(path))
+            .send()
+            .await
+            .expect("request")
+    }
+
     /// GET → (status, JSON).
     pub async fn get(&self, path: &str) -> (u16, Value) {
         let r = self.http.get(self.url(path)).send().await.expect("request");

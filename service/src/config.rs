@@ -931,12 +931,16 @@ mod tests {
     fn errors_name_file_and_key() {
         let dir = tempfile::tempdir().expect("tempdir");
         let p = dir.path().join("c.toml");
-        std::fs::write(&p, "[channel]\npoll_interval_ms = 0\n").expect("write");
-        let err = Config::load(&p)
-            .expect("parses")
-            .validate()
-            .expect_err("invalid");
-        let text = err.to_string();
+        // The text of the error a file's validation gives.
+        let invalid = |toml: &str| {
+            std::fs::write(&p, toml).expect("write");
+            Config::load(&p)
+                .expect("parses")
+                .validate()
+                .expect_err("invalid")
+                .to_string()
+        };
+        let text = invalid("[channel]\npoll_interval_ms = 0\n");
         assert!(
             text.contains("c.toml") && text.contains("channel.poll_interval_ms"),
             "{text}"
@@ -947,22 +951,12 @@ mod tests {
             text.contains("c.toml") && text.contains("pol_interval_ms"),
             "{text}"
         );
-        std::fs::write(&p, "[robot]\nmodel = \"kr99\"\n").expect("write");
-        let text = Config::load(&p)
-            .expect("parses")
-            .validate()
-            .expect_err("bad model")
-            .to_string();
+        let text = invalid("[robot]\nmodel = \"kr99\"\n");
         assert!(
             text.contains("robot.model") && text.contains("kr3_r540"),
             "{text}"
         );
-        std::fs::write(&p, "[channel]\nanswer_spin_us = 20000\n").expect("write");
-        let text = Config::load(&p)
-            .expect("parses")
-            .validate()
-            .expect_err("spin too long")
-            .to_string();
+        let text = invalid("[channel]\nanswer_spin_us = 20000\n");
         assert!(
             text.contains("channel.answer_spin_us") && text.contains("10000"),
             "{text}"

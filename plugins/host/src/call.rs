@@ -3,7 +3,6 @@
 //! allowance), the call, and the check of what came back.
 
 use std::sync::Arc;
-use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use wasmtime::{Store, UpdateDeadline};
@@ -11,7 +10,7 @@ use wasmtime::{Store, UpdateDeadline};
 use crate::bindings::{BridgePluginPre, Description, Request, Response};
 use crate::error::{PluginError, Symptoms, classify};
 use crate::imports::{BridgeApi, CallContext, RequestState};
-use crate::runtime::{MAX_DEFERRED_DROPS, Runtime};
+use crate::runtime::Runtime;
 use crate::{LoadedPlugin, PluginLimits};
 
 /// CPU budget of `describe()` at load time.
@@ -136,19 +135,18 @@ pub(crate) async fn handle(
 /// returning its memory and tables to the pool (resetting the pages the
 /// guest touched) is work the client need not wait for (≈ 9 µs per request
 /// on the 2-vCPU machine, `tests/benches/plugins.rs`). At most
-/// [`MAX_DEFERRED_DROPS`] wait; beyond that a store is dropped here, so a
+/// [`crate::runtime::MAX_DEFERRED_DROPS`] wait; beyond that a store is dropped here, so a
 /// burst of requests cannot pile up unreleased pool slots.
 fn drop_later(runtime: &Runtime, store: Store<RequestState>) {
-    let pending = runtime.deferred_drops.clone();
-    if pending.fetch_add(1, Ordering::AcqRel) >= MAX_DEFERRED_DROPS {
-        pending.fetch_sub(1, Ordering::AcqRel);
-        drop(store);
-        return;
+    match runtime.deferred_drops.take() {
+        Some(place) => {
+            tokio::spawn(async move {
+                drop(store);
+                drop(place);
+            });
+        }
+        None => drop(store),
     }
-    tokio::spawn(async move {
-        drop(store);
-        pending.fetch_sub(1, Ordering::AcqRel);
-    });
 }
 
 /// A response must have an HTTP status a handler may send and a JSON body.

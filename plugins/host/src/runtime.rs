@@ -4,7 +4,7 @@
 //! an empty WASI.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Duration;
 
 use wasmtime::component::{Component, HasSelf, Linker};
@@ -67,15 +67,40 @@ pub(crate) struct Runtime {
     linker: Linker<RequestState>,
     ticker_stop: Arc<AtomicBool>,
     /// Stores waiting to be dropped (at most [`MAX_DEFERRED_DROPS`]).
-    pub(crate) deferred_drops: Arc<AtomicUsize>,
+    pub(crate) deferred_drops: Places,
     /// Requests running (at most [`MAX_CONCURRENT_REQUESTS`]).
-    running: AtomicU32,
+    running: Places,
 }
 
-/// A running request's place; given back on drop.
-pub(crate) struct Running<'a>(&'a AtomicU32);
+/// A bounded number of places, taken without waiting.
+#[derive(Clone)]
+pub(crate) struct Places {
+    taken: Arc<AtomicUsize>,
+    max: usize,
+}
 
-impl Drop for Running<'_> {
+impl Places {
+    fn new(max: usize) -> Places {
+        Places {
+            taken: Arc::default(),
+            max,
+        }
+    }
+
+    /// A place, or None when all are taken.
+    pub(crate) fn take(&self) -> Option<Place> {
+        if self.taken.fetch_add(1, Ordering::AcqRel) >= self.max {
+            self.taken.fetch_sub(1, Ordering::AcqRel);
+            return None;
+        }
+        Some(Place(self.taken.clone()))
+    }
+}
+
+/// A taken place; given back on drop.
+pub(crate) struct Place(Arc<AtomicUsize>);
+
+impl Drop for Place {
     fn drop(&mut self) {
         self.0.fetch_sub(1, Ordering::AcqRel);
     }
@@ -113,18 +138,16 @@ impl Runtime {
             engine,
             linker,
             ticker_stop,
-            deferred_drops: Arc::default(),
-            running: AtomicU32::new(0),
+            deferred_drops: Places::new(MAX_DEFERRED_DROPS),
+            running: Places::new(MAX_CONCURRENT_REQUESTS as usize),
         })
     }
 
     /// A place for one more request, unless [`MAX_CONCURRENT_REQUESTS`] run.
-    pub(crate) fn admit(&self) -> Result<Running<'_>, PluginError> {
-        if self.running.fetch_add(1, Ordering::AcqRel) >= MAX_CONCURRENT_REQUESTS {
-            self.running.fetch_sub(1, Ordering::AcqRel);
-            return Err(PluginError::Busy(MAX_CONCURRENT_REQUESTS));
-        }
-        Ok(Running(&self.running))
+    pub(crate) fn admit(&self) -> Result<Place, PluginError> {
+        self.running
+            .take()
+            .ok_or(PluginError::Busy(MAX_CONCURRENT_REQUESTS))
     }
 
     pub(crate) fn engine(&self) -> &Engine {

@@ -187,14 +187,29 @@ fn read(dir: &Path, q: &AuditQuery) -> std::io::Result<Vec<AuditRecord>> {
 /// Largest body recorded with its content (bigger ones by size only).
 pub const MAX_RECORDED_BODY: usize = 16 * 1024;
 
+/// A media type without its parameters, in lower case.
+fn essence(content_type: &str) -> String {
+    content_type
+        .split(';')
+        .next()
+        .unwrap_or_default()
+        .trim()
+        .to_ascii_lowercase()
+}
+
+/// True for `application/json` and `application/<anything>+json`, in any
+/// letter case and with parameters (what axum's JSON extractor accepts).
+pub fn is_json(content_type: &str) -> bool {
+    let essence = essence(content_type);
+    essence == "application/json"
+        || (essence.starts_with("application/") && essence.ends_with("+json"))
+}
+
 /// Bodies of this media type are recorded as text when they are not JSON:
 /// forms (what `curl -d` sends without a content type) and `text/*`.
 pub fn is_text(content_type: &str) -> bool {
-    let essence = content_type.split(';').next().unwrap_or_default().trim();
-    essence.eq_ignore_ascii_case("application/x-www-form-urlencoded")
-        || essence
-            .get(..5)
-            .is_some_and(|t| t.eq_ignore_ascii_case("text/"))
+    let essence = essence(content_type);
+    essence == "application/x-www-form-urlencoded" || essence.starts_with("text/")
 }
 
 /// Parameters for the record: the query string without secrets, and the
@@ -225,8 +240,7 @@ pub fn params(
             .then(|| serde_json::from_slice::<serde_json::Value>(body).ok())
             .flatten();
         // Text-like types, and JSON that does not parse (kept for the record).
-        let texty =
-            content_type.is_none_or(|c| is_text(c) || c.to_ascii_lowercase().contains("json"));
+        let texty = content_type.is_none_or(|c| is_text(c) || is_json(c));
         let text = (small && texty)
             .then(|| std::str::from_utf8(body).ok())
             .flatten();

@@ -423,21 +423,8 @@ async fn refused(
     resp
 }
 
-/// Reads a JSON body (to record it) and puts it back; other bodies are
-/// passed on untouched and recorded by size.
-/// True for `application/json` and `application/<anything>+json`, in any
-/// letter case and with parameters (what axum's JSON extractor accepts).
-fn is_json(content_type: &str) -> bool {
-    let essence = content_type
-        .split(';')
-        .next()
-        .unwrap_or_default()
-        .trim()
-        .to_ascii_lowercase();
-    essence == "application/json"
-        || (essence.starts_with("application/") && essence.ends_with("+json"))
-}
-
+/// Reads a JSON body, or a small form or text one, to record it and puts
+/// it back; other bodies are passed on untouched and recorded by size.
 async fn audit_params(
     req: Request,
     body_time: Duration,
@@ -453,7 +440,7 @@ async fn audit_params(
         .and_then(|v| v.to_str().ok())
         .and_then(|v| v.parse::<u64>().ok());
     let query = req.uri().query().map(str::to_string);
-    let json = content_type.as_deref().is_some_and(is_json);
+    let json = content_type.as_deref().is_some_and(audit::is_json);
     // `curl -d` without a content type sends a form: a plugin reads it as
     // its JSON text anyway, so small ones are recorded too.
     let small_text = content_type.as_deref().is_none_or(audit::is_text)
