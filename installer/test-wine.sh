@@ -232,6 +232,14 @@ check "sequence: InstallServices < ConfigureService < StartServices" bash -c "
     msiinfo export '$msi' InstallExecuteSequence | tr -d '\r' | awk -F'\t' '
         \$1==\"InstallServices\"{a=\$3} \$1==\"ConfigureService\"{b=\$3} \$1==\"StartServices\"{c=\$3}
         END{exit !(a<b && b<c)}'"
+check "CustomAction: 'service stop --from-msi' and 'service uninstall --from-msi', deferred, no-impersonate, never failing (3154)" bash -c "
+    msiinfo export '$msi' CustomAction | tr -d '\r' | grep -q \$'^WaitForServiceExit\t3154\tkuka_bridge.exe\tservice stop --from-msi' &&
+    msiinfo export '$msi' CustomAction | tr -d '\r' | grep -q \$'^UnconfigureService\t3154\tkuka_bridge.exe\tservice uninstall --from-msi'"
+check "sequence: InstallInitialize < StopServices < WaitForServiceExit < UnconfigureService < RemoveFiles" bash -c "
+    msiinfo export '$msi' InstallExecuteSequence | tr -d '\r' | awk -F'\t' '
+        {s[\$1]=\$3}
+        END{exit !(s[\"InstallInitialize\"]<s[\"StopServices\"] && s[\"StopServices\"]<s[\"WaitForServiceExit\"] &&
+                   s[\"WaitForServiceExit\"]<s[\"UnconfigureService\"] && s[\"UnconfigureService\"]<s[\"RemoveFiles\"])}'"
 check "Upgrade: fixed UpgradeCode, RemoveExistingProducts after InstallValidate" bash -c "
     msiinfo export '$msi' Upgrade | grep -q '5B0E7E53-8C39-4F0B-9F6E-2E7A4C1D9B21' &&
     msiinfo export '$msi' InstallExecuteSequence | grep -q '^RemoveExistingProducts	.*	1401'"
@@ -487,6 +495,11 @@ timeout 300 wine msiexec /x "$(winpath "$msi")" /qn /l*v "$(winpath "$logs/msi-u
 rc=$?
 if [ "$rc" = 0 ]; then pass "msiexec /x exit 0"; else
     fail "msiexec /x exit $rc (see $logs/msi-uninstall.log)"; fi
+# The script (after "InstallFinalize" starts) is what really runs, in order.
+check "uninstall script: StopServices, then WaitForServiceExit, then RemoveFiles" bash -c "
+    tr -d '\r' <'$logs/msi-uninstall.log' | sed -n '/^Action start .*InstallFinalize/,\$p' |
+    sed -n 's/^Action start [0-9:]*: \(StopServices\|WaitForServiceExit\|RemoveFiles\)\.\$/\1/p' | paste -sd' ' |
+    grep -qx 'StopServices WaitForServiceExit RemoveFiles'"
 
 phase "nothing left"
 check "service gone (sc query)" bash -c "! timeout 60 wine sc query kuka-bridge 2>/dev/null | grep -q SERVICE_NAME"

@@ -68,8 +68,13 @@ enum ServiceCmd {
     },
     /// Start the service.
     Start,
-    /// Stop the service (waits until it has stopped).
-    Stop,
+    /// Stop the service (waits until its process has exited).
+    Stop {
+        /// Called by the MSI before it removes or replaces the executable:
+        /// wait until no process runs it; never fails.
+        #[arg(long)]
+        from_msi: bool,
+    },
     /// Show the service's state, exit codes, config and log folder.
     Status,
     /// The service entry (started by the service manager, not by hand).
@@ -547,7 +552,8 @@ fn service_command(
                 }
                 ServiceCmd::Uninstall { purge, from_msi } => manage::uninstall(purge, from_msi)?,
                 ServiceCmd::Start => manage::start()?,
-                ServiceCmd::Stop => manage::stop()?,
+                ServiceCmd::Stop { from_msi: false } => manage::stop()?,
+                ServiceCmd::Stop { from_msi: true } => manage::stop_for_msi()?,
                 ServiceCmd::Status => manage::status()?,
                 ServiceCmd::Run { .. } => {}
             }

@@ -4,7 +4,7 @@
 //! file registered for the source is `EventCreate.exe`, whose messages are
 //! the text itself (ids 1–1000), so the entries read as the log lines do.
 //!
-//! This is the one module that calls the Win32 API directly.
+//! Like [`super::process`], it calls the Win32 API directly.
 #![allow(unsafe_code)]
 
 use std::fmt::Write as _;

@@ -317,14 +317,50 @@ pub fn start() -> Result<()> {
     start_service(&open(ServiceAccess::QUERY_STATUS | ServiceAccess::START)?)
 }
 
-/// Stops the service and waits until it has stopped.
+/// How long a stop may take before the CLI or the MSI gives up waiting:
+/// the service's own shutdown budget is a few seconds.
+const STOP_WAIT: Duration = Duration::from_secs(60);
+
+/// Stops the service and waits until its process has exited, so its
+/// executable can be replaced or deleted at once.
 pub fn stop() -> Result<()> {
     let service = open(ServiceAccess::QUERY_STATUS | ServiceAccess::STOP)?;
-    if service.query_status()?.current_state != ServiceState::Stopped {
+    let status = service.query_status()?;
+    if status.current_state != ServiceState::Stopped {
         service.stop().context("cannot stop the service")?;
-        wait_for(&service, ServiceState::Stopped, Duration::from_secs(120))?;
+        wait_for(&service, ServiceState::Stopped, STOP_WAIT)?;
+    }
+    let left = super::process::wait_exited(status.process_id.as_slice(), STOP_WAIT);
+    if !left.is_empty() {
+        anyhow::bail!("the service reports STOPPED but its process {left:?} is still running");
     }
     println!("service {SERVICE_NAME}: stopped");
+    Ok(())
+}
+
+/// The MSI's step before it deletes or overwrites `kuka-bridge.exe`
+/// (uninstall, upgrade, repair): its StopServices has asked the service to
+/// stop; wait until no process runs this executable any more. Never fails
+/// the installation: what is still running is reported and the MSI goes on.
+pub fn stop_for_msi() -> Result<()> {
+    if let Ok(service) = open(ServiceAccess::QUERY_STATUS | ServiceAccess::STOP)
+        && service
+            .query_status()
+            .is_ok_and(|s| s.current_state == ServiceState::Running)
+    {
+        let _ = service.stop();
+    }
+    let exe = std::env::current_exe().context("cannot locate this executable")?;
+    let running = super::process::running_image(&exe);
+    let left = super::process::wait_exited(&running, STOP_WAIT);
+    if left.is_empty() {
+        println!("no process runs {} any more", exe.display());
+    } else {
+        println!(
+            "still running {} after {STOP_WAIT:?}: {left:?}",
+            exe.display()
+        );
+    }
     Ok(())
 }
 

@@ -1,12 +1,14 @@
 //! The Windows shell of the binary (compiled on Windows only): the service
 //! entry the service manager starts ([`service`]), `kuka-bridge service
-//! install | uninstall | start | stop | status` ([`manage`]) and the Event
-//! Log layer ([`eventlog`]). Everything else is the same code as console
+//! install | uninstall | start | stop | status` ([`manage`]), waiting for
+//! the service's process to exit ([`process`]) and the Event Log layer
+//! ([`eventlog`]). Everything else is the same code as console
 //! mode: the service calls [`crate::app::run`] with the stop request as its
 //! shutdown signal. This module is the binary's edge, like `cli`.
 
 pub mod eventlog;
 pub mod manage;
+pub mod process;
 pub mod service;
 
 use std::path::PathBuf;
