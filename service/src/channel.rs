@@ -5,7 +5,7 @@
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
-use kuka_protocol::files::{self, ReadError, WriteError};
+use kuka_protocol::files::{self, ReadError, ReplacedFile, WriteError};
 use kuka_protocol::{
     COMMAND_FILE, Cid, CommandFile, DecodeError, RESULT_FILE, ResultFile, STATE_FILE, StateFile,
 };
@@ -48,6 +48,8 @@ pub enum ReadOutcome<T> {
     Missing,
     /// Held by another process.
     Locked,
+    /// The same version as read last time (not read again).
+    Unchanged,
     /// Half-written or corrupt: read again later.
     Invalid(DecodeError),
     /// Other I/O failure.
@@ -80,10 +82,12 @@ impl Changed {
 }
 
 /// The channel directory as the service sees it.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct Channel {
     dir: PathBuf,
-    tag: String,
+    command: ReplacedFile,
+    /// The result file's version at the last read.
+    results_read: Option<FileStamp>,
 }
 
 impl Channel {
@@ -94,9 +98,11 @@ impl Channel {
             path: dir.display().to_string(),
             source,
         })?;
+        let tag = format!("svc{}", std::process::id());
         Ok(Channel {
             dir: dir.to_path_buf(),
-            tag: format!("svc{}", std::process::id()),
+            command: ReplacedFile::new(dir, COMMAND_FILE, &tag),
+            results_read: None,
         })
     }
 
@@ -106,9 +112,9 @@ impl Channel {
     }
 
     /// One attempt to write the command file atomically.
-    pub fn write_command(&self, cmd: &CommandFile) -> Result<(), ChannelError> {
+    pub fn write_command(&mut self, cmd: &CommandFile) -> Result<(), ChannelError> {
         let text = cmd.encode()?;
-        files::atomic_write(&self.dir, COMMAND_FILE, &self.tag, &text)?;
+        self.command.write(text.as_bytes())?;
         Ok(())
     }
 
@@ -130,7 +136,7 @@ impl Channel {
 
     /// True while another process holds the command file locked.
     pub fn command_locked(&self) -> bool {
-        files::is_locked(&self.dir, COMMAND_FILE)
+        self.command.is_locked()
     }
 
     /// What identifies the result file's current version, without opening
@@ -149,8 +155,19 @@ impl Channel {
         })
     }
 
-    /// Reads the result file.
-    pub fn read_results(&self) -> ReadOutcome<ResultFile> {
+    /// Reads the result file; unless `always`, only if its stamp differs
+    /// from the last read's. The watcher's event for a result the engine's
+    /// busy wait has already read then costs a `stat`, not an open (which
+    /// would wake every watcher again). The periodic poll reads `always`,
+    /// so a change the stamp cannot tell is still seen.
+    pub fn read_results(&mut self, always: bool) -> ReadOutcome<ResultFile> {
+        let stamp = self.results_stamp();
+        if !always && stamp.is_some() && stamp == self.results_read {
+            return ReadOutcome::Unchanged;
+        }
+        // Taken before the read: a newer file read meanwhile is read again
+        // at its own event, never missed.
+        self.results_read = stamp;
         self.read(RESULT_FILE, ResultFile::decode)
     }
 

@@ -166,6 +166,11 @@ pub struct ChannelConfig {
     /// waits for file events: a quick answer arrives without two thread
     /// wake-ups. 0 turns it off (saves that CPU on a busy controller PC).
     pub answer_spin_us: u64,
+    /// After a command's answer, how long (µs) the engine watches its queue
+    /// in a busy loop before it sleeps: the next request of a client that
+    /// sends one command after the other is then taken without a thread
+    /// wake-up. 0 turns it off.
+    pub request_spin_us: u64,
 }
 
 /// Which robot the checks use.
@@ -383,6 +388,7 @@ impl Default for ChannelConfig {
             command_timeout_ms: 60_000,
             lock_timeout_ms: 2000,
             answer_spin_us: 300,
+            request_spin_us: 250,
         }
     }
 }
@@ -466,6 +472,10 @@ impl ChannelConfig {
     /// Busy-wait for a quick answer.
     pub fn answer_spin(&self) -> Duration {
         Duration::from_micros(self.answer_spin_us)
+    }
+    /// Busy-wait for the next request after an answer.
+    pub fn request_spin(&self) -> Duration {
+        Duration::from_micros(self.request_spin_us)
     }
     /// Poll period.
     pub fn poll_interval(&self) -> Duration {
@@ -626,14 +636,18 @@ impl Config {
                 return Err(self.invalid(key, format!("{v} is below the minimum {min}")));
             }
         }
-        if c.answer_spin_us > 10_000 {
-            return Err(self.invalid(
-                "channel.answer_spin_us",
-                format!(
-                    "{} is above the maximum 10000 (a busy loop longer than 10 ms wastes a core)",
-                    c.answer_spin_us
-                ),
-            ));
+        for (key, v) in [
+            ("channel.answer_spin_us", c.answer_spin_us),
+            ("channel.request_spin_us", c.request_spin_us),
+        ] {
+            if v > 10_000 {
+                return Err(self.invalid(
+                    key,
+                    format!(
+                        "{v} is above the maximum 10000 (a busy loop longer than 10 ms wastes a core)"
+                    ),
+                ));
+            }
         }
         for (name, l) in &self.plugins.limits {
             let key = "plugins.limits";
@@ -956,11 +970,13 @@ mod tests {
             text.contains("robot.model") && text.contains("kr3_r540"),
             "{text}"
         );
-        let text = invalid("[channel]\nanswer_spin_us = 20000\n");
-        assert!(
-            text.contains("channel.answer_spin_us") && text.contains("10000"),
-            "{text}"
-        );
+        for key in ["answer_spin_us", "request_spin_us"] {
+            let text = invalid(&format!("[channel]\n{key} = 20000\n"));
+            assert!(
+                text.contains(&format!("channel.{key}")) && text.contains("10000"),
+                "{text}"
+            );
+        }
     }
 }
 

@@ -11,7 +11,7 @@
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, ErrorKind, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Why a write did not happen.
 #[derive(Debug, thiserror::Error)]
@@ -81,63 +81,135 @@ pub fn atomic_write_bytes(
     tag: &str,
     bytes: &[u8],
 ) -> Result<(), WriteError> {
-    let target = dir.join(name);
-    let display = || target.display().to_string();
-    // Honour a lock held on the current file (see the module doc).
-    match File::open(&target) {
-        Ok(f) => match f.try_lock() {
-            Ok(()) => drop(f),
-            Err(fs::TryLockError::WouldBlock) => {
-                return Err(WriteError::Locked { path: display() });
-            }
-            Err(fs::TryLockError::Error(e)) if is_lock_error(&e) => {
-                return Err(WriteError::Locked { path: display() });
-            }
-            Err(fs::TryLockError::Error(_)) => {}
-        },
-        Err(e) if is_lock_error(&e) => return Err(WriteError::Locked { path: display() }),
-        Err(_) => {}
+    ReplacedFile::new(dir, name, tag).write(bytes)
+}
+
+/// A file that one writer replaces atomically again and again (the command
+/// file for the service; the result and state files for the controller).
+///
+/// Before each write the lock of the current file is checked (see the
+/// module doc). On Unix the writer keeps the file it last put in place
+/// open and checks that one, as long as it is still the current file: an
+/// open in the channel directory would raise an event that wakes every
+/// watcher of the directory, twice per command round trip otherwise.
+#[derive(Debug)]
+pub struct ReplacedFile {
+    target: PathBuf,
+    tmp_dir: PathBuf,
+    tmp: PathBuf,
+    /// The file this writer last renamed into place (Unix only).
+    last: Option<File>,
+}
+
+impl ReplacedFile {
+    /// The writer of `dir/name`; `tag` keeps temp files of different
+    /// writers apart.
+    pub fn new(dir: &Path, name: &str, tag: &str) -> Self {
+        let tmp_dir = dir.join(TEMP_DIR);
+        ReplacedFile {
+            target: dir.join(name),
+            tmp: tmp_dir.join(format!("{name}.{tag}.tmp")),
+            tmp_dir,
+            last: None,
+        }
     }
-    // The temp file lives in a subdirectory: watchers of the channel
-    // directory (non-recursive) then see one rename per write instead of
-    // create/open/modify/close/rename events for the temp file as well.
-    let tmp_dir = dir.join(TEMP_DIR);
-    let tmp = tmp_dir.join(format!("{name}.{tag}.tmp"));
-    let write = || -> io::Result<()> {
-        let open = || {
-            OpenOptions::new()
-                .write(true)
-                .create(true)
-                .truncate(true)
-                .open(&tmp)
+
+    /// True if another process holds the file locked right now; a missing
+    /// file is not locked.
+    pub fn is_locked(&self) -> bool {
+        if let Some(last) = self.last.as_ref().filter(|f| is_current(f, &self.target)) {
+            return lock_held(last);
+        }
+        match File::open(&self.target) {
+            Ok(f) => lock_held(&f),
+            Err(e) => is_lock_error(&e),
+        }
+    }
+
+    /// Replaces the file with `bytes`: writes the temp file in
+    /// `.kb-tmp/`, then renames it over the target, unless the target is
+    /// locked.
+    pub fn write(&mut self, bytes: &[u8]) -> Result<(), WriteError> {
+        let display = || self.target.display().to_string();
+        if self.is_locked() {
+            return Err(WriteError::Locked { path: display() });
+        }
+        // The temp file lives in a subdirectory: watchers of the channel
+        // directory (non-recursive) then see one rename per write instead of
+        // create/open/modify/close/rename events for the temp file as well.
+        let write = || -> io::Result<File> {
+            let open = || {
+                OpenOptions::new()
+                    .write(true)
+                    .create(true)
+                    .truncate(true)
+                    .open(&self.tmp)
+            };
+            let mut f = match open() {
+                Err(e) if e.kind() == ErrorKind::NotFound => {
+                    fs::create_dir_all(&self.tmp_dir)?;
+                    open()?
+                }
+                other => other?,
+            };
+            f.write_all(bytes)?;
+            Ok(f)
         };
-        let mut f = match open() {
-            Err(e) if e.kind() == ErrorKind::NotFound => {
-                fs::create_dir_all(&tmp_dir)?;
-                open()?
+        let written = write().map_err(|source| WriteError::Io {
+            path: self.tmp.display().to_string(),
+            source,
+        })?;
+        // Windows: nothing of ours may hold the file when it is renamed.
+        let keep = cfg!(unix).then_some(written);
+        self.last = None;
+        match fs::rename(&self.tmp, &self.target) {
+            Ok(()) => {
+                self.last = keep;
+                Ok(())
             }
-            other => other?,
-        };
-        f.write_all(bytes)?;
-        Ok(())
-    };
-    write().map_err(|source| WriteError::Io {
-        path: tmp.display().to_string(),
-        source,
-    })?;
-    match fs::rename(&tmp, &target) {
-        Ok(()) => Ok(()),
-        Err(e) => {
-            let _ = fs::remove_file(&tmp);
-            if is_lock_error(&e) {
-                Err(WriteError::Locked { path: display() })
-            } else {
-                Err(WriteError::Io {
-                    path: display(),
-                    source: e,
-                })
+            Err(e) => {
+                let _ = fs::remove_file(&self.tmp);
+                if is_lock_error(&e) {
+                    Err(WriteError::Locked { path: display() })
+                } else {
+                    Err(WriteError::Io {
+                        path: display(),
+                        source: e,
+                    })
+                }
             }
         }
+    }
+}
+
+/// True if `f` is still the file at `path` (same device and inode; no
+/// open, so no watcher event). Always false where that cannot be told.
+fn is_current(f: &File, path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (f.metadata(), fs::metadata(path)) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (f, path);
+        false
+    }
+}
+
+/// True if another process holds a lock on the open file `f` (a lock
+/// taken here to find out is released at once).
+fn lock_held(f: &File) -> bool {
+    match f.try_lock() {
+        Ok(()) => {
+            let _ = f.unlock();
+            false
+        }
+        Err(fs::TryLockError::WouldBlock) => true,
+        Err(fs::TryLockError::Error(e)) => is_lock_error(&e),
     }
 }
 
@@ -145,11 +217,7 @@ pub fn atomic_write_bytes(
 /// module doc); a missing file is not locked.
 pub fn is_locked(dir: &Path, name: &str) -> bool {
     match File::open(dir.join(name)) {
-        Ok(f) => match f.try_lock() {
-            Ok(()) => false,
-            Err(fs::TryLockError::WouldBlock) => true,
-            Err(fs::TryLockError::Error(e)) => is_lock_error(&e),
-        },
+        Ok(f) => lock_held(&f),
         Err(e) => is_lock_error(&e),
     }
 }
@@ -167,5 +235,36 @@ pub fn read(dir: &Path, name: &str) -> Result<Option<String>, ReadError> {
             path: path.display().to_string(),
             source,
         }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A lock on the current file stops the next write, whether the file
+    /// is the one this writer put in place or one put there by someone else.
+    #[test]
+    fn a_locked_target_is_never_replaced() {
+        let dir = tempfile::tempdir().expect("dir");
+        let mut w = ReplacedFile::new(dir.path(), "f.txt", "t");
+        w.write(b"one").expect("first write");
+        let path = dir.path().join("f.txt");
+        for round in ["our own file", "a file put there by someone else"] {
+            let holder = File::open(&path).expect("open");
+            holder.lock().expect("lock");
+            assert!(w.is_locked(), "{round}: lock not seen");
+            assert!(
+                matches!(w.write(b"two"), Err(WriteError::Locked { .. })),
+                "{round}: written over a lock"
+            );
+            drop(holder);
+            assert!(!w.is_locked(), "{round}: lock seen after release");
+            w.write(b"two").expect("write after release");
+            assert_eq!(fs::read_to_string(&path).expect("read"), "two");
+            // Next round: the file is replaced behind the writer's back.
+            atomic_write(dir.path(), "f.txt", "other", "one").expect("other writer");
+        }
+        assert!(!is_locked(dir.path(), "missing.txt"));
     }
 }

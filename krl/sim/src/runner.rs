@@ -10,7 +10,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use kuka_kinematics::{Axes, PlanSettings, RobotModel};
-use kuka_protocol::files::{self, WriteError};
+use kuka_protocol::files::{self, ReplacedFile, WriteError};
 use kuka_protocol::{
     COMMAND_FILE, CommandFile, DecodeError, OperatingMode, RESULT_FILE, ResultCode, ResultFile,
     STATE_FILE,
@@ -362,7 +362,8 @@ fn run(runner: &Mutex<Runner>, shared: &Shared, rx: &mpsc::Receiver<()>) {
 struct Runner {
     config: SimConfig,
     shared: Arc<Shared>,
-    tag: String,
+    result_file: ReplacedFile,
+    state_file: ReplacedFile,
     last_text: String,
     pending_results: bool,
     pending_state: bool,
@@ -372,10 +373,12 @@ struct Runner {
 
 impl Runner {
     fn new(config: SimConfig, shared: Arc<Shared>) -> Self {
+        let tag = format!("sim{}", std::process::id());
         Runner {
+            result_file: ReplacedFile::new(&config.channel_dir, RESULT_FILE, &tag),
+            state_file: ReplacedFile::new(&config.channel_dir, STATE_FILE, &tag),
             config,
             shared,
-            tag: format!("sim{}", std::process::id()),
             last_text: String::new(),
             pending_results: false,
             pending_state: true,
@@ -514,15 +517,13 @@ impl Runner {
             .encode()
         };
         match text {
-            Ok(text) => {
-                match files::atomic_write(&self.config.channel_dir, RESULT_FILE, &self.tag, &text) {
-                    Ok(()) => self.pending_results = false,
-                    Err(WriteError::Locked { .. }) => {
-                        tracing::debug!("result file locked; retrying")
-                    }
-                    Err(e) => tracing::warn!(error = %e, "cannot write result file"),
+            Ok(text) => match self.result_file.write(text.as_bytes()) {
+                Ok(()) => self.pending_results = false,
+                Err(WriteError::Locked { .. }) => {
+                    tracing::debug!("result file locked; retrying")
                 }
-            }
+                Err(e) => tracing::warn!(error = %e, "cannot write result file"),
+            },
             Err(e) => {
                 tracing::error!(error = %e, "cannot encode results");
                 self.pending_results = false;
@@ -541,15 +542,13 @@ impl Runner {
         };
         self.next_heartbeat = Instant::now() + self.config.heartbeat;
         match text {
-            Ok(text) => {
-                match files::atomic_write(&self.config.channel_dir, STATE_FILE, &self.tag, &text) {
-                    Ok(()) => self.pending_state = false,
-                    Err(WriteError::Locked { .. }) => {
-                        tracing::debug!("state file locked; retrying")
-                    }
-                    Err(e) => tracing::warn!(error = %e, "cannot write state file"),
+            Ok(text) => match self.state_file.write(text.as_bytes()) {
+                Ok(()) => self.pending_state = false,
+                Err(WriteError::Locked { .. }) => {
+                    tracing::debug!("state file locked; retrying")
                 }
-            }
+                Err(e) => tracing::warn!(error = %e, "cannot write state file"),
+            },
             Err(e) => {
                 tracing::error!(error = %e, "cannot encode state");
                 self.pending_state = false;
