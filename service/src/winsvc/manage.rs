@@ -16,6 +16,7 @@ use windows_service::service_manager::{ServiceManager, ServiceManagerAccess};
 use winreg::RegKey;
 use winreg::enums::{HKEY_LOCAL_MACHINE, KEY_ALL_ACCESS, REG_EXPAND_SZ};
 
+use super::process::{Process, running_image, wait_exited};
 use super::{DESCRIPTION, DISPLAY_NAME, EVENT_SOURCE, SERVICE_NAME, config_path, program_data};
 use crate::config::Config;
 
@@ -326,13 +327,17 @@ const STOP_WAIT: Duration = Duration::from_secs(60);
 pub fn stop() -> Result<()> {
     let service = open(ServiceAccess::QUERY_STATUS | ServiceAccess::STOP)?;
     let status = service.query_status()?;
+    // Held from before the stop: its id cannot go to another process.
+    let process = status.process_id.and_then(Process::open);
     if status.current_state != ServiceState::Stopped {
         service.stop().context("cannot stop the service")?;
         wait_for(&service, ServiceState::Stopped, STOP_WAIT)?;
     }
-    let left = super::process::wait_exited(status.process_id.as_slice(), STOP_WAIT);
-    if !left.is_empty() {
-        anyhow::bail!("the service reports STOPPED but its process {left:?} is still running");
+    if wait_exited(process.as_slice(), STOP_WAIT) > 0 {
+        anyhow::bail!(
+            "the service reports STOPPED but its process {:?} still runs after {STOP_WAIT:?}",
+            status.process_id
+        );
     }
     println!("service {SERVICE_NAME}: stopped");
     Ok(())
@@ -351,15 +356,16 @@ pub fn stop_for_msi() -> Result<()> {
         let _ = service.stop();
     }
     let exe = std::env::current_exe().context("cannot locate this executable")?;
-    let running = super::process::running_image(&exe);
-    let left = super::process::wait_exited(&running, STOP_WAIT);
-    if left.is_empty() {
-        println!("no process runs {} any more", exe.display());
-    } else {
-        println!(
-            "still running {} after {STOP_WAIT:?}: {left:?}",
+    let running: Vec<Process> = running_image(&exe)
+        .into_iter()
+        .filter_map(Process::open)
+        .collect();
+    match wait_exited(&running, STOP_WAIT) {
+        0 => println!("no process runs {} any more", exe.display()),
+        n => println!(
+            "{n} process(es) still run {} after {STOP_WAIT:?}",
             exe.display()
-        );
+        ),
     }
     Ok(())
 }

@@ -90,28 +90,30 @@ fn image_path(pid: u32) -> Option<String> {
     }
 }
 
-/// Waits until every process in `pids` has exited, at most `within`.
-/// Returns those still running then (empty: all gone).
-pub fn wait_exited(pids: &[u32], within: Duration) -> Vec<u32> {
-    let end = Instant::now() + within;
-    let mut left = Vec::new();
-    for &pid in pids {
-        // SAFETY: plain Win32 calls on a handle we own.
-        let still = unsafe {
-            match Owned::new(OpenProcess(PROCESS_SYNCHRONIZE, 0, pid)) {
-                // Already gone (or never ours to wait for).
-                None => false,
-                Some(process) => {
-                    let ms = end.saturating_duration_since(Instant::now()).as_millis();
-                    let ms = u32::try_from(ms).unwrap_or(u32::MAX);
-                    // WAIT_FAILED: nothing left we could wait on.
-                    WaitForSingleObject(process.0, ms) == WAIT_TIMEOUT
-                }
-            }
-        };
-        if still {
-            left.push(pid);
-        }
+/// A process we may wait for, held open so its id cannot be reused for
+/// another process meanwhile.
+pub struct Process(Owned);
+
+impl Process {
+    /// Opens process `pid`; `None` if it is gone (or not ours to wait for).
+    pub fn open(pid: u32) -> Option<Self> {
+        // SAFETY: a plain Win32 call; the handle is owned by the result.
+        Owned::new(unsafe { OpenProcess(PROCESS_SYNCHRONIZE, 0, pid) }).map(Process)
     }
-    left
+}
+
+/// Waits until every process in `processes` has exited, at most `within`
+/// in all. Returns how many still run.
+pub fn wait_exited(processes: &[Process], within: Duration) -> usize {
+    let end = Instant::now() + within;
+    processes
+        .iter()
+        .filter(|p| {
+            let ms = end.saturating_duration_since(Instant::now()).as_millis();
+            let ms = u32::try_from(ms).unwrap_or(u32::MAX);
+            // SAFETY: waiting on a handle we own. WAIT_FAILED: nothing left
+            // to wait on.
+            unsafe { WaitForSingleObject(p.0.0, ms) == WAIT_TIMEOUT }
+        })
+        .count()
 }
