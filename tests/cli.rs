@@ -145,3 +145,26 @@ fn configuration_errors_name_the_file_and_key_and_exit_78() {
         "{out:?}"
     );
 }
+
+/// A reader that stops early (`kuka-bridge openapi | head`) ends the
+/// output quietly: exit 0, no panic on stderr.
+#[test]
+fn a_closed_stdout_is_not_a_crash() {
+    for args in [&["openapi"][..], &["default-config"][..]] {
+        let mut child = Command::new(cli())
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("spawn");
+        // Close the reading end before the child writes.
+        drop(child.stdout.take());
+        let out = child.wait_with_output().expect("wait");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            out.status.success() && !stderr.contains("panicked"),
+            "{args:?}: {:?} {stderr}",
+            out.status
+        );
+    }
+}

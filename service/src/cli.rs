@@ -12,6 +12,26 @@ use anyhow::Context;
 use clap::{Parser, Subcommand};
 
 /// A REST API for KUKA robots over a file protocol.
+/// Prints a line on stdout. A closed stdout (`kuka-bridge run | head`) is
+/// no reason to panic or stop the service: the line is dropped.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+/// Writes a command's whole output on stdout; a reader that stops early
+/// (`| head`) ends it quietly, any other failure is an error.
+fn write_out(text: &str) -> anyhow::Result<()> {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
+    }
+}
+
 #[derive(Debug, Parser)]
 #[command(name = "kuka-bridge", version, about)]
 struct Cli {
@@ -161,7 +181,7 @@ fn token_command(cmd: TokenCmd) -> anyhow::Result<()> {
                 info.name,
                 store.path().display()
             );
-            println!("{secret}");
+            say!("{secret}");
         }
         TokenCmd::List { place } => {
             let store = TokenStore::open(&place.data_dir()?)?;
@@ -170,7 +190,7 @@ fn token_command(cmd: TokenCmd) -> anyhow::Result<()> {
                 eprintln!("no tokens in {}", store.path().display());
             }
             for t in list {
-                println!(
+                say!(
                     "{:<32} {:<8} created {}",
                     t.name,
                     t.role,
@@ -181,7 +201,7 @@ fn token_command(cmd: TokenCmd) -> anyhow::Result<()> {
         TokenCmd::Revoke { name, place } => {
             let store = TokenStore::open(&place.data_dir()?)?;
             let t = store.revoke(&name)?;
-            println!("revoked {} token {:?}", t.role, t.name);
+            say!("revoked {} token {:?}", t.role, t.name);
         }
     }
     Ok(())
@@ -320,29 +340,29 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
                 let service = crate::app::start(config).await?;
                 let stop = shutdown_signal();
                 let url = service.base_url();
-                println!(
+                say!(
                     "kuka-bridge {} listening on {url}",
                     env!("CARGO_PKG_VERSION")
                 );
                 if service.addr.ip().is_unspecified() {
-                    println!("  (all network interfaces: use this PC's name or address instead of {})", service.addr.ip());
+                    say!("  (all network interfaces: use this PC's name or address instead of {})", service.addr.ip());
                 }
-                println!("  Dashboard:    {url}/");
-                println!("  Swagger UI:   {url}/docs/");
-                println!("  OpenAPI:      {url}/openapi.json");
+                say!("  Dashboard:    {url}/");
+                say!("  Swagger UI:   {url}/docs/");
+                say!("  OpenAPI:      {url}/openapi.json");
                 if service.auth {
-                    println!("  Access:       tokens required (kuka-bridge token create --name NAME --role ROLE)");
+                    say!("  Access:       tokens required (kuka-bridge token create --name NAME --role ROLE)");
                 } else {
-                    println!("  Access:       no tokens (loopback only; --require-auth to require them)");
+                    say!("  Access:       no tokens (loopback only; --require-auth to require them)");
                 }
                 if let Some(f) = &service.admin_token_file {
-                    println!(
+                    say!(
                         "  First admin token created: its secret is in {} (readable by administrators only)",
                         f.display()
                     );
                 }
                 if simulated {
-                    println!(
+                    say!(
                         "  Controller:   simulated ({})",
                         service
                             .engine
@@ -351,7 +371,7 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
                             .unwrap_or_else(|| "no model".into())
                     );
                 }
-                println!("Press Ctrl-C to stop.");
+                say!("Press Ctrl-C to stop.");
                 crate::app::run_service(service, stop, std::future::pending()).await
             })?;
             Ok(())
@@ -368,7 +388,7 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
             sc.time_scale = args.time_scale;
             sc.heartbeat = std::time::Duration::from_millis(args.heartbeat_ms.max(1));
             let sim = kuka_sim::SimController::start(sc)?;
-            println!("simulated controller on {}", args.channel_dir.display());
+            say!("simulated controller on {}", args.channel_dir.display());
             let rt = tokio::runtime::Builder::new_current_thread()
                 .enable_all()
                 .build()?;
@@ -381,14 +401,11 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
         #[cfg(windows)]
         Cmd::Service(cmd) => service_command(cmd, log),
         Cmd::Token(cmd) => Ok(token_command(cmd)?),
-        Cmd::DefaultConfig => {
-            print!("{}", toml::to_string_pretty(&Config::default())?);
-            Ok(())
-        }
-        Cmd::Openapi => {
-            println!("{}", serde_json::to_string_pretty(&crate::api::openapi())?);
-            Ok(())
-        }
+        Cmd::DefaultConfig => Ok(write_out(&toml::to_string_pretty(&Config::default())?)?),
+        Cmd::Openapi => Ok(write_out(&format!(
+            "{}\n",
+            serde_json::to_string_pretty(&crate::api::openapi())?
+        ))?),
     }
 }
 

@@ -66,13 +66,16 @@ fn main() {
         .find_map(|a| a.parse().ok())
         .unwrap_or(5000);
     let rt = kuka_bridge_tests::bench::runtime();
+    // Removed when the bench ends (it is not inside the service's data dir).
+    let channel_dir =
+        std::env::var_os("KB_BENCH_DIR").map(|dir| tempfile::tempdir_in(dir).expect("bench dir"));
+    let channel_path = channel_dir.as_ref().map(|d| d.path().to_path_buf());
     rt.block_on(async move {
         let t = TestService::start(Options {
             time_scale: 0.0,
-            tweak: Box::new(|c| {
-                if let Some(dir) = std::env::var_os("KB_BENCH_DIR") {
-                    let dir = tempfile::tempdir_in(dir).expect("bench dir").keep();
-                    c.channel.dir = Some(dir);
+            tweak: Box::new(move |c| {
+                if let Some(dir) = &channel_path {
+                    c.channel.dir = Some(dir.clone());
                 }
                 c.channel.poll_interval_ms = 50;
                 c.simulator.heartbeat_ms = 50;
