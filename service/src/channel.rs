@@ -74,7 +74,8 @@ pub struct Changed {
 }
 
 impl Changed {
-    /// Both files (a poll, or an event the watcher could not attribute).
+    /// Both files (a poll, or an event the watcher could not attribute):
+    /// read whatever their stamps say.
     pub const BOTH: Changed = Changed {
         results: true,
         state: true,
