@@ -527,7 +527,10 @@ async fn misbehaving_plugins_get_their_error_and_the_service_keeps_running() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn sixty_four_requests_run_at_once_and_no_more() {
     let t = TestService::start(Options {
-        tweak: Box::new(|c| c.plugins.cpu_time_ms = 1500),
+        // Long enough that no loop ends before all 70 requests of the
+        // second part are in, even on a loaded CI machine (at 1.5 s two
+        // loops once ended first and let two more in).
+        tweak: Box::new(|c| c.plugins.cpu_time_ms = 4000),
         ..Options::default()
     })
     .await;
