@@ -166,10 +166,14 @@ impl Channel {
         if !always && stamp.is_some() && stamp == self.results_read {
             return ReadOutcome::Unchanged;
         }
+        let outcome = self.read(RESULT_FILE, ResultFile::decode);
         // Taken before the read: a newer file read meanwhile is read again
-        // at its own event, never missed.
-        self.results_read = stamp;
-        self.read(RESULT_FILE, ResultFile::decode)
+        // at its own event, never missed. A file that could not be read
+        // (locked, I/O error) is read again at the next event.
+        if !matches!(outcome, ReadOutcome::Locked | ReadOutcome::Failed(_)) {
+            self.results_read = stamp;
+        }
+        outcome
     }
 
     /// Reads the state file.

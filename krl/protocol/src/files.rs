@@ -213,15 +213,6 @@ fn lock_held(f: &File) -> bool {
     }
 }
 
-/// True if another process holds `dir/name` locked right now (see the
-/// module doc); a missing file is not locked.
-pub fn is_locked(dir: &Path, name: &str) -> bool {
-    match File::open(dir.join(name)) {
-        Ok(f) => lock_held(&f),
-        Err(e) => is_lock_error(&e),
-    }
-}
-
 /// Reads `dir/name`; `Ok(None)` when it does not exist.
 pub fn read(dir: &Path, name: &str) -> Result<Option<String>, ReadError> {
     let path = dir.join(name);
@@ -265,6 +256,6 @@ mod tests {
             // Next round: the file is replaced behind the writer's back.
             atomic_write(dir.path(), "f.txt", "other", "one").expect("other writer");
         }
-        assert!(!is_locked(dir.path(), "missing.txt"));
+        assert!(!ReplacedFile::new(dir.path(), "missing.txt", "t").is_locked());
     }
 }
