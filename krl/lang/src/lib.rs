@@ -24,15 +24,21 @@
 //! Not covered: `GOTO` and labels, `IMPORT`, `ANIN`/`ANOUT`, `ENDFOLD`
 //! outside comments.
 //!
+//! Work is bounded for every input: the lexer is linear, and the parser
+//! refuses expressions and blocks nested beyond the [`limits`] (with the
+//! line and the limit's name) instead of recursing without end.
+//!
 //! Operator precedence follows common practice (comparisons bind tighter
 //! than `AND`/`OR`); KUKA documents the reverse for some versions, so
 //! shipped code puts parentheses around every comparison it combines.
 
 pub mod ast;
 pub mod lexer;
+pub mod limits;
 pub mod parser;
 
 pub use ast::*;
+pub use limits::{MAX_BLOCK_DEPTH, MAX_EXPR_DEPTH, MAX_EXPR_NODES};
 pub use parser::{parse_dat, parse_src};
 
 /// KRL names (variables, routines, types) have at most 24 characters.
@@ -129,15 +135,16 @@ impl Program {
     ) -> Result<Program, ProgramError> {
         let src = parse_src(src).map_err(ProgramError::Src)?;
         let dat = dat.map(parse_dat).transpose().map_err(ProgramError::Dat)?;
-        let mut seen: Vec<&str> = Vec::new();
+        // A set, not a list: a file of many tiny routines must not cost
+        // quadratic time.
+        let mut seen = std::collections::HashSet::new();
         for r in &src.routines {
-            if seen.iter().any(|s| s.eq_ignore_ascii_case(&r.name)) {
+            if !seen.insert(r.name.to_ascii_uppercase()) {
                 return Err(ProgramError::Duplicate {
                     name: r.name.clone(),
                     line: r.line,
                 });
             }
-            seen.push(&r.name);
         }
         let program = Program { src, dat };
         if let (Some(d), Some(first)) = (&program.dat, program.src.routines.first())

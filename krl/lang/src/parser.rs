@@ -3,9 +3,15 @@
 //! It covers the language as KSS 8.x programs use it (see the crate doc for
 //! the list) and is strict where KRL is: one statement per line, block
 //! keywords matched, names at most 24 characters.
+//!
+//! Its recursion is bounded: expressions deeper than
+//! [`MAX_EXPR_DEPTH`], larger than [`MAX_EXPR_NODES`] per statement, and
+//! blocks nested deeper than [`MAX_BLOCK_DEPTH`] are refused with their
+//! line (see [`crate::limits`]).
 
 use crate::ast::*;
 use crate::lexer::{Tok, Token, lex};
+use crate::limits::{MAX_BLOCK_DEPTH, MAX_EXPR_DEPTH, MAX_EXPR_NODES};
 use crate::{MAX_NAME_LEN, SyntaxError};
 
 /// Parses a `.src` (or `.sub`) file.
@@ -69,6 +75,12 @@ pub fn parse_dat(text: &str) -> Result<DatFile, SyntaxError> {
 struct Parser {
     toks: Vec<Token>,
     pos: usize,
+    /// Control blocks open around the current statement.
+    blocks: usize,
+    /// Nested `expr`/unary calls active (the expression parser's recursion).
+    expr_depth: usize,
+    /// Expression nodes built for the current statement.
+    expr_nodes: usize,
 }
 
 fn describe(t: &Tok) -> String {
@@ -113,6 +125,9 @@ impl Parser {
         Ok(Parser {
             toks: lex(text)?,
             pos: 0,
+            blocks: 0,
+            expr_depth: 0,
+            expr_nodes: 0,
         })
     }
 
@@ -303,6 +318,28 @@ impl Parser {
         opener: &str,
         open_line: u32,
     ) -> Result<(Vec<Stmt>, String), SyntaxError> {
+        // A routine's (or the .dat's) own body is not counted.
+        if self.blocks > MAX_BLOCK_DEPTH {
+            return Err(SyntaxError {
+                line: open_line,
+                col: 1,
+                message: format!(
+                    "{opener}: control blocks nested deeper than {MAX_BLOCK_DEPTH} levels (limit MAX_BLOCK_DEPTH)"
+                ),
+            });
+        }
+        self.blocks += 1;
+        let r = self.block_items(ends, opener, open_line);
+        self.blocks -= 1;
+        r
+    }
+
+    fn block_items(
+        &mut self,
+        ends: &[&str],
+        opener: &str,
+        open_line: u32,
+    ) -> Result<(Vec<Stmt>, String), SyntaxError> {
         let mut out = Vec::new();
         loop {
             self.skip_newlines();
@@ -330,10 +367,15 @@ impl Parser {
 
     fn statement(&mut self) -> Result<Stmt, SyntaxError> {
         let line = self.line();
+        self.expr_nodes = 0;
         let kind = self.statement_kind()?;
         Ok(Stmt { line, kind })
     }
 
+    /// Dispatches on the statement's keyword. Every statement with more
+    /// than a few locals has a function of its own: a debug build gives a
+    /// function one stack slot per local of every `match` arm, and this
+    /// function is on the recursion of nested blocks.
     fn statement_kind(&mut self) -> Result<StmtKind, SyntaxError> {
         let line = self.line();
         let word = match self.peek() {
@@ -350,215 +392,21 @@ impl Parser {
                 self.bump();
                 self.decl_rest(false)
             }
-            "GLOBAL" => {
-                self.bump();
-                if self.eat_kw("DECL") {
-                    self.decl_rest(true)
-                } else if self.is_kw("STRUC") || self.is_kw("ENUM") || self.is_kw("INTERRUPT") {
-                    self.statement_kind()
-                } else if self.is_kw("DEF") || self.is_kw("DEFFCT") {
-                    Err(self
-                        .error_here("a routine cannot start inside another routine (missing END?)"))
-                } else {
-                    Err(self.unexpected("DECL, STRUC, ENUM or INTERRUPT after GLOBAL"))
-                }
-            }
+            "GLOBAL" => self.global_decl(),
             w if IMPLICIT_DECL_TYPES.contains(&w) && matches!(self.peek_at(1), Tok::Ident(_)) => {
                 self.decl_rest(false)
             }
-            "STRUC" => {
-                self.bump();
-                let name = self.name()?;
-                let mut fields = Vec::new();
-                let mut ty = self.ident()?;
-                loop {
-                    let fname = self.name()?;
-                    let dims = self.dims()?;
-                    fields.push((ty.clone(), fname, dims));
-                    if !self.eat_sym(",") {
-                        break;
-                    }
-                    if matches!(self.peek(), Tok::Ident(_))
-                        && matches!(self.peek_at(1), Tok::Ident(_))
-                    {
-                        ty = self.ident()?;
-                    }
-                }
-                self.end_of_statement()?;
-                Ok(StmtKind::Struc { name, fields })
-            }
-            "ENUM" => {
-                self.bump();
-                let name = self.name()?;
-                let mut values = vec![self.name()?];
-                while self.eat_sym(",") {
-                    values.push(self.name()?);
-                }
-                self.end_of_statement()?;
-                Ok(StmtKind::Enum { name, values })
-            }
-            "SIGNAL" => {
-                self.bump();
-                let name = self.name()?;
-                self.expr()?;
-                if self.eat_kw("TO") {
-                    self.expr()?;
-                }
-                self.end_of_statement()?;
-                Ok(StmtKind::Signal { name })
-            }
-            "EXT" | "EXTFCT" | "EXTP" | "EXTFCTP" => {
-                self.bump();
-                if word.starts_with("EXTFCT") {
-                    self.ident()?;
-                }
-                let name = self.name()?;
-                self.expect_sym("(")?;
-                let mut depth = 1;
-                while depth > 0 {
-                    match self.bump() {
-                        Tok::Sym("(") => depth += 1,
-                        Tok::Sym(")") => depth -= 1,
-                        Tok::Newline | Tok::Eof => {
-                            return Err(SyntaxError {
-                                line,
-                                col: 1,
-                                message: "`(` not closed on this line".into(),
-                            });
-                        }
-                        _ => {}
-                    }
-                }
-                self.end_of_statement()?;
-                Ok(StmtKind::Ext { name })
-            }
-            "IF" => {
-                self.bump();
-                let cond = self.expr()?;
-                self.expect_kw("THEN")?;
-                self.end_of_statement()?;
-                let (then_body, end) = self.block(&["ELSE", "ENDIF"], "IF", line)?;
-                self.bump();
-                let else_body = if end == "ELSE" {
-                    self.end_of_statement()?;
-                    let (b, _) = self.block(&["ENDIF"], "ELSE", line)?;
-                    self.bump();
-                    b
-                } else {
-                    Vec::new()
-                };
-                self.end_of_statement()?;
-                Ok(StmtKind::If {
-                    cond,
-                    then_body,
-                    else_body,
-                })
-            }
-            "WHILE" => {
-                self.bump();
-                let cond = self.expr()?;
-                self.end_of_statement()?;
-                let (body, _) = self.block(&["ENDWHILE"], "WHILE", line)?;
-                self.bump();
-                self.end_of_statement()?;
-                Ok(StmtKind::While { cond, body })
-            }
-            "FOR" => {
-                self.bump();
-                let var = self.name()?;
-                self.expect_sym("=")?;
-                let from = self.expr()?;
-                self.expect_kw("TO")?;
-                let to = self.expr()?;
-                let step = if self.eat_kw("STEP") {
-                    Some(self.expr()?)
-                } else {
-                    None
-                };
-                self.end_of_statement()?;
-                let (body, _) = self.block(&["ENDFOR"], "FOR", line)?;
-                self.bump();
-                self.end_of_statement()?;
-                Ok(StmtKind::For {
-                    var,
-                    from,
-                    to,
-                    step,
-                    body,
-                })
-            }
-            "LOOP" => {
-                self.bump();
-                self.end_of_statement()?;
-                let (body, _) = self.block(&["ENDLOOP"], "LOOP", line)?;
-                self.bump();
-                self.end_of_statement()?;
-                Ok(StmtKind::Loop { body })
-            }
-            "REPEAT" => {
-                self.bump();
-                self.end_of_statement()?;
-                let (body, _) = self.block(&["UNTIL"], "REPEAT", line)?;
-                self.bump();
-                let until = self.expr()?;
-                self.end_of_statement()?;
-                Ok(StmtKind::Repeat { body, until })
-            }
-            "SWITCH" => {
-                self.bump();
-                let selector = self.expr()?;
-                self.end_of_statement()?;
-                let mut cases = Vec::new();
-                let mut default = None;
-                loop {
-                    self.skip_newlines();
-                    if self.eat_kw("CASE") {
-                        let mut values = vec![self.expr()?];
-                        while self.eat_sym(",") {
-                            values.push(self.expr()?);
-                        }
-                        self.end_of_statement()?;
-                        let (body, _) =
-                            self.block(&["CASE", "DEFAULT", "ENDSWITCH"], "CASE", line)?;
-                        cases.push((values, body));
-                    } else if self.eat_kw("DEFAULT") {
-                        self.end_of_statement()?;
-                        let (body, _) = self.block(&["ENDSWITCH"], "DEFAULT", line)?;
-                        default = Some(body);
-                    } else if self.eat_kw("ENDSWITCH") {
-                        self.end_of_statement()?;
-                        break;
-                    } else if self.at_eof() {
-                        return Err(self.error_here(format!(
-                            "SWITCH on line {line} is not closed: expected ENDSWITCH"
-                        )));
-                    } else {
-                        return Err(self.unexpected("CASE, DEFAULT or ENDSWITCH"));
-                    }
-                }
-                if cases.is_empty() {
-                    return Err(SyntaxError {
-                        line,
-                        col: 1,
-                        message: "SWITCH needs at least one CASE".into(),
-                    });
-                }
-                Ok(StmtKind::Switch {
-                    selector,
-                    cases,
-                    default,
-                })
-            }
-            "RETURN" => {
-                self.bump();
-                let v = if matches!(self.peek(), Tok::Newline | Tok::Eof) {
-                    None
-                } else {
-                    Some(self.expr()?)
-                };
-                self.end_of_statement()?;
-                Ok(StmtKind::Return(v))
-            }
+            "STRUC" => self.struc(),
+            "ENUM" => self.enum_decl(),
+            "SIGNAL" => self.signal(),
+            "EXT" | "EXTFCT" | "EXTP" | "EXTFCTP" => self.ext_decl(line, &word),
+            "IF" => self.if_block(line),
+            "WHILE" => self.while_block(line),
+            "FOR" => self.for_block(line),
+            "LOOP" => self.loop_block(line),
+            "REPEAT" => self.repeat_block(line),
+            "SWITCH" => self.switch_block(line),
+            "RETURN" => self.return_stmt(),
             "EXIT" => simple(StmtKind::Exit, self),
             "HALT" => simple(StmtKind::Halt, self),
             "CONTINUE" => simple(StmtKind::Continue, self),
@@ -570,198 +418,14 @@ impl Parser {
                 self.end_of_statement()?;
                 Ok(StmtKind::Brake)
             }
-            "WAIT" => {
-                self.bump();
-                let k = if self.eat_kw("SEC") {
-                    StmtKind::WaitSec(self.expr()?)
-                } else if self.eat_kw("FOR") {
-                    StmtKind::WaitFor(self.expr()?)
-                } else {
-                    return Err(self.unexpected("SEC or FOR after WAIT"));
-                };
-                self.end_of_statement()?;
-                Ok(k)
-            }
-            "PTP" | "PTP_REL" | "LIN" | "LIN_REL" | "CIRC" | "CIRC_REL" => {
-                self.bump();
-                let kind = match word.as_str() {
-                    "PTP" => MotionKind::Ptp,
-                    "PTP_REL" => MotionKind::PtpRel,
-                    "LIN" => MotionKind::Lin,
-                    "LIN_REL" => MotionKind::LinRel,
-                    "CIRC" => MotionKind::Circ,
-                    _ => MotionKind::CircRel,
-                };
-                let circ = matches!(kind, MotionKind::Circ | MotionKind::CircRel);
-                let first = self.expr()?;
-                let (aux, target) = if circ {
-                    self.expect_sym(",")?;
-                    (Some(first), self.expr()?)
-                } else {
-                    (None, first)
-                };
-                let ca = if circ && self.eat_sym(",") {
-                    self.expect_kw("CA")?;
-                    Some(self.expr()?)
-                } else {
-                    None
-                };
-                let approx = self.approx(&["C_DIS", "C_PTP", "C_VEL", "C_ORI"])?;
-                let mut rel_frame = None;
-                if matches!(
-                    kind,
-                    MotionKind::PtpRel | MotionKind::LinRel | MotionKind::CircRel
-                ) {
-                    // Optional reference system of a relative motion.
-                    if let Tok::Enum(e) = self.peek()
-                        && (e.eq_ignore_ascii_case("BASE") || e.eq_ignore_ascii_case("TOOL"))
-                    {
-                        rel_frame = Some(e.to_ascii_uppercase());
-                        self.bump();
-                    }
-                }
-                self.end_of_statement()?;
-                Ok(StmtKind::Motion {
-                    kind,
-                    aux,
-                    target,
-                    ca,
-                    approx,
-                    rel_frame,
-                })
-            }
-            "SPLINE" | "PTP_SPLINE" => {
-                self.bump();
-                let ptp = word == "PTP_SPLINE";
-                let with = self.with_clause()?;
-                self.end_of_statement()?;
-                let mut points = Vec::new();
-                loop {
-                    self.skip_newlines();
-                    let pline = self.line();
-                    let pword = match self.peek() {
-                        Tok::Ident(s) => s.to_ascii_uppercase(),
-                        Tok::Eof => {
-                            return Err(self.error_here(format!(
-                                "{word} on line {line} is not closed: expected ENDSPLINE"
-                            )));
-                        }
-                        _ => {
-                            return Err(self.unexpected(
-                                "a spline point (SPL, SLIN, SCIRC, SPTP) or ENDSPLINE",
-                            ));
-                        }
-                    };
-                    let kind = match pword.as_str() {
-                        "ENDSPLINE" => break,
-                        "SPL" => SplinePointKind::Spl,
-                        "SLIN" => SplinePointKind::Slin,
-                        "SCIRC" => SplinePointKind::Scirc,
-                        "SPTP" => SplinePointKind::Sptp,
-                        other => {
-                            return Err(self.error_here(format!(
-                                "`{other}` is not allowed inside {word}: only SPL, SLIN, SCIRC and SPTP points"
-                            )));
-                        }
-                    };
-                    self.bump();
-                    let first = self.expr()?;
-                    let (aux, target) = if kind == SplinePointKind::Scirc {
-                        self.expect_sym(",")?;
-                        (Some(first), self.expr()?)
-                    } else {
-                        (None, first)
-                    };
-                    let ca = if kind == SplinePointKind::Scirc && self.eat_sym(",") {
-                        self.expect_kw("CA")?;
-                        Some(self.expr()?)
-                    } else {
-                        None
-                    };
-                    let with = self.with_clause()?;
-                    let approx = self.approx(&["C_SPL"])?;
-                    self.end_of_statement()?;
-                    points.push(SplinePoint {
-                        kind,
-                        aux,
-                        target,
-                        with,
-                        ca,
-                        approx,
-                        line: pline,
-                    });
-                }
-                self.bump();
-                let approx = self.approx(&["C_SPL"])?;
-                self.end_of_statement()?;
-                if points.is_empty() {
-                    return Err(SyntaxError {
-                        line,
-                        col: 1,
-                        message: format!("{word} has no points"),
-                    });
-                }
-                Ok(StmtKind::Spline {
-                    ptp,
-                    with,
-                    points,
-                    approx,
-                })
-            }
+            "WAIT" => self.wait(),
+            "PTP" | "PTP_REL" | "LIN" | "LIN_REL" | "CIRC" | "CIRC_REL" => self.motion(&word),
+            "SPLINE" | "PTP_SPLINE" => self.spline(line, &word),
             "SPL" | "SLIN" | "SCIRC" | "SPTP" => Err(self.error_here(format!(
                 "{word} is a spline point and belongs inside SPLINE … ENDSPLINE"
             ))),
-            "INTERRUPT" => {
-                self.bump();
-                if self.eat_kw("DECL") {
-                    let prio = self.expr()?;
-                    self.expect_kw("WHEN")?;
-                    let when = self.expr()?;
-                    self.expect_kw("DO")?;
-                    let action = Box::new(self.action()?);
-                    self.end_of_statement()?;
-                    Ok(StmtKind::InterruptDecl { prio, when, action })
-                } else {
-                    let action = self.ident()?.to_ascii_uppercase();
-                    if !["ON", "OFF", "ENABLE", "DISABLE"].contains(&action.as_str()) {
-                        return Err(SyntaxError {
-                            line,
-                            col: 1,
-                            message: format!(
-                                "INTERRUPT {action}: expected DECL, ON, OFF, ENABLE or DISABLE"
-                            ),
-                        });
-                    }
-                    let prio = if matches!(self.peek(), Tok::Newline | Tok::Eof) {
-                        None
-                    } else {
-                        Some(self.expr()?)
-                    };
-                    self.end_of_statement()?;
-                    Ok(StmtKind::InterruptSwitch { action, prio })
-                }
-            }
-            "TRIGGER" => {
-                self.bump();
-                self.expect_kw("WHEN")?;
-                if !(self.eat_kw("DISTANCE") || self.eat_kw("PATH")) {
-                    return Err(self.unexpected("DISTANCE or PATH"));
-                }
-                self.expect_sym("=")?;
-                self.expr()?;
-                self.eat_kw("ONSTART");
-                self.expect_kw("DELAY")?;
-                self.expect_sym("=")?;
-                self.expr()?;
-                self.expect_kw("DO")?;
-                let action = Box::new(self.action()?);
-                if self.eat_kw("PRIO") {
-                    self.expect_sym("=")?;
-                    self.expr()?;
-                }
-                self.end_of_statement()?;
-                Ok(StmtKind::Trigger { action })
-            }
+            "INTERRUPT" => self.interrupt(line),
+            "TRIGGER" => self.trigger(),
             "GOTO" => Err(self.error_here("GOTO and labels are not supported")),
             "DEF" | "DEFFCT" => {
                 Err(self.error_here("a routine cannot start inside another routine (missing END?)"))
@@ -772,6 +436,416 @@ impl Parser {
                 Ok(k.kind)
             }
         }
+    }
+
+    fn global_decl(&mut self) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        if self.eat_kw("DECL") {
+            self.decl_rest(true)
+        } else if self.is_kw("STRUC") || self.is_kw("ENUM") || self.is_kw("INTERRUPT") {
+            self.statement_kind()
+        } else if self.is_kw("DEF") || self.is_kw("DEFFCT") {
+            Err(self.error_here("a routine cannot start inside another routine (missing END?)"))
+        } else {
+            Err(self.unexpected("DECL, STRUC, ENUM or INTERRUPT after GLOBAL"))
+        }
+    }
+
+    fn struc(&mut self) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let name = self.name()?;
+        let mut fields = Vec::new();
+        let mut ty = self.ident()?;
+        loop {
+            let fname = self.name()?;
+            let dims = self.dims()?;
+            fields.push((ty.clone(), fname, dims));
+            if !self.eat_sym(",") {
+                break;
+            }
+            if matches!(self.peek(), Tok::Ident(_)) && matches!(self.peek_at(1), Tok::Ident(_)) {
+                ty = self.ident()?;
+            }
+        }
+        self.end_of_statement()?;
+        Ok(StmtKind::Struc { name, fields })
+    }
+
+    fn enum_decl(&mut self) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let name = self.name()?;
+        let mut values = vec![self.name()?];
+        while self.eat_sym(",") {
+            values.push(self.name()?);
+        }
+        self.end_of_statement()?;
+        Ok(StmtKind::Enum { name, values })
+    }
+
+    fn signal(&mut self) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let name = self.name()?;
+        self.expr()?;
+        if self.eat_kw("TO") {
+            self.expr()?;
+        }
+        self.end_of_statement()?;
+        Ok(StmtKind::Signal { name })
+    }
+
+    fn ext_decl(&mut self, line: u32, word: &str) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        if word.starts_with("EXTFCT") {
+            self.ident()?;
+        }
+        let name = self.name()?;
+        self.expect_sym("(")?;
+        let mut depth = 1;
+        while depth > 0 {
+            match self.bump() {
+                Tok::Sym("(") => depth += 1,
+                Tok::Sym(")") => depth -= 1,
+                Tok::Newline | Tok::Eof => {
+                    return Err(SyntaxError {
+                        line,
+                        col: 1,
+                        message: "`(` not closed on this line".into(),
+                    });
+                }
+                _ => {}
+            }
+        }
+        self.end_of_statement()?;
+        Ok(StmtKind::Ext { name })
+    }
+
+    fn if_block(&mut self, line: u32) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let cond = self.expr()?;
+        self.expect_kw("THEN")?;
+        self.end_of_statement()?;
+        let (then_body, end) = self.block(&["ELSE", "ENDIF"], "IF", line)?;
+        self.bump();
+        let else_body = if end == "ELSE" {
+            self.end_of_statement()?;
+            let (b, _) = self.block(&["ENDIF"], "ELSE", line)?;
+            self.bump();
+            b
+        } else {
+            Vec::new()
+        };
+        self.end_of_statement()?;
+        Ok(StmtKind::If {
+            cond,
+            then_body,
+            else_body,
+        })
+    }
+
+    fn while_block(&mut self, line: u32) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let cond = self.expr()?;
+        self.end_of_statement()?;
+        let (body, _) = self.block(&["ENDWHILE"], "WHILE", line)?;
+        self.bump();
+        self.end_of_statement()?;
+        Ok(StmtKind::While { cond, body })
+    }
+
+    fn for_block(&mut self, line: u32) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let var = self.name()?;
+        self.expect_sym("=")?;
+        let from = self.expr()?;
+        self.expect_kw("TO")?;
+        let to = self.expr()?;
+        let step = if self.eat_kw("STEP") {
+            Some(self.expr()?)
+        } else {
+            None
+        };
+        self.end_of_statement()?;
+        let (body, _) = self.block(&["ENDFOR"], "FOR", line)?;
+        self.bump();
+        self.end_of_statement()?;
+        Ok(StmtKind::For {
+            var,
+            from,
+            to,
+            step,
+            body,
+        })
+    }
+
+    fn loop_block(&mut self, line: u32) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        self.end_of_statement()?;
+        let (body, _) = self.block(&["ENDLOOP"], "LOOP", line)?;
+        self.bump();
+        self.end_of_statement()?;
+        Ok(StmtKind::Loop { body })
+    }
+
+    fn repeat_block(&mut self, line: u32) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        self.end_of_statement()?;
+        let (body, _) = self.block(&["UNTIL"], "REPEAT", line)?;
+        self.bump();
+        let until = self.expr()?;
+        self.end_of_statement()?;
+        Ok(StmtKind::Repeat { body, until })
+    }
+
+    fn switch_block(&mut self, line: u32) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let selector = self.expr()?;
+        self.end_of_statement()?;
+        let mut cases = Vec::new();
+        let mut default = None;
+        loop {
+            self.skip_newlines();
+            if self.eat_kw("CASE") {
+                let mut values = vec![self.expr()?];
+                while self.eat_sym(",") {
+                    values.push(self.expr()?);
+                }
+                self.end_of_statement()?;
+                let (body, _) = self.block(&["CASE", "DEFAULT", "ENDSWITCH"], "CASE", line)?;
+                cases.push((values, body));
+            } else if self.eat_kw("DEFAULT") {
+                self.end_of_statement()?;
+                let (body, _) = self.block(&["ENDSWITCH"], "DEFAULT", line)?;
+                default = Some(body);
+            } else if self.eat_kw("ENDSWITCH") {
+                self.end_of_statement()?;
+                break;
+            } else if self.at_eof() {
+                return Err(self.error_here(format!(
+                    "SWITCH on line {line} is not closed: expected ENDSWITCH"
+                )));
+            } else {
+                return Err(self.unexpected("CASE, DEFAULT or ENDSWITCH"));
+            }
+        }
+        if cases.is_empty() {
+            return Err(SyntaxError {
+                line,
+                col: 1,
+                message: "SWITCH needs at least one CASE".into(),
+            });
+        }
+        Ok(StmtKind::Switch {
+            selector,
+            cases,
+            default,
+        })
+    }
+
+    fn return_stmt(&mut self) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let v = if matches!(self.peek(), Tok::Newline | Tok::Eof) {
+            None
+        } else {
+            Some(self.expr()?)
+        };
+        self.end_of_statement()?;
+        Ok(StmtKind::Return(v))
+    }
+
+    fn wait(&mut self) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let k = if self.eat_kw("SEC") {
+            StmtKind::WaitSec(self.expr()?)
+        } else if self.eat_kw("FOR") {
+            StmtKind::WaitFor(self.expr()?)
+        } else {
+            return Err(self.unexpected("SEC or FOR after WAIT"));
+        };
+        self.end_of_statement()?;
+        Ok(k)
+    }
+
+    fn motion(&mut self, word: &str) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let kind = match word {
+            "PTP" => MotionKind::Ptp,
+            "PTP_REL" => MotionKind::PtpRel,
+            "LIN" => MotionKind::Lin,
+            "LIN_REL" => MotionKind::LinRel,
+            "CIRC" => MotionKind::Circ,
+            _ => MotionKind::CircRel,
+        };
+        let circ = matches!(kind, MotionKind::Circ | MotionKind::CircRel);
+        let first = self.expr()?;
+        let (aux, target) = if circ {
+            self.expect_sym(",")?;
+            (Some(first), self.expr()?)
+        } else {
+            (None, first)
+        };
+        let ca = if circ && self.eat_sym(",") {
+            self.expect_kw("CA")?;
+            Some(self.expr()?)
+        } else {
+            None
+        };
+        let approx = self.approx(&["C_DIS", "C_PTP", "C_VEL", "C_ORI"])?;
+        let mut rel_frame = None;
+        if matches!(
+            kind,
+            MotionKind::PtpRel | MotionKind::LinRel | MotionKind::CircRel
+        ) {
+            // Optional reference system of a relative motion.
+            if let Tok::Enum(e) = self.peek()
+                && (e.eq_ignore_ascii_case("BASE") || e.eq_ignore_ascii_case("TOOL"))
+            {
+                rel_frame = Some(e.to_ascii_uppercase());
+                self.bump();
+            }
+        }
+        self.end_of_statement()?;
+        Ok(StmtKind::Motion {
+            kind,
+            aux,
+            target,
+            ca,
+            approx,
+            rel_frame,
+        })
+    }
+
+    fn spline(&mut self, line: u32, word: &str) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let ptp = word == "PTP_SPLINE";
+        let with = self.with_clause()?;
+        self.end_of_statement()?;
+        let mut points = Vec::new();
+        loop {
+            self.skip_newlines();
+            let pline = self.line();
+            let pword = match self.peek() {
+                Tok::Ident(s) => s.to_ascii_uppercase(),
+                Tok::Eof => {
+                    return Err(self.error_here(format!(
+                        "{word} on line {line} is not closed: expected ENDSPLINE"
+                    )));
+                }
+                _ => {
+                    return Err(
+                        self.unexpected("a spline point (SPL, SLIN, SCIRC, SPTP) or ENDSPLINE")
+                    );
+                }
+            };
+            let kind = match pword.as_str() {
+                "ENDSPLINE" => break,
+                "SPL" => SplinePointKind::Spl,
+                "SLIN" => SplinePointKind::Slin,
+                "SCIRC" => SplinePointKind::Scirc,
+                "SPTP" => SplinePointKind::Sptp,
+                other => {
+                    return Err(self.error_here(format!(
+                        "`{other}` is not allowed inside {word}: only SPL, SLIN, SCIRC and SPTP points"
+                    )));
+                }
+            };
+            self.bump();
+            // Each point is a line of its own: its own size limit.
+            self.expr_nodes = 0;
+            let first = self.expr()?;
+            let (aux, target) = if kind == SplinePointKind::Scirc {
+                self.expect_sym(",")?;
+                (Some(first), self.expr()?)
+            } else {
+                (None, first)
+            };
+            let ca = if kind == SplinePointKind::Scirc && self.eat_sym(",") {
+                self.expect_kw("CA")?;
+                Some(self.expr()?)
+            } else {
+                None
+            };
+            let with = self.with_clause()?;
+            let approx = self.approx(&["C_SPL"])?;
+            self.end_of_statement()?;
+            points.push(SplinePoint {
+                kind,
+                aux,
+                target,
+                with,
+                ca,
+                approx,
+                line: pline,
+            });
+        }
+        self.bump();
+        let approx = self.approx(&["C_SPL"])?;
+        self.end_of_statement()?;
+        if points.is_empty() {
+            return Err(SyntaxError {
+                line,
+                col: 1,
+                message: format!("{word} has no points"),
+            });
+        }
+        Ok(StmtKind::Spline {
+            ptp,
+            with,
+            points,
+            approx,
+        })
+    }
+
+    fn interrupt(&mut self, line: u32) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        if self.eat_kw("DECL") {
+            let prio = self.expr()?;
+            self.expect_kw("WHEN")?;
+            let when = self.expr()?;
+            self.expect_kw("DO")?;
+            let action = Box::new(self.action()?);
+            self.end_of_statement()?;
+            Ok(StmtKind::InterruptDecl { prio, when, action })
+        } else {
+            let action = self.ident()?.to_ascii_uppercase();
+            if !["ON", "OFF", "ENABLE", "DISABLE"].contains(&action.as_str()) {
+                return Err(SyntaxError {
+                    line,
+                    col: 1,
+                    message: format!(
+                        "INTERRUPT {action}: expected DECL, ON, OFF, ENABLE or DISABLE"
+                    ),
+                });
+            }
+            let prio = if matches!(self.peek(), Tok::Newline | Tok::Eof) {
+                None
+            } else {
+                Some(self.expr()?)
+            };
+            self.end_of_statement()?;
+            Ok(StmtKind::InterruptSwitch { action, prio })
+        }
+    }
+
+    fn trigger(&mut self) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        self.expect_kw("WHEN")?;
+        if !(self.eat_kw("DISTANCE") || self.eat_kw("PATH")) {
+            return Err(self.unexpected("DISTANCE or PATH"));
+        }
+        self.expect_sym("=")?;
+        self.expr()?;
+        self.eat_kw("ONSTART");
+        self.expect_kw("DELAY")?;
+        self.expect_sym("=")?;
+        self.expr()?;
+        self.expect_kw("DO")?;
+        let action = Box::new(self.action()?);
+        if self.eat_kw("PRIO") {
+            self.expect_sym("=")?;
+            self.expr()?;
+        }
+        self.end_of_statement()?;
+        Ok(StmtKind::Trigger { action })
     }
 
     /// An assignment or a call (the body of a statement line, of a
@@ -873,126 +947,188 @@ impl Parser {
     }
 
     // ---- expressions (lowest to highest precedence) ----
+    //
+    // Each function returns the expression and the depth of its tree
+    // (a literal or a name is 1), so that a tree deeper than
+    // MAX_EXPR_DEPTH is refused while it is built: left-nested chains
+    // such as `1 + 1 + … + 1` are built by loops, not by recursion, and
+    // would otherwise grow without bound. The recursion itself (`(`,
+    // unary operators) is bounded by `self.expr_depth`.
 
-    /// A full expression.
+    /// A full expression (a statement's, or one of a statement's).
     fn expr(&mut self) -> Result<Expr, SyntaxError> {
-        self.binary_level(0)
+        Ok(self.sub_expr()?.0)
     }
 
-    fn binary_level(&mut self, level: usize) -> Result<Expr, SyntaxError> {
-        // OR < EXOR < AND < comparison < + - < * /
-        const LEVELS: [&[(&str, BinOp)]; 6] = [
-            &[("OR", BinOp::Or), ("B_OR", BinOp::BOr)],
-            &[("EXOR", BinOp::Exor), ("B_EXOR", BinOp::BExor)],
-            &[("AND", BinOp::And), ("B_AND", BinOp::BAnd)],
-            &[
-                ("==", BinOp::Eq),
-                ("<>", BinOp::Ne),
-                ("<=", BinOp::Le),
-                (">=", BinOp::Ge),
-                ("<", BinOp::Lt),
-                (">", BinOp::Gt),
-            ],
-            &[("+", BinOp::Add), ("-", BinOp::Sub)],
-            &[("*", BinOp::Mul), ("/", BinOp::Div)],
-        ];
-        if level == LEVELS.len() {
-            return self.unary();
+    fn too_deep(&self) -> SyntaxError {
+        self.error_here(format!(
+            "expression nested deeper than {MAX_EXPR_DEPTH} levels (limit MAX_EXPR_DEPTH)"
+        ))
+    }
+
+    /// One level deeper into the parser's recursion.
+    fn enter(&mut self) -> Result<(), SyntaxError> {
+        self.expr_depth += 1;
+        if self.expr_depth > MAX_EXPR_DEPTH {
+            return Err(self.too_deep());
         }
-        let mut left = self.binary_level(level + 1)?;
-        loop {
-            let op = LEVELS[level].iter().find(|(s, _)| match self.peek() {
+        Ok(())
+    }
+
+    fn leave(&mut self) {
+        self.expr_depth -= 1;
+    }
+
+    /// Counts a new tree node whose deepest child has depth `child`;
+    /// returns the node's depth.
+    fn node(&mut self, child: usize) -> Result<usize, SyntaxError> {
+        self.expr_nodes += 1;
+        if self.expr_nodes > MAX_EXPR_NODES {
+            return Err(self.error_here(format!(
+                "the expressions of this statement have more than {MAX_EXPR_NODES} operands and operators (limit MAX_EXPR_NODES)"
+            )));
+        }
+        let depth = child + 1;
+        if depth > MAX_EXPR_DEPTH {
+            return Err(self.too_deep());
+        }
+        Ok(depth)
+    }
+
+    /// An expression nested in another one (or a statement's).
+    fn sub_expr(&mut self) -> Result<(Expr, usize), SyntaxError> {
+        self.enter()?;
+        let e = self.binary(0)?;
+        self.leave();
+        Ok(e)
+    }
+
+    /// The binary operator at the current token and its precedence
+    /// (higher binds tighter): OR < EXOR < AND < comparison < + - < * /.
+    fn binary_op(&self) -> Option<(BinOp, usize)> {
+        const OPS: [(&str, BinOp, usize); 16] = [
+            ("OR", BinOp::Or, 0),
+            ("B_OR", BinOp::BOr, 0),
+            ("EXOR", BinOp::Exor, 1),
+            ("B_EXOR", BinOp::BExor, 1),
+            ("AND", BinOp::And, 2),
+            ("B_AND", BinOp::BAnd, 2),
+            ("==", BinOp::Eq, 3),
+            ("<>", BinOp::Ne, 3),
+            ("<=", BinOp::Le, 3),
+            (">=", BinOp::Ge, 3),
+            ("<", BinOp::Lt, 3),
+            (">", BinOp::Gt, 3),
+            ("+", BinOp::Add, 4),
+            ("-", BinOp::Sub, 4),
+            ("*", BinOp::Mul, 5),
+            ("/", BinOp::Div, 5),
+        ];
+        OPS.iter()
+            .find(|(s, _, _)| match self.peek() {
                 Tok::Sym(x) => x == s,
                 Tok::Ident(x) => x.eq_ignore_ascii_case(s),
                 _ => false,
-            });
-            let Some((_, op)) = op else { break };
+            })
+            .map(|(_, op, prec)| (*op, *prec))
+    }
+
+    /// Operands joined by binary operators of precedence `min_prec` or
+    /// higher, left-associative (precedence climbing: one frame per
+    /// precedence level actually used, not one per level of the grammar).
+    fn binary(&mut self, min_prec: usize) -> Result<(Expr, usize), SyntaxError> {
+        let (mut left, mut depth) = self.unary()?;
+        while let Some((op, prec)) = self.binary_op()
+            && prec >= min_prec
+        {
             self.bump();
-            let right = self.binary_level(level + 1)?;
-            left = Expr::Binary(*op, Box::new(left), Box::new(right));
+            let (right, rd) = self.binary(prec + 1)?;
+            depth = self.node(depth.max(rd))?;
+            left = Expr::Binary(op, Box::new(left), Box::new(right));
         }
-        Ok(left)
+        Ok((left, depth))
     }
 
-    fn unary(&mut self) -> Result<Expr, SyntaxError> {
-        if self.eat_sym("-") {
-            return Ok(match self.unary()? {
-                Expr::Int(v) => Expr::Int(-v),
-                Expr::Real(v) => Expr::Real(-v),
-                e => Expr::Unary(UnOp::Neg, Box::new(e)),
-            });
-        }
-        if self.eat_sym("+") {
-            return self.unary();
-        }
-        if self.eat_kw("NOT") {
-            return Ok(Expr::Unary(UnOp::Not, Box::new(self.unary()?)));
-        }
-        if self.eat_kw("B_NOT") {
-            return Ok(Expr::Unary(UnOp::BNot, Box::new(self.unary()?)));
-        }
-        let mut left = self.postfix()?;
-        while self.eat_sym(":") {
-            let right = self.postfix()?;
-            left = Expr::Binary(BinOp::Geo, Box::new(left), Box::new(right));
-        }
-        Ok(left)
+    fn unary(&mut self) -> Result<(Expr, usize), SyntaxError> {
+        let op = if self.eat_sym("-") {
+            Some(UnOp::Neg)
+        } else if self.eat_sym("+") {
+            None
+        } else if self.eat_kw("NOT") {
+            Some(UnOp::Not)
+        } else if self.eat_kw("B_NOT") {
+            Some(UnOp::BNot)
+        } else {
+            let (mut left, mut depth) = self.postfix_tree()?;
+            while self.eat_sym(":") {
+                let (right, rd) = self.postfix_tree()?;
+                depth = self.node(depth.max(rd))?;
+                left = Expr::Binary(BinOp::Geo, Box::new(left), Box::new(right));
+            }
+            return Ok((left, depth));
+        };
+        // `- - - x`: every prefix operator is one level of recursion.
+        self.enter()?;
+        let (e, d) = self.unary()?;
+        self.leave();
+        Ok(match (op, e) {
+            (None, e) => (e, d),
+            (Some(UnOp::Neg), Expr::Int(v)) => (Expr::Int(-v), d),
+            (Some(UnOp::Neg), Expr::Real(v)) => (Expr::Real(-v), d),
+            (Some(op), e) => (Expr::Unary(op, Box::new(e)), self.node(d)?),
+        })
     }
 
+    /// A variable, element or component (an assignment's target, a `WITH`
+    /// variable).
     fn postfix(&mut self) -> Result<Expr, SyntaxError> {
-        let mut e = self.primary()?;
+        Ok(self.postfix_tree()?.0)
+    }
+
+    fn postfix_tree(&mut self) -> Result<(Expr, usize), SyntaxError> {
+        let (mut e, mut depth) = self.primary()?;
         loop {
             if self.eat_sym("[") {
                 let mut idx = Vec::new();
+                let mut deepest = depth;
                 if !self.is_sym("]") {
                     loop {
-                        idx.push(self.expr()?);
+                        let (i, d) = self.sub_expr()?;
+                        deepest = deepest.max(d);
+                        idx.push(i);
                         if !self.eat_sym(",") {
                             break;
                         }
                     }
                 }
                 self.expect_sym("]")?;
+                depth = self.node(deepest)?;
                 e = Expr::Index(Box::new(e), idx);
             } else if self.eat_sym(".") {
+                depth = self.node(depth)?;
                 e = Expr::Field(Box::new(e), self.ident()?);
             } else {
-                return Ok(e);
+                return Ok((e, depth));
             }
         }
     }
 
-    fn primary(&mut self) -> Result<Expr, SyntaxError> {
-        match self.peek().clone() {
-            Tok::Int(v) => {
-                self.bump();
-                Ok(Expr::Int(v))
-            }
-            Tok::Real(v) => {
-                self.bump();
-                Ok(Expr::Real(v))
-            }
-            Tok::Bits(v) => {
-                self.bump();
-                Ok(Expr::Int(v))
-            }
-            Tok::Str(s) => {
-                self.bump();
-                Ok(Expr::Str(s))
-            }
-            Tok::Enum(s) => {
-                self.bump();
-                Ok(Expr::Enum(s))
-            }
+    fn primary(&mut self) -> Result<(Expr, usize), SyntaxError> {
+        let leaf = match self.peek().clone() {
+            Tok::Int(v) => Expr::Int(v),
+            Tok::Real(v) => Expr::Real(v),
+            Tok::Bits(v) => Expr::Int(v),
+            Tok::Str(s) => Expr::Str(s),
+            Tok::Enum(s) => Expr::Enum(s),
             Tok::Sym("(") => {
                 self.bump();
-                let e = self.expr()?;
+                let e = self.sub_expr()?;
                 self.expect_sym(")")?;
-                Ok(e)
+                return Ok(e);
             }
             Tok::Sym("{") => {
                 self.bump();
-                self.struct_literal()
+                return self.struct_literal();
             }
             Tok::Ident(s) => {
                 let up = s.to_ascii_uppercase();
@@ -1004,35 +1140,41 @@ impl Parser {
                 }
                 self.bump();
                 if up == "TRUE" || up == "FALSE" {
-                    return Ok(Expr::Bool(up == "TRUE"));
+                    return Ok((Expr::Bool(up == "TRUE"), self.node(0)?));
                 }
                 if self.eat_sym("(") {
                     let mut args = Vec::new();
+                    let mut deepest = 0;
                     if !self.is_sym(")") {
                         loop {
-                            args.push(self.expr()?);
+                            let (a, d) = self.sub_expr()?;
+                            deepest = deepest.max(d);
+                            args.push(a);
                             if !self.eat_sym(",") {
                                 break;
                             }
                         }
                     }
                     self.expect_sym(")")?;
-                    return Ok(Expr::Call(s, args));
+                    return Ok((Expr::Call(s, args), self.node(deepest)?));
                 }
-                Ok(Expr::Var(s))
+                return Ok((Expr::Var(s), self.node(0)?));
             }
-            _ => Err(self.unexpected("a value")),
-        }
+            _ => return Err(self.unexpected("a value")),
+        };
+        self.bump();
+        Ok((leaf, self.node(0)?))
     }
 
     /// `{[TYPE:] NAME value, …}` after the `{`.
-    fn struct_literal(&mut self) -> Result<Expr, SyntaxError> {
+    fn struct_literal(&mut self) -> Result<(Expr, usize), SyntaxError> {
         let mut ty = None;
         if matches!(self.peek(), Tok::Ident(_)) && matches!(self.peek_at(1), Tok::Sym(":")) {
             ty = Some(self.ident()?);
             self.bump();
         }
         let mut fields = Vec::new();
+        let mut deepest = 0;
         if !self.is_sym("}") {
             loop {
                 let name = self.ident()?;
@@ -1041,7 +1183,8 @@ impl Parser {
                     self.bump();
                     self.bump();
                 }
-                let value = self.expr()?;
+                let (value, d) = self.sub_expr()?;
+                deepest = deepest.max(d);
                 fields.push((name.to_ascii_uppercase(), value));
                 if !self.eat_sym(",") {
                     break;
@@ -1051,6 +1194,6 @@ impl Parser {
         if !self.eat_sym("}") {
             return Err(self.unexpected("`,` or `}` in the structure value"));
         }
-        Ok(Expr::Struct { ty, fields })
+        Ok((Expr::Struct { ty, fields }, self.node(deepest)?))
     }
 }
