@@ -42,6 +42,16 @@ pub enum ReadError {
         /// The file.
         path: String,
     },
+    /// The file is larger than the reader accepts (junk, not a protocol file).
+    #[error("{path} is {len} bytes, more than the {max} a protocol file can be")]
+    TooLarge {
+        /// The file.
+        path: String,
+        /// Its size.
+        len: u64,
+        /// The limit.
+        max: u64,
+    },
     /// Any other I/O failure.
     #[error("cannot read {path}")]
     Io {
@@ -227,6 +237,50 @@ pub fn read(dir: &Path, name: &str) -> Result<Option<String>, ReadError> {
             source,
         }),
     }
+}
+
+/// [`read`] for a file that may be at most `max` bytes long: a larger file
+/// is refused with [`ReadError::TooLarge`] after a `stat` (it is never
+/// read into memory), and at most `max` bytes are read even if it grows
+/// meanwhile.
+pub fn read_bounded(dir: &Path, name: &str, max: u64) -> Result<Option<String>, ReadError> {
+    use std::io::Read;
+    let path = dir.join(name);
+    let io = |source: io::Error| {
+        if is_lock_error(&source) {
+            ReadError::Locked {
+                path: path.display().to_string(),
+            }
+        } else {
+            ReadError::Io {
+                path: path.display().to_string(),
+                source,
+            }
+        }
+    };
+    let file = match File::open(&path) {
+        Ok(f) => f,
+        Err(e) if e.kind() == ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(io(e)),
+    };
+    let len = file.metadata().map_err(io)?.len();
+    if len > max {
+        return Err(ReadError::TooLarge {
+            path: path.display().to_string(),
+            len,
+            max,
+        });
+    }
+    let mut bytes = Vec::with_capacity(usize::try_from(len).unwrap_or(0));
+    file.take(max + 1).read_to_end(&mut bytes).map_err(io)?;
+    if bytes.len() as u64 > max {
+        return Err(ReadError::TooLarge {
+            path: path.display().to_string(),
+            len: bytes.len() as u64,
+            max,
+        });
+    }
+    Ok(Some(String::from_utf8_lossy(&bytes).into_owned()))
 }
 
 #[cfg(test)]

@@ -1582,3 +1582,36 @@ fn submit_side_recovers_the_reference_controllers_files() {
     assert_eq!(g.int("kb_hn", &[]), Some(0));
     assert_eq!(results(&files), []);
 }
+
+/// Command ids wrap from 2147483647 to 1 (PROTOCOL.md §8): the KRL side
+/// accepts the id after the largest, and still refuses ids far behind
+/// (a poisoned or very old id cannot make it execute a stale command).
+#[test]
+fn command_ids_wrap_at_the_top() {
+    let pose = Frame::from_array(POSE);
+    let getpos = |cid| {
+        encode(&CommandFile {
+            cid,
+            command: Command::GetPosition,
+        })
+    };
+    let at = |last: i64| format!("{}  kb_last_cid = {last}\n", env_setup("EX"));
+
+    let mut files = channel(&getpos(1));
+    let g = submit(&mut files, &at(2147483647), 1);
+    assert_eq!(results(&files), [answer(1, ResultCode::Ok, pose)]);
+    assert_eq!(g.int("kb_last_cid", &[]), Some(1));
+    assert_eq!(state(&files).last_cid, 1);
+
+    // 2^30 or more ids behind (here: the largest id after 5000) is old.
+    let mut files = channel(&getpos(2147483000));
+    let g = submit(&mut files, &at(5000), 1);
+    assert_eq!(results(&files), []);
+    assert_eq!(g.int("kb_last_cid", &[]), Some(5000));
+
+    // Below the wrap it is the plain comparison.
+    let mut files = channel(&getpos(5001));
+    let g = submit(&mut files, &at(5000), 1);
+    assert_eq!(results(&files), [answer(5001, ResultCode::Ok, pose)]);
+    assert_eq!(g.int("kb_last_cid", &[]), Some(5001));
+}
