@@ -400,7 +400,8 @@ impl Runner {
     }
 
     /// A restarted simulator must not execute an old command again: it
-    /// remembers the highest CID from its own result and state files.
+    /// remembers the newest CID ([`kuka_protocol::newest_cid`]) from its
+    /// own result and state files.
     fn recover_last_cid(&mut self) {
         let dir = &self.config.channel_dir;
         let results = files::read(dir, RESULT_FILE)
@@ -417,9 +418,7 @@ impl Runner {
         let last = results
             .iter()
             .map(|r| r.cid)
-            .max()
-            .unwrap_or(0)
-            .max(from_state);
+            .fold(from_state, kuka_protocol::newest_cid);
         let mut c = lock(&self.shared.controller);
         c.last_cid = last;
         c.results = results.into_iter().collect();
@@ -473,7 +472,7 @@ impl Runner {
         match CommandFile::decode(&text) {
             Ok(cmd) => {
                 self.last_text = text;
-                if cmd.cid > c.last_cid {
+                if kuka_protocol::cid_is_newer(cmd.cid, c.last_cid) {
                     let program = match cmd.command {
                         kuka_protocol::Command::Run(n) => {
                             Some(load_program(&self.config.program_dir, n))
@@ -492,7 +491,7 @@ impl Runner {
             Err(e) => {
                 self.last_text = text.clone();
                 if let Some(cid) = CommandFile::peek_cid(&text)
-                    && cid > c.last_cid
+                    && kuka_protocol::cid_is_newer(cid, c.last_cid)
                 {
                     tracing::warn!(cid, error = %e, "malformed command");
                     c.reject_malformed(cid);
