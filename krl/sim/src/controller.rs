@@ -121,9 +121,11 @@ fn prepare(
         match &e {
             PrepareError::Parse(p) => (ResultCode::BadCommand, p.line().unwrap_or(0)),
             PrepareError::Run(RunError::Unsupported(u)) => (ResultCode::Unsupported, u.line),
-            PrepareError::Run(RunError::Runtime { line, .. } | RunError::TooLong { line, .. }) => {
-                (ResultCode::RuntimeError, *line)
-            }
+            PrepareError::Run(
+                RunError::Runtime { line, .. }
+                | RunError::TooLong { line, .. }
+                | RunError::Limit { line, .. },
+            ) => (ResultCode::RuntimeError, *line),
         }
     })
 }

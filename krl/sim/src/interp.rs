@@ -55,8 +55,22 @@
 //!
 //! Runtime errors ([`RunError::Runtime`], with the line): undefined or
 //! unset variables, type mismatches, index out of range, division by zero,
-//! `WAIT FOR` FALSE, out-of-range `$VEL`/`$ACC`/`$APO` values, more than
-//! 1,000,000 statements or 100,000 steps (an endless loop).
+//! `WAIT FOR` FALSE, out-of-range `$VEL`/`$ACC`/`$APO` values.
+//!
+//! # Limits
+//!
+//! Work is bounded for every program. A run that does not end within
+//! [`MAX_STATEMENTS`] statements, [`MAX_EVALUATIONS`] expression
+//! evaluations or [`MAX_STEPS`] motions and waits ends with
+//! [`RunError::TooLong`] (an endless loop, or a cyclic program). A program
+//! that nests calls deeper than [`MAX_CALL_DEPTH`], calls, statements and
+//! expressions together deeper than [`MAX_NESTING`], or whose variables
+//! hold more than [`MAX_VALUE_CELLS`] values fails with [`RunError::Limit`]
+//! (line and limit). The interpreter recurses on the thread's stack; with
+//! the parser's limits ([`kuka_krl::limits`]) these keep the deepest run
+//! within about 1.4 MiB of stack in a debug build (see
+//! [`crate::program::DRY_RUN_STACK_BYTES`]). The subset check recurses
+//! only as deep as the parser's limits allow.
 //!
 //! Also refused: a `_REL` motion with `#TOOL` (`#BASE` is the default and
 //! runs), `CA` on `CIRC`/`SCIRC`, `WITH` directly after `SPLINE`. `C_SPL` on
@@ -137,8 +151,20 @@ pub enum RunError {
         /// What went wrong.
         message: String,
     },
-    /// The program did not end within the statement or step limit (an
-    /// endless loop, or a cyclic program meant to run until stopped).
+    /// The program is too deep or too large for the interpreter: it nests
+    /// calls, statements and expressions beyond [`MAX_NESTING`] or
+    /// [`MAX_CALL_DEPTH`], or its variables hold more than
+    /// [`MAX_VALUE_CELLS`] values. The message names the limit.
+    #[error("line {line}: {message}")]
+    Limit {
+        /// Source line where the limit was reached.
+        line: u32,
+        /// What limit, as a sentence with its name.
+        message: String,
+    },
+    /// The program did not end within the statement, evaluation or step
+    /// limit (an endless loop, or a cyclic program meant to run until
+    /// stopped).
     #[error("line {line}: {message}")]
     TooLong {
         /// Source line where the limit was reached.
@@ -150,11 +176,37 @@ pub enum RunError {
     },
 }
 
-/// Most statements (and loop iterations) one run may execute.
-const MAX_STATEMENTS: u64 = 1_000_000;
+/// Most statements (and loop iterations) one run may execute; then it
+/// ends with [`RunError::TooLong`].
+pub const MAX_STATEMENTS: u64 = 1_000_000;
+/// Most expression evaluations (each operand and operator, and each value
+/// of an array copied as a whole) one run may do; then it ends with
+/// [`RunError::TooLong`]. With [`MAX_STATEMENTS`] it bounds a run's time
+/// whatever the size of its expressions.
+pub const MAX_EVALUATIONS: u64 = 10_000_000;
+/// Most calls, statements and expressions being executed at once (a
+/// statement inside a loop inside a routine called from an expression …
+/// all count); beyond it the run fails with [`RunError::Limit`]. The
+/// interpreter recurses on the thread's stack: this bounds its depth. It
+/// is sized so that the deepest run runs on a 2 MiB stack in a debug build
+/// (tested in `tests/limits.rs`), and leaves room for a recursion of
+/// [`MAX_CALL_DEPTH`] levels in a realistic routine.
+pub const MAX_NESTING: usize = 512;
+/// Deepest routine nesting (calls active at once); beyond it the run fails
+/// with [`RunError::Limit`] (an endless recursion, usually).
+pub const MAX_CALL_DEPTH: usize = 64;
+/// Most scalar values (an INT, each component of a FRAME, each element of
+/// an array) the variables of a run hold at once; beyond it the run fails
+/// with [`RunError::Limit`]. Bounds the memory of `DECL E6POS p[1000000]`
+/// and of recursive routines with local arrays.
+pub const MAX_VALUE_CELLS: usize = 2_000_000;
+/// Largest array (elements).
+pub const MAX_ARRAY: usize = 1_000_000;
 /// Most statements in the test harness ([`run_with_files`]), which runs
 /// the controller program's character-by-character parser over whole files.
 const HARNESS_MAX_STATEMENTS: u64 = 50_000_000;
+/// Most expression evaluations in the test harness.
+const HARNESS_MAX_EVALUATIONS: u64 = 1_000_000_000;
 /// `MSG_NO` of the harness's `CWRITE($FCT_CALL, …)`: the file is missing
 /// (`"r"`) or the mode is unknown.
 const MSG_NO_OPEN: i64 = -2;
@@ -162,12 +214,9 @@ const MSG_NO_OPEN: i64 = -2;
 const MSG_NO_HANDLE: i64 = -3;
 /// `MSG_NO` of `krl_fgets` at the end of the file (PROTOCOL.md 12).
 const MSG_NO_EOF: i64 = -4;
-/// Most steps one run may produce.
-const MAX_STEPS: usize = 100_000;
-/// Deepest routine nesting.
-const MAX_DEPTH: usize = 64;
-/// Largest array (elements).
-const MAX_ARRAY: usize = 1_000_000;
+/// Most steps (motions and waits) one run may produce; then it ends with
+/// [`RunError::TooLong`].
+pub const MAX_STEPS: usize = 100_000;
 /// Longest LIN an `SPL` curve is sampled into (mm); a little below 5 mm
 /// so the chords stay under 5 mm despite the arc-length table's error.
 const SPL_SAMPLE_MM: f64 = 4.9;
@@ -670,6 +719,17 @@ fn builtin(name: &str, args: &[Value]) -> Result<Value, String> {
     real_result(r)
 }
 
+/// The scalar values `v` holds (for [`MAX_VALUE_CELLS`]): 1 for a scalar,
+/// the components of a structure, the elements of an array (all of one
+/// shape, so the first one is counted).
+fn cells(v: &Value) -> usize {
+    match v {
+        Value::Struct(_, f) => f.iter().map(|(_, v)| cells(v)).sum::<usize>().max(1),
+        Value::Array(_, e) => e.first().map_or(0, cells).saturating_mul(e.len()),
+        _ => 1,
+    }
+}
+
 /// Source-like text of an lvalue/expression for messages.
 fn describe(e: &Expr) -> String {
     match e {
@@ -693,16 +753,22 @@ pub fn check_subset(program: &Program) -> Result<(), Unsupported> {
     for r in &program.src.routines {
         stopm_prios(&r.body, &mut prios);
     }
+    let routines: std::collections::HashSet<String> = program
+        .src
+        .routines
+        .iter()
+        .map(|r| r.name.to_ascii_uppercase())
+        .collect();
     if let Some(dat) = &program.dat {
         let c = Checker {
-            program,
+            routines: routines.clone(),
             in_dat: true,
             stopm_prios: Vec::new(),
         };
         c.block(&dat.items)?;
     }
     let c = Checker {
-        program,
+        routines,
         in_dat: false,
         stopm_prios: prios,
     };
@@ -717,8 +783,10 @@ pub fn check_subset(program: &Program) -> Result<(), Unsupported> {
     Ok(())
 }
 
-struct Checker<'a> {
-    program: &'a Program,
+struct Checker {
+    /// Upper-case names of the `.src` routines (a set: a file of many
+    /// routines and calls must not cost quadratic time).
+    routines: std::collections::HashSet<String>,
     in_dat: bool,
     /// Priorities of the standard stop-message interrupt (INI fold).
     stopm_prios: Vec<i64>,
@@ -790,7 +858,11 @@ fn mentions_system(e: &Expr) -> bool {
     }
 }
 
-impl Checker<'_> {
+impl Checker {
+    fn is_routine(&self, name: &str) -> bool {
+        self.routines.contains(&name.to_ascii_uppercase())
+    }
+
     fn refuse(&self, line: u32, what: impl Into<String>) -> Result<(), Unsupported> {
         let mut what = what.into();
         if self.in_dat {
@@ -849,7 +921,7 @@ impl Checker<'_> {
                         _ => self.refuse(l, "BAS without a #command"),
                     };
                 }
-                if self.program.routine(name).is_none() {
+                if !self.is_routine(name) {
                     return self.refuse(l, format!("the call {name}"));
                 }
                 self.exprs(args, l)
@@ -1025,7 +1097,7 @@ impl Checker<'_> {
             Expr::Field(b, _) | Expr::Unary(_, b) => self.expr(b, l),
             Expr::Call(n, args) => {
                 let up = n.to_ascii_uppercase();
-                if !BUILTINS.contains(&up.as_str()) && self.program.routine(n).is_none() {
+                if !BUILTINS.contains(&up.as_str()) && !self.routines.contains(&up) {
                     return self.refuse(l, format!("the call {n}"));
                 }
                 self.exprs(args, l)
@@ -1357,6 +1429,17 @@ struct Interp<'a> {
     /// and typed template.
     types: HashMap<String, Value>,
     max_statements: u64,
+    /// Expression evaluations so far ([`MAX_EVALUATIONS`]).
+    evaluations: u64,
+    max_evaluations: u64,
+    /// Calls, statements and expressions being executed ([`MAX_NESTING`]).
+    nesting: usize,
+    /// Scalar values the variables hold ([`MAX_VALUE_CELLS`]).
+    cells: usize,
+    /// The part of `cells` in each of `frames` (released with it).
+    frame_cells: Vec<usize>,
+    /// The `.src` routines by upper-case name.
+    routines: HashMap<String, &'a Routine>,
     /// The test harness of [`run_with_files`], if active.
     harness: Option<Harness>,
     /// `ON_ERROR_PROCEED` guards the next statement (harness only).
@@ -1405,6 +1488,10 @@ impl<'a> Interp<'a> {
         g.insert("$ADVANCE".into(), Value::Int(3));
         g.insert("XHOME".into(), axis_value(&start.model.home));
         let axes = start.axes;
+        let mut routines = HashMap::new();
+        for r in &program.src.routines {
+            routines.entry(r.name.to_ascii_uppercase()).or_insert(r);
+        }
         Interp {
             program,
             model: start.model,
@@ -1423,6 +1510,12 @@ impl<'a> Interp<'a> {
             continue_active: false,
             types: HashMap::new(),
             max_statements: MAX_STATEMENTS,
+            evaluations: 0,
+            max_evaluations: MAX_EVALUATIONS,
+            nesting: 0,
+            cells: 0,
+            frame_cells: Vec::new(),
+            routines,
             harness: None,
             error_proceed: false,
         }
@@ -1447,6 +1540,7 @@ impl<'a> Interp<'a> {
             next_handle: 1,
         });
         self.max_statements = HARNESS_MAX_STATEMENTS;
+        self.max_evaluations = HARNESS_MAX_EVALUATIONS;
         let e = Value::Unset(Scalar::Enum);
         for t in ["MODUS_T", "CMD_STAT", "MODE_OP", "PRO_STATE"] {
             self.types.insert(t.into(), e.clone());
@@ -1545,6 +1639,58 @@ impl<'a> Interp<'a> {
         Ok(())
     }
 
+    /// Counts `n` evaluations against [`MAX_EVALUATIONS`].
+    fn charge(&mut self, n: u64) -> Result<(), RunError> {
+        self.evaluations = self.evaluations.saturating_add(n);
+        if self.evaluations > self.max_evaluations {
+            return Err(RunError::TooLong {
+                line: self.line,
+                message: format!(
+                    "the program did not finish within {} expression evaluations (endless loop?)",
+                    self.max_evaluations
+                ),
+                steps: std::mem::take(&mut self.steps),
+            });
+        }
+        Ok(())
+    }
+
+    fn limit(&self, message: String) -> RunError {
+        RunError::Limit {
+            line: self.line,
+            message,
+        }
+    }
+
+    /// One level deeper (a call, statement or expression): checks
+    /// [`MAX_NESTING`]. Every `enter` is paired with `self.nesting -= 1`
+    /// on every path, errors included.
+    fn enter(&mut self) -> Result<(), RunError> {
+        if self.nesting >= MAX_NESTING {
+            return Err(self.limit(format!(
+                "calls, statements and expressions nested deeper than {MAX_NESTING} levels at once (limit MAX_NESTING)"
+            )));
+        }
+        self.nesting += 1;
+        Ok(())
+    }
+
+    /// Counts `n` more values held by variables (of the current routine's
+    /// frame, or global) against [`MAX_VALUE_CELLS`].
+    fn hold(&mut self, n: usize) -> Result<(), RunError> {
+        let total = self.cells.saturating_add(n);
+        if total > MAX_VALUE_CELLS {
+            return Err(self.limit(format!(
+                "the variables would hold more than {MAX_VALUE_CELLS} values (limit MAX_VALUE_CELLS)"
+            )));
+        }
+        self.cells = total;
+        if let Some(f) = self.frame_cells.last_mut() {
+            *f += n;
+        }
+        Ok(())
+    }
+
     fn push(&mut self, step: Step) -> Result<(), RunError> {
         if self.steps.len() >= MAX_STEPS {
             return Err(RunError::TooLong {
@@ -1597,6 +1743,13 @@ impl<'a> Interp<'a> {
     /// The place an lvalue-like expression names, or `None` if it is not
     /// rooted in a variable.
     fn place_of(&mut self, e: &Expr) -> Result<Option<Place>, RunError> {
+        self.enter()?;
+        let r = self.place_of_node(e);
+        self.nesting -= 1;
+        r
+    }
+
+    fn place_of_node(&mut self, e: &Expr) -> Result<Option<Place>, RunError> {
         Ok(match e {
             Expr::Var(n) => Some(self.resolve(n)?),
             Expr::Index(b, idx) => match self.place_of(b)? {
@@ -1652,6 +1805,12 @@ impl<'a> Interp<'a> {
                 "{} has the type {t}, which the simulator does not support",
                 p.desc
             ))),
+            v @ Value::Array(..) => {
+                // Copying a whole array is work in proportion to its size.
+                let v = v.clone();
+                self.charge(cells(&v) as u64)?;
+                Ok(v)
+            }
             v => Ok(v.clone()),
         }
     }
@@ -1750,7 +1909,9 @@ impl<'a> Interp<'a> {
     /// out-of-range values too).
     fn validate_sys(&self, name: &str) -> Result<(), String> {
         let msg = |e: RunError| match e {
-            RunError::Runtime { message, .. } | RunError::TooLong { message, .. } => message,
+            RunError::Runtime { message, .. }
+            | RunError::TooLong { message, .. }
+            | RunError::Limit { message, .. } => message,
             RunError::Unsupported(u) => u.what,
         };
         match name {
@@ -1863,78 +2024,106 @@ impl<'a> Interp<'a> {
 
     // ---- expressions
 
+    /// Evaluates an expression. Counts one evaluation and one level of
+    /// nesting; the work per kind of node is in functions of its own, so
+    /// that the frames on the recursion stay small in a debug build.
     fn eval(&mut self, e: &Expr) -> Result<Value, RunError> {
+        self.enter()?;
+        let r = match self.charge(1) {
+            Ok(()) => self.eval_node(e),
+            Err(x) => Err(x),
+        };
+        self.nesting -= 1;
+        r
+    }
+
+    fn eval_node(&mut self, e: &Expr) -> Result<Value, RunError> {
         match e {
             Expr::Int(i) => Ok(Value::Int(*i)),
             Expr::Real(r) => Ok(Value::Real(*r)),
             Expr::Bool(b) => Ok(Value::Bool(*b)),
             Expr::Str(s) => Ok(Value::Str(s.clone())),
             Expr::Enum(s) => Ok(Value::Enum(s.to_ascii_uppercase())),
-            Expr::Var(_) | Expr::Index(..) | Expr::Field(..) => {
-                if let Some(p) = self.place_of(e)? {
-                    return self.read_place(&p);
-                }
-                // A component or element of a computed value, e.g. f().X.
-                let (base, elem) = match e {
-                    Expr::Field(b, f) => (b, PathElem::Field(f.to_ascii_uppercase())),
-                    Expr::Index(b, idx) => {
-                        let mut ii = Vec::new();
-                        for i in idx {
-                            let v = self.eval(i)?;
-                            ii.push(v.int().map_err(|m| self.err(format!("index: {m}")))?);
-                        }
-                        (b, PathElem::Index(ii))
-                    }
-                    _ => return Err(self.err("internal: not a place")),
-                };
-                let v = self.eval(base)?;
-                match step_into(&v, &elem) {
-                    Ok(Value::Unset(_)) => Err(self.err(format!("{} has no value", describe(e)))),
-                    Ok(x) => Ok(x.clone()),
-                    Err(m) => Err(self.err(m)),
-                }
-            }
-            Expr::Call(name, args) => {
-                let up = name.to_ascii_uppercase();
-                if BUILTINS.contains(&up.as_str()) {
-                    let mut vals = Vec::with_capacity(args.len());
-                    for a in args {
-                        vals.push(self.eval(a)?);
-                    }
-                    return builtin(&up, &vals).map_err(|m| self.err(m));
-                }
-                let routine = self.routine(name)?;
-                if routine.kind == RoutineKind::Def {
-                    return Err(self.err(format!("{name} is a procedure (DEF) and has no value")));
-                }
-                self.call_routine(routine, args)?
-                    .ok_or_else(|| self.err(format!("{name} returned no value")))
-            }
-            Expr::Struct { ty, fields } => {
-                let mut out = Vec::with_capacity(fields.len());
-                for (n, v) in fields {
-                    out.push((n.to_ascii_uppercase(), self.eval(v)?));
-                }
-                let ty = ty.as_deref().unwrap_or("").to_ascii_uppercase();
-                Ok(Value::Struct(ty, out))
-            }
-            Expr::Unary(op, x) => {
-                let v = self.eval(x)?;
-                let r = match (op, v) {
-                    (UnOp::Neg, Value::Int(i)) => int_result(i.checked_neg()),
-                    (UnOp::Neg, Value::Real(r)) => Ok(Value::Real(-r)),
-                    (UnOp::Not, Value::Bool(b)) => Ok(Value::Bool(!b)),
-                    (UnOp::BNot, Value::Int(i)) => Ok(Value::Int(!i)),
-                    (op, v) => Err(format!("{op:?} cannot be applied to {}", v.type_name())),
-                };
-                r.map_err(|m| self.err(m))
-            }
-            Expr::Binary(op, a, b) => {
-                let l = self.eval(a)?;
-                let r = self.eval(b)?;
-                binary(*op, l, r).map_err(|m| self.err(m))
-            }
+            Expr::Var(_) | Expr::Index(..) | Expr::Field(..) => self.eval_place(e),
+            Expr::Call(name, args) => self.eval_call(name, args),
+            Expr::Struct { ty, fields } => self.eval_struct(ty.as_deref(), fields),
+            Expr::Unary(op, x) => self.eval_unary(*op, x),
+            Expr::Binary(op, a, b) => self.eval_binary(*op, a, b),
         }
+    }
+
+    /// A variable, element or component.
+    fn eval_place(&mut self, e: &Expr) -> Result<Value, RunError> {
+        if let Some(p) = self.place_of(e)? {
+            return self.read_place(&p);
+        }
+        // A component or element of a computed value, e.g. f().X.
+        let (base, elem) = match e {
+            Expr::Field(b, f) => (b, PathElem::Field(f.to_ascii_uppercase())),
+            Expr::Index(b, idx) => {
+                let mut ii = Vec::new();
+                for i in idx {
+                    let v = self.eval(i)?;
+                    ii.push(v.int().map_err(|m| self.err(format!("index: {m}")))?);
+                }
+                (b, PathElem::Index(ii))
+            }
+            _ => return Err(self.err("internal: not a place")),
+        };
+        let v = self.eval(base)?;
+        match step_into(&v, &elem) {
+            Ok(Value::Unset(_)) => Err(self.err(format!("{} has no value", describe(e)))),
+            Ok(x) => Ok(x.clone()),
+            Err(m) => Err(self.err(m)),
+        }
+    }
+
+    fn eval_call(&mut self, name: &str, args: &[Expr]) -> Result<Value, RunError> {
+        let up = name.to_ascii_uppercase();
+        if BUILTINS.contains(&up.as_str()) {
+            let mut vals = Vec::with_capacity(args.len());
+            for a in args {
+                vals.push(self.eval(a)?);
+            }
+            return builtin(&up, &vals).map_err(|m| self.err(m));
+        }
+        let routine = self.routine(name)?;
+        if routine.kind == RoutineKind::Def {
+            return Err(self.err(format!("{name} is a procedure (DEF) and has no value")));
+        }
+        self.call_routine(routine, args)?
+            .ok_or_else(|| self.err(format!("{name} returned no value")))
+    }
+
+    fn eval_struct(
+        &mut self,
+        ty: Option<&str>,
+        fields: &[(String, Expr)],
+    ) -> Result<Value, RunError> {
+        let mut out = Vec::with_capacity(fields.len());
+        for (n, v) in fields {
+            out.push((n.to_ascii_uppercase(), self.eval(v)?));
+        }
+        let ty = ty.unwrap_or("").to_ascii_uppercase();
+        Ok(Value::Struct(ty, out))
+    }
+
+    fn eval_unary(&mut self, op: UnOp, x: &Expr) -> Result<Value, RunError> {
+        let v = self.eval(x)?;
+        let r = match (op, v) {
+            (UnOp::Neg, Value::Int(i)) => int_result(i.checked_neg()),
+            (UnOp::Neg, Value::Real(r)) => Ok(Value::Real(-r)),
+            (UnOp::Not, Value::Bool(b)) => Ok(Value::Bool(!b)),
+            (UnOp::BNot, Value::Int(i)) => Ok(Value::Int(!i)),
+            (op, v) => Err(format!("{op:?} cannot be applied to {}", v.type_name())),
+        };
+        r.map_err(|m| self.err(m))
+    }
+
+    fn eval_binary(&mut self, op: BinOp, a: &Expr, b: &Expr) -> Result<Value, RunError> {
+        let l = self.eval(a)?;
+        let r = self.eval(b)?;
+        binary(op, l, r).map_err(|m| self.err(m))
     }
 
     fn eval_num(&mut self, e: &Expr) -> Result<f64, RunError> {
@@ -1955,13 +2144,53 @@ impl<'a> Interp<'a> {
     // ---- routines
 
     fn routine(&self, name: &str) -> Result<&'a Routine, RunError> {
-        self.program
-            .routine(name)
+        self.routines
+            .get(&name.to_ascii_uppercase())
+            .copied()
             .ok_or_else(|| self.err(format!("the routine {name} is not defined")))
     }
 
     fn call_routine(&mut self, r: &'a Routine, args: &[Expr]) -> Result<Option<Value>, RunError> {
+        self.enter()?;
+        let result = self.call_routine_body(r, args);
+        self.nesting -= 1;
+        result
+    }
+
+    fn call_routine_body(
+        &mut self,
+        r: &'a Routine,
+        args: &[Expr],
+    ) -> Result<Option<Value>, RunError> {
         let call_line = self.line;
+        // Separate functions: their frames are gone while the body runs.
+        // Binding evaluates the arguments: a level of its own.
+        self.enter()?;
+        let bound = self.bind_params(r, args);
+        self.nesting -= 1;
+        let (frame, held) = bound?;
+        self.frames.push(frame);
+        self.frame_cells.push(0);
+        let flow = match self.hold(held) {
+            Ok(()) => self.exec_block(&r.body),
+            Err(e) => Err(e),
+        };
+        self.frames.pop();
+        let released = self.frame_cells.pop().unwrap_or(0);
+        self.cells = self.cells.saturating_sub(released);
+        let flow = flow?;
+        let result = self.routine_result(r, flow)?;
+        self.line = call_line;
+        Ok(result)
+    }
+
+    /// The new frame of a call of `r`: its `IN` parameters' values and its
+    /// `OUT` parameters' places; and the values the frame holds.
+    fn bind_params(
+        &mut self,
+        r: &'a Routine,
+        args: &[Expr],
+    ) -> Result<(HashMap<String, Slot>, usize), RunError> {
         if r.params.len() != args.len() {
             return Err(self.err(format!(
                 "{} takes {} argument(s), got {}",
@@ -1970,12 +2199,13 @@ impl<'a> Interp<'a> {
                 args.len()
             )));
         }
-        if self.frames.len() >= MAX_DEPTH {
-            return Err(self.err(format!(
-                "calls nested deeper than {MAX_DEPTH} levels (endless recursion?)"
+        if self.frames.len() >= MAX_CALL_DEPTH {
+            return Err(self.limit(format!(
+                "calls nested deeper than {MAX_CALL_DEPTH} levels (limit MAX_CALL_DEPTH; endless recursion?)"
             )));
         }
         let mut frame = HashMap::new();
+        let mut held = 0usize;
         for (p, a) in r.params.iter().zip(args) {
             let slot = if p.out {
                 match self.place_of(a)? {
@@ -1994,14 +2224,17 @@ impl<'a> Interp<'a> {
                     }
                 }
             } else {
-                Slot::Val(self.eval(a)?)
+                let v = self.eval(a)?;
+                held = held.saturating_add(cells(&v));
+                Slot::Val(v)
             };
             frame.insert(p.name.to_ascii_uppercase(), slot);
         }
-        self.frames.push(frame);
-        let flow = self.exec_block(&r.body);
-        self.frames.pop();
-        let flow = flow?;
+        Ok((frame, held))
+    }
+
+    /// The value a call of `r` returns, after its body ended with `flow`.
+    fn routine_result(&mut self, r: &'a Routine, flow: Flow) -> Result<Option<Value>, RunError> {
         self.line = r.end_line;
         let result = match (&r.kind, flow) {
             (RoutineKind::Def, Flow::Next | Flow::Return(None)) => None,
@@ -2024,7 +2257,6 @@ impl<'a> Interp<'a> {
             }
             (_, Flow::Exit) => return Err(self.err("EXIT outside a loop")),
         };
-        self.line = call_line;
         Ok(result)
     }
 
@@ -2042,6 +2274,14 @@ impl<'a> Interp<'a> {
 
     /// Runs a loop body; `Some(flow)` when the loop must end with `flow`.
     fn loop_body(&mut self, body: &'a [Stmt], line: u32) -> Result<Option<Flow>, RunError> {
+        // A loop's frames count as a level of their own.
+        self.enter()?;
+        let r = self.loop_iteration(body, line);
+        self.nesting -= 1;
+        r
+    }
+
+    fn loop_iteration(&mut self, body: &'a [Stmt], line: u32) -> Result<Option<Flow>, RunError> {
         self.line = line;
         self.tick()?;
         let f = match self.exec_block(body)? {
@@ -2054,8 +2294,9 @@ impl<'a> Interp<'a> {
     }
 
     fn exec(&mut self, s: &'a Stmt) -> Result<Flow, RunError> {
+        self.enter()?;
         let guarded = std::mem::take(&mut self.error_proceed);
-        match self.exec_stmt(s) {
+        let r = match self.exec_stmt(s) {
             // ON_ERROR_PROCEED (harness only): note the error in $ERR and
             // go on after the statement. The statement limit still ends
             // the run.
@@ -2066,190 +2307,325 @@ impl<'a> Interp<'a> {
                 Ok(Flow::Next)
             }
             r => r,
-        }
+        };
+        self.nesting -= 1;
+        r
     }
 
+    /// Dispatches on the statement. Every statement with more than a few
+    /// locals has a function of its own: a debug build gives a function one
+    /// stack slot per local of every `match` arm, and this function is on
+    /// every recursion (blocks, calls).
     fn exec_stmt(&mut self, s: &'a Stmt) -> Result<Flow, RunError> {
         self.line = s.line;
         self.tick()?;
         self.continue_active = std::mem::take(&mut self.continue_pending);
         let l = s.line;
         match &s.kind {
-            StmtKind::Decl { ty, vars, .. } => {
-                for d in &vars[..] {
-                    self.declare(ty, d)?;
-                }
-            }
+            StmtKind::Decl { ty, vars, .. } => self.exec_decl(ty, vars),
             // Only the standard stop-message interrupt passes check_subset.
             StmtKind::Ext { .. }
             | StmtKind::InterruptDecl { .. }
-            | StmtKind::InterruptSwitch { .. } => {}
-            StmtKind::Assign { target, value } => {
-                let v = self.eval(value)?;
-                let Some(p) = self.place_of(target)? else {
-                    return Err(self.err(format!("cannot assign to {}", describe(target))));
-                };
-                self.write_place(&p, v)?;
-            }
-            StmtKind::Call { name, args } => {
-                if name.eq_ignore_ascii_case("BAS") {
-                    self.bas(args)?;
-                } else if self.harness.is_some() && name.eq_ignore_ascii_case("CWRITE") {
-                    self.cwrite(args)?;
-                } else if self.harness.is_some() && name.eq_ignore_ascii_case("ERR_CLEAR") {
-                    match &args[..] {
-                        [Expr::Var(v)] if v.eq_ignore_ascii_case("$ERR") => {
-                            self.globals.insert("$ERR".into(), err_value(0, 0));
-                        }
-                        _ => return Err(self.err("ERR_CLEAR takes $ERR")),
-                    }
-                } else {
-                    let r = self.routine(name)?;
-                    self.call_routine(r, args)?;
-                }
-            }
+            | StmtKind::InterruptSwitch { .. } => Ok(Flow::Next),
+            StmtKind::Assign { target, value } => self.exec_assign(target, value),
+            StmtKind::Call { name, args } => self.exec_call(name, args),
             StmtKind::If {
                 cond,
                 then_body,
                 else_body,
-            } => {
-                let body = if self.eval_bool(cond)? {
-                    then_body
-                } else {
-                    else_body
-                };
-                return self.exec_block(body);
-            }
-            StmtKind::While { cond, body } => {
-                while self.eval_bool(cond)? {
-                    if let Some(f) = self.loop_body(body, l)? {
-                        return Ok(f);
-                    }
-                }
-            }
+            } => self.exec_if(cond, then_body, else_body),
+            StmtKind::While { cond, body } => self.exec_while(cond, body, l),
             StmtKind::For {
                 var,
                 from,
                 to,
                 step,
                 body,
-            } => {
-                let from = self.eval_int(from)?;
-                let to = self.eval_int(to)?;
-                let step = match step {
-                    Some(e) => self.eval_int(e)?,
-                    None => 1,
-                };
-                if step == 0 {
-                    return Err(self.err("FOR with STEP 0 never ends"));
-                }
-                let counter = self.place_of(&Expr::Var(var.clone()))?;
-                let Some(counter) = counter else {
-                    return Err(self.err(format!("{var} is not a variable")));
-                };
-                self.write_place(&counter, Value::Int(from))?;
-                loop {
-                    let i = self.read_place(&counter)?.int().map_err(|m| self.err(m))?;
-                    if (step > 0 && i > to) || (step < 0 && i < to) {
-                        break;
-                    }
-                    if let Some(f) = self.loop_body(body, l)? {
-                        return Ok(f);
-                    }
-                    let i = self.read_place(&counter)?.int().map_err(|m| self.err(m))?;
-                    let next = int_result(i.checked_add(step)).map_err(|m| self.err(m))?;
-                    self.write_place(&counter, next)?;
-                }
-            }
-            StmtKind::Loop { body } => loop {
-                if let Some(f) = self.loop_body(body, l)? {
-                    return Ok(f);
-                }
-            },
-            StmtKind::Repeat { body, until } => loop {
-                if let Some(f) = self.loop_body(body, l)? {
-                    return Ok(f);
-                }
-                if self.eval_bool(until)? {
-                    break;
-                }
-            },
+            } => self.exec_for(var, [from, to], step.as_ref(), body, l),
+            StmtKind::Loop { body } => self.exec_loop(body, l),
+            StmtKind::Repeat { body, until } => self.exec_repeat(body, until, l),
             StmtKind::Switch {
                 selector,
                 cases,
                 default,
-            } => {
-                let sel = self.eval(selector)?;
-                for (vals, body) in cases {
-                    for v in vals {
-                        let v = self.eval(v)?;
-                        if values_equal(&sel, &v).map_err(|m| self.err(m))? {
-                            return self.exec_block(body);
-                        }
-                    }
-                }
-                if let Some(d) = default {
-                    return self.exec_block(d);
-                }
+            } => self.exec_switch(selector, cases, default.as_deref()),
+            StmtKind::Return(e) => self.exec_return(e.as_ref()),
+            StmtKind::Exit => Ok(Flow::Exit),
+            StmtKind::Continue => {
+                self.continue_pending = true;
+                Ok(Flow::Next)
             }
-            StmtKind::Return(e) => {
-                let v = match e {
-                    Some(e) => Some(self.eval(e)?),
-                    None => None,
-                };
-                return Ok(Flow::Return(v));
-            }
-            StmtKind::Exit => return Ok(Flow::Exit),
-            StmtKind::Continue => self.continue_pending = true,
-            StmtKind::WaitSec(e) => {
-                let t = self.eval_num(e)?;
-                if !(t >= 0.0 && t.is_finite()) {
-                    return Err(self.err(format!("WAIT SEC {t}: the time must not be negative")));
-                }
-                self.push(Step::Dwell {
-                    seconds: t,
-                    line: l,
-                })?;
-            }
-            StmtKind::WaitFor(e) => {
-                if !self.eval_bool(e)? {
-                    return Err(self.err(
-                        "WAIT FOR: the condition is FALSE and nothing in the simulator can change it (the program would wait forever)",
-                    ));
-                }
-            }
+            StmtKind::WaitSec(e) => self.exec_wait_sec(e, l),
+            StmtKind::WaitFor(e) => self.exec_wait_for(e),
             StmtKind::Motion {
                 kind,
                 aux,
                 target,
                 approx,
                 ..
-            } => {
-                let approx_mm = if approx.is_some() { self.cdis()? } else { 0.0 };
-                let speeds = self.speeds()?;
-                self.motion(*kind, aux.as_ref(), target, approx_mm, speeds)?;
-            }
-            StmtKind::Spline { points, approx, .. } => self.spline(points, approx.is_some())?,
+            } => self.exec_motion(*kind, aux.as_ref(), target, approx.is_some()),
+            StmtKind::Spline { points, approx, .. } => self.exec_spline(points, approx.is_some()),
+            _ => self.exec_other(s),
+        }
+    }
+
+    /// Statements of the harness and those outside the subset.
+    fn exec_other(&mut self, s: &'a Stmt) -> Result<Flow, RunError> {
+        match &s.kind {
             StmtKind::Struc { name, fields } => self.define_struc(name, fields)?,
             StmtKind::Enum { name, .. } => {
                 self.types
                     .insert(name.to_ascii_uppercase(), Value::Unset(Scalar::Enum));
             }
             StmtKind::OnErrorProceed if self.harness.is_some() => self.error_proceed = true,
-            StmtKind::Signal { .. }
-            | StmtKind::Halt
-            | StmtKind::Brake
-            | StmtKind::Resume
-            | StmtKind::OnErrorProceed
-            | StmtKind::Trigger { .. } => {
+            _ => {
                 return Err(Unsupported {
-                    line: l,
+                    line: s.line,
                     what: "this statement".into(),
                 }
                 .into());
             }
         }
         Ok(Flow::Next)
+    }
+
+    fn exec_spline(&mut self, points: &'a [SplinePoint], c_spl: bool) -> Result<Flow, RunError> {
+        // The spline's and the motion's frames are large (in a debug
+        // build): each counts as a level of its own.
+        self.enter()?;
+        let r = self.spline(points, c_spl);
+        self.nesting -= 1;
+        r.map(|()| Flow::Next)
+    }
+
+    fn exec_decl(&mut self, ty: &str, vars: &[kuka_krl::Declarator]) -> Result<Flow, RunError> {
+        for d in vars {
+            self.declare(ty, d)?;
+        }
+        Ok(Flow::Next)
+    }
+
+    fn exec_assign(&mut self, target: &Expr, value: &Expr) -> Result<Flow, RunError> {
+        let v = self.eval(value)?;
+        let Some(p) = self.place_of(target)? else {
+            return Err(self.err(format!("cannot assign to {}", describe(target))));
+        };
+        self.write_place(&p, v)?;
+        Ok(Flow::Next)
+    }
+
+    fn exec_call(&mut self, name: &str, args: &[Expr]) -> Result<Flow, RunError> {
+        if name.eq_ignore_ascii_case("BAS") {
+            self.bas(args)?;
+        } else if self.harness.is_some() && name.eq_ignore_ascii_case("CWRITE") {
+            self.cwrite(args)?;
+        } else if self.harness.is_some() && name.eq_ignore_ascii_case("ERR_CLEAR") {
+            match args {
+                [Expr::Var(v)] if v.eq_ignore_ascii_case("$ERR") => {
+                    self.globals.insert("$ERR".into(), err_value(0, 0));
+                }
+                _ => return Err(self.err("ERR_CLEAR takes $ERR")),
+            }
+        } else {
+            let r = self.routine(name)?;
+            self.call_routine(r, args)?;
+        }
+        Ok(Flow::Next)
+    }
+
+    fn exec_if(
+        &mut self,
+        cond: &Expr,
+        then_body: &'a [Stmt],
+        else_body: &'a [Stmt],
+    ) -> Result<Flow, RunError> {
+        let body = if self.eval_bool(cond)? {
+            then_body
+        } else {
+            else_body
+        };
+        self.exec_block(body)
+    }
+
+    fn exec_while(&mut self, cond: &Expr, body: &'a [Stmt], l: u32) -> Result<Flow, RunError> {
+        while self.eval_bool(cond)? {
+            if let Some(f) = self.loop_body(body, l)? {
+                return Ok(f);
+            }
+        }
+        Ok(Flow::Next)
+    }
+
+    fn exec_for(
+        &mut self,
+        var: &str,
+        bounds: [&Expr; 2],
+        step: Option<&Expr>,
+        body: &'a [Stmt],
+        l: u32,
+    ) -> Result<Flow, RunError> {
+        // Two calls in a row: the frame that evaluates the bounds is gone
+        // before the loop recurses into the body.
+        let (counter, to, step) = self.for_start(var, bounds, step)?;
+        self.for_loop(&counter, to, step, body, l)
+    }
+
+    /// Evaluates a FOR's bounds and step and sets the counter to `from`.
+    fn for_start(
+        &mut self,
+        var: &str,
+        [from, to]: [&Expr; 2],
+        step: Option<&Expr>,
+    ) -> Result<(Place, i64, i64), RunError> {
+        let from = self.eval_int(from)?;
+        let to = self.eval_int(to)?;
+        let step = match step {
+            Some(e) => self.eval_int(e)?,
+            None => 1,
+        };
+        if step == 0 {
+            return Err(self.err("FOR with STEP 0 never ends"));
+        }
+        let counter = self.place_of(&Expr::Var(var.to_string()))?;
+        let Some(counter) = counter else {
+            return Err(self.err(format!("{var} is not a variable")));
+        };
+        self.write_place(&counter, Value::Int(from))?;
+        Ok((counter, to, step))
+    }
+
+    fn for_loop(
+        &mut self,
+        counter: &Place,
+        to: i64,
+        step: i64,
+        body: &'a [Stmt],
+        l: u32,
+    ) -> Result<Flow, RunError> {
+        while self.for_continues(counter, to, step)? {
+            if let Some(f) = self.loop_body(body, l)? {
+                return Ok(f);
+            }
+            self.for_next(counter, step)?;
+        }
+        Ok(Flow::Next)
+    }
+
+    fn for_continues(&mut self, counter: &Place, to: i64, step: i64) -> Result<bool, RunError> {
+        let i = self.read_place(counter)?.int().map_err(|m| self.err(m))?;
+        Ok(!((step > 0 && i > to) || (step < 0 && i < to)))
+    }
+
+    fn for_next(&mut self, counter: &Place, step: i64) -> Result<(), RunError> {
+        let i = self.read_place(counter)?.int().map_err(|m| self.err(m))?;
+        let next = int_result(i.checked_add(step)).map_err(|m| self.err(m))?;
+        self.write_place(counter, next)
+    }
+
+    fn exec_loop(&mut self, body: &'a [Stmt], l: u32) -> Result<Flow, RunError> {
+        loop {
+            if let Some(f) = self.loop_body(body, l)? {
+                return Ok(f);
+            }
+        }
+    }
+
+    fn exec_repeat(&mut self, body: &'a [Stmt], until: &Expr, l: u32) -> Result<Flow, RunError> {
+        loop {
+            if let Some(f) = self.loop_body(body, l)? {
+                return Ok(f);
+            }
+            if self.eval_bool(until)? {
+                return Ok(Flow::Next);
+            }
+        }
+    }
+
+    fn exec_switch(
+        &mut self,
+        selector: &Expr,
+        cases: &'a [(Vec<Expr>, Vec<Stmt>)],
+        default: Option<&'a [Stmt]>,
+    ) -> Result<Flow, RunError> {
+        match self.switch_body(selector, cases, default)? {
+            Some(body) => self.exec_block(body),
+            None => Ok(Flow::Next),
+        }
+    }
+
+    /// The body a SWITCH runs, if any.
+    fn switch_body(
+        &mut self,
+        selector: &Expr,
+        cases: &'a [(Vec<Expr>, Vec<Stmt>)],
+        default: Option<&'a [Stmt]>,
+    ) -> Result<Option<&'a [Stmt]>, RunError> {
+        let sel = self.eval(selector)?;
+        for (vals, body) in cases {
+            for v in vals {
+                let v = self.eval(v)?;
+                if values_equal(&sel, &v).map_err(|m| self.err(m))? {
+                    return Ok(Some(body));
+                }
+            }
+        }
+        Ok(default)
+    }
+
+    fn exec_return(&mut self, e: Option<&Expr>) -> Result<Flow, RunError> {
+        let v = match e {
+            Some(e) => Some(self.eval(e)?),
+            None => None,
+        };
+        Ok(Flow::Return(v))
+    }
+
+    fn exec_wait_sec(&mut self, e: &Expr, l: u32) -> Result<Flow, RunError> {
+        let t = self.eval_num(e)?;
+        if !(t >= 0.0 && t.is_finite()) {
+            return Err(self.err(format!("WAIT SEC {t}: the time must not be negative")));
+        }
+        self.push(Step::Dwell {
+            seconds: t,
+            line: l,
+        })?;
+        Ok(Flow::Next)
+    }
+
+    fn exec_wait_for(&mut self, e: &Expr) -> Result<Flow, RunError> {
+        if !self.eval_bool(e)? {
+            return Err(self.err(
+                "WAIT FOR: the condition is FALSE and nothing in the simulator can change it (the program would wait forever)",
+            ));
+        }
+        Ok(Flow::Next)
+    }
+
+    fn exec_motion(
+        &mut self,
+        kind: KrlMotion,
+        aux: Option<&Expr>,
+        target: &Expr,
+        approx: bool,
+    ) -> Result<Flow, RunError> {
+        let approx_mm = if approx { self.cdis()? } else { 0.0 };
+        let speeds = self.speeds()?;
+        self.motion(kind, aux, target, approx_mm, speeds)?;
+        Ok(Flow::Next)
+    }
+
+    fn motion(
+        &mut self,
+        kind: KrlMotion,
+        aux: Option<&Expr>,
+        target: &Expr,
+        approx_mm: f64,
+        sp: Speeds,
+    ) -> Result<(), RunError> {
+        self.enter()?;
+        let r = self.motion_body(kind, aux, target, approx_mm, sp);
+        self.nesting -= 1;
+        r
     }
 
     fn declare(&mut self, ty: &str, d: &kuka_krl::Declarator) -> Result<(), RunError> {
@@ -2280,11 +2656,20 @@ impl<'a> Interp<'a> {
             if total > MAX_ARRAY {
                 return Err(self.err(format!("the array {} is too large", d.name)));
             }
+            // Counted before the array is allocated.
+            self.hold(cells(&value).saturating_mul(total))?;
             value = Value::Array(dims, vec![value; total]);
+        } else if !matches!(
+            self.frames.last().and_then(|f| f.get(&name)),
+            Some(Slot::Val(_) | Slot::Ref(_))
+        ) {
+            self.hold(cells(&value))?;
         }
         match self.frames.last_mut() {
             None => {
-                self.globals.insert(name.clone(), value);
+                if let Some(old) = self.globals.insert(name.clone(), value) {
+                    self.cells = self.cells.saturating_sub(cells(&old));
+                }
             }
             Some(frame) => match frame.get_mut(&name) {
                 // The declaration of an OUT parameter: the caller's variable.
@@ -2643,7 +3028,7 @@ impl<'a> Interp<'a> {
         self.cart_line = self.line;
     }
 
-    fn motion(
+    fn motion_body(
         &mut self,
         kind: KrlMotion,
         aux: Option<&Expr>,

@@ -60,11 +60,28 @@ fn global_decls(stmts: &[Stmt], out: &mut HashSet<String>) {
     }
 }
 
+/// The names a routine sees: the globals (shared by all routines, not
+/// copied per routine: a file of many routines and globals must not cost
+/// quadratic time) and its own.
+struct Scope<'g> {
+    globals: &'g HashSet<String>,
+    locals: HashSet<String>,
+}
+
+impl Scope<'_> {
+    fn contains(&self, upper: &str) -> bool {
+        self.locals.contains(upper) || self.globals.contains(upper)
+    }
+}
+
 fn check_routine(r: &Routine, globals: &HashSet<String>) -> Result<(), Undeclared> {
-    let mut scope = globals.clone();
-    scope.extend(r.params.iter().map(|p| p.name.to_ascii_uppercase()));
-    collect_decls(&r.body, &mut scope);
-    walk_block(&r.body, &scope)
+    let mut locals: HashSet<String> = r
+        .params
+        .iter()
+        .map(|p| p.name.to_ascii_uppercase())
+        .collect();
+    collect_decls(&r.body, &mut locals);
+    walk_block(&r.body, &Scope { globals, locals })
 }
 
 /// Declarations anywhere in the body (KRL wants them at the top; the
@@ -73,11 +90,11 @@ fn collect_decls(stmts: &[Stmt], out: &mut HashSet<String>) {
     declared(stmts, out);
 }
 
-fn walk_block(stmts: &[Stmt], scope: &HashSet<String>) -> Result<(), Undeclared> {
+fn walk_block(stmts: &[Stmt], scope: &Scope<'_>) -> Result<(), Undeclared> {
     stmts.iter().try_for_each(|s| walk_stmt(s, scope))
 }
 
-fn walk_stmt(s: &Stmt, scope: &HashSet<String>) -> Result<(), Undeclared> {
+fn walk_stmt(s: &Stmt, scope: &Scope<'_>) -> Result<(), Undeclared> {
     let line = s.line;
     let e = |x: &Expr| walk_expr(x, line, scope);
     match &s.kind {
@@ -175,7 +192,7 @@ fn walk_stmt(s: &Stmt, scope: &HashSet<String>) -> Result<(), Undeclared> {
     }
 }
 
-fn walk_expr(x: &Expr, line: u32, scope: &HashSet<String>) -> Result<(), Undeclared> {
+fn walk_expr(x: &Expr, line: u32, scope: &Scope<'_>) -> Result<(), Undeclared> {
     let rec = |y: &Expr| walk_expr(y, line, scope);
     match x {
         Expr::Var(name) => {

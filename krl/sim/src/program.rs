@@ -47,6 +47,17 @@ pub enum PrepareError {
     Run(#[from] RunError),
 }
 
+/// Stack size for a thread that runs [`interpret`] (the service's dry run,
+/// the simulated controller's program thread): 8 MiB.
+///
+/// A margin, not a requirement: the parser's limits ([`kuka_krl::limits`])
+/// and the interpreter's ([`interp::MAX_NESTING`], [`interp::MAX_CALL_DEPTH`])
+/// keep the deepest program within about 1.4 MiB of stack in a debug build,
+/// so it runs on the default 2 MiB of a spawned thread too (tested in
+/// `tests/limits.rs`); release builds need far less. Stack memory is
+/// reserved, not committed: the unused part costs nothing.
+pub const DRY_RUN_STACK_BYTES: usize = 8 * 1024 * 1024;
+
 /// Parses module `module` (its `.src` and optional `.dat`) and runs it
 /// ahead with the interpreter from `start`: what the simulated controller
 /// plays and what the service's dry run checks.

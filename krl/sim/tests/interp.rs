@@ -672,9 +672,14 @@ fn runtime_errors_name_their_line() {
     let (line, msg) = runtime_error("DEF f()\n  $VEL.CP = 3\nEND\n");
     assert_eq!(line, 2);
     assert!(msg.contains("$VEL.CP"), "{msg}");
-    // Endless recursion ends with an error, not a stack overflow.
-    let (_, msg) = runtime_error("DEF f()\n  g()\nEND\nDEF g()\n  g()\nEND\n");
-    assert!(msg.contains("nested"), "{msg}");
+    // Endless recursion ends with a limit error, not a stack overflow.
+    match run_src("DEF f()\n  g()\nEND\nDEF g()\n  g()\nEND\n", None, "f") {
+        Err(RunError::Limit { line, message }) => {
+            assert_eq!(line, 5);
+            assert!(message.contains("MAX_CALL_DEPTH"), "{message}");
+        }
+        other => panic!("expected the call depth limit, got {other:?}"),
+    }
     // Endless motion loops stop at the step limit.
     let (line, msg) =
         runtime_error("DEF f()\n  LOOP\n    LIN {X 300}\n    LIN {X 310}\n  ENDLOOP\nEND\n");
