@@ -258,8 +258,10 @@ impl Safety {
     /// (reachability, software limits, singularities). Errors name the
     /// program line. A program outside the subset (only a real KRC can
     /// run it) is sent unchecked; one that does not end within the
-    /// interpreter's limits (a cyclic program, run until stopped) is
-    /// checked up to there.
+    /// interpreter's statement, evaluation or step limits (a cyclic
+    /// program, run until stopped) is checked up to there; one that nests
+    /// too deep or holds too many values (`RunError::Limit`) is refused
+    /// as `invalid_program` with its line and the limit.
     pub fn check_program(
         &self,
         program: &crate::programs::StoredProgram,
@@ -291,6 +293,19 @@ impl Safety {
             Err(PrepareError::Run(RunError::TooLong { steps, .. })) => (steps, false),
             // Beyond the simulator's subset: only a real KRC can run it.
             Err(PrepareError::Run(RunError::Unsupported(_))) => return Ok(unchecked),
+            // Too deep or too large for the interpreter (kuka_sim::interp's
+            // limits): refused like a program that does not parse.
+            Err(PrepareError::Run(RunError::Limit { line, message })) => {
+                return Err(BridgeError::new(
+                    ErrorCode::InvalidProgram,
+                    format!(
+                        "program {} cannot be run: line {}: {message}",
+                        program.info.name,
+                        up(line)
+                    ),
+                )
+                .at_line("src", up(line)));
+            }
             Err(PrepareError::Run(RunError::Runtime { line, message })) => {
                 return Err(BridgeError::new(
                     ErrorCode::ProgramFailed,
