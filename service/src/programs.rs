@@ -141,7 +141,9 @@ fn count_lines(text: &str) -> u32 {
     text.lines().count() as u32
 }
 
-/// Maps a front-end refusal to the API error, with file and line.
+/// Maps a front-end refusal to the API error, with file and line: syntax
+/// errors and the front end's limits (the message names the limit, e.g.
+/// `MAX_EXPR_DEPTH`) are `invalid_program`.
 pub fn program_error(e: &ProgramError) -> BridgeError {
     let file = match e {
         ProgramError::Dat(_) | ProgramError::DatName { .. } => "dat",
@@ -206,6 +208,13 @@ impl ProgramStore {
 
     /// Checks an upload without storing it: name, size, syntax, entry point
     /// and, with the simulator, the supported subset.
+    ///
+    /// The work is bounded for every text: the front end refuses
+    /// expressions and blocks nested beyond its limits (`kuka_krl::limits`)
+    /// as `invalid_program` with the line and the limit's name, so the
+    /// checks that walk the tree afterwards (names, subset) recurse only as
+    /// deep as those limits allow — all of it within a tokio worker's
+    /// 2 MiB stack, in a debug build too.
     pub fn check(&self, upload: &ProgramUpload) -> Result<(Program, ProgramInfo)> {
         if !valid_name(&upload.name) {
             return Err(BridgeError::invalid(format!(
