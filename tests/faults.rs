@@ -4,7 +4,7 @@
 
 use std::io::Write;
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use kuka_bridge_tests::{Options, TestService, assert_close, test_config};
@@ -20,35 +20,15 @@ fn cli() -> &'static str {
 }
 
 /// A simulated controller in its own process (`kuka-bridge simulate`).
-struct SimProcess(Child);
+struct SimProcess(kuka_bridge_tests::SimProcess);
 
 impl SimProcess {
     fn spawn(dir: &Path, time_scale: f64) -> SimProcess {
-        let child = Command::new(cli())
-            .args(["simulate", "--channel-dir"])
-            .arg(dir)
-            .args([
-                "--time-scale",
-                &time_scale.to_string(),
-                "--heartbeat-ms",
-                "10",
-            ])
-            .env("KUKA_BRIDGE_LOG", "warn")
-            .stdout(Stdio::null())
-            .spawn()
-            .expect("spawn simulator");
-        SimProcess(child)
+        SimProcess(kuka_bridge_tests::SimProcess::spawn(cli(), dir, time_scale))
     }
 
     fn kill(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-impl Drop for SimProcess {
-    fn drop(&mut self) {
-        self.kill();
+        self.0.kill();
     }
 }
 

@@ -409,6 +409,48 @@ pub fn initial_admin_secret(data_dir: &Path) -> String {
         .to_string()
 }
 
+/// A simulated controller in its own process (`kuka-bridge simulate`),
+/// killed when dropped. `cli` is the CLI binary
+/// (`env!("CARGO_BIN_EXE_kuka-bridge-cli")` in a test).
+pub struct SimProcess(std::process::Child);
+
+impl SimProcess {
+    /// Starts a simulator on `dir` with a 10 ms heartbeat.
+    pub fn spawn(cli: &str, dir: &Path, time_scale: f64) -> SimProcess {
+        let child = std::process::Command::new(cli)
+            .args(["simulate", "--channel-dir"])
+            .arg(dir)
+            .args([
+                "--time-scale",
+                &time_scale.to_string(),
+                "--heartbeat-ms",
+                "10",
+            ])
+            .env("KUKA_BRIDGE_LOG", "warn")
+            .stdout(std::process::Stdio::null())
+            .spawn()
+            .expect("spawn simulator");
+        SimProcess(child)
+    }
+
+    /// Its process id.
+    pub fn id(&self) -> u32 {
+        self.0.id()
+    }
+
+    /// Kills it (SIGKILL) and waits for it.
+    pub fn kill(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+impl Drop for SimProcess {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
 /// Reads a `kuka-bridge run` console up to "Press Ctrl-C": the URL it
 /// listens on and everything it printed.
 pub fn read_banner(stdout: impl std::io::Read) -> (String, String) {

@@ -88,6 +88,8 @@ pub struct Service {
     /// secret was written to.
     pub admin_token_file: Option<std::path::PathBuf>,
     closing: watch::Sender<bool>,
+    /// How long a running job may go on at shutdown (`server.shutdown_grace_ms`).
+    shutdown_grace: Duration,
     stop_http: Option<oneshot::Sender<()>>,
     /// The HTTP server task; `None` once it has ended.
     server: Option<JoinHandle<Result<(), AppError>>>,
@@ -201,6 +203,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         tls: https,
         admin_token_file,
         closing,
+        shutdown_grace: Duration::from_millis(config.server.shutdown_grace_ms),
         stop_http: Some(stop_http),
         server: Some(server),
         _lock: lock,
@@ -265,14 +268,34 @@ impl Service {
         format!("{scheme}://{}", self.addr)
     }
 
-    /// Graceful shutdown: stop accepting requests, end event streams, let the
-    /// running job finish or fail within its timeout, stop the simulator.
+    /// Graceful shutdown. First the service drains: new jobs are refused
+    /// (503 `shutting_down`), queued ones cancelled, while stop, cancel,
+    /// reads and event streams are still served and the running job
+    /// finishes — for at most `server.shutdown_grace_ms`, after which the
+    /// robot is stopped (a motion must not go on unobserved). Then the
+    /// listener closes, event streams end and the simulator stops.
     pub async fn shutdown(mut self) -> Result<(), AppError> {
+        tracing::info!(
+            grace_ms = self.shutdown_grace.as_millis() as u64,
+            "draining: no new jobs; stop and reads still served"
+        );
+        if tokio::time::timeout(self.shutdown_grace, self.engine.shutdown())
+            .await
+            .is_err()
+        {
+            tracing::warn!(
+                grace_ms = self.shutdown_grace.as_millis() as u64,
+                "the running job did not end within the shutdown grace; stopping the robot"
+            );
+            if let Err(e) = self.engine.stop().await {
+                tracing::error!(code = e.code.as_str(), detail = %e.detail, "stop at shutdown not confirmed");
+            }
+            self.engine.shutdown().await;
+        }
         let _ = self.closing.send(true);
         if let Some(tx) = self.stop_http.take() {
             let _ = tx.send(());
         }
-        self.engine.shutdown().await;
         let served = match self.server.take() {
             None => Ok(()),
             Some(mut server) => {

@@ -34,9 +34,6 @@ pub enum ChannelError {
     /// Another service instance holds the channel.
     #[error("another kuka-bridge already serves channel {0} (its lock file is held)")]
     InUse(String),
-    /// Command ids ran out (2^31 - 1 commands).
-    #[error("command ids exhausted; reset the counter file {0} together with the controller")]
-    CidExhausted(String),
 }
 
 /// A read that did not yield a record.
@@ -52,6 +49,9 @@ pub enum ReadOutcome<T> {
     Unchanged,
     /// Half-written or corrupt: read again later.
     Invalid(DecodeError),
+    /// Larger than any protocol file ([`kuka_protocol::MAX_CONTROLLER_FILE_LEN`]):
+    /// refused without reading it. The size.
+    TooLarge(u64),
     /// Other I/O failure.
     Failed(String),
 }
@@ -124,15 +124,23 @@ impl Channel {
         name: &str,
         decode: impl Fn(&str) -> Result<T, DecodeError>,
     ) -> ReadOutcome<T> {
-        match files::read(&self.dir, name) {
+        match files::read_bounded(&self.dir, name, kuka_protocol::MAX_CONTROLLER_FILE_LEN) {
             Ok(Some(text)) => match decode(&text) {
                 Ok(v) => ReadOutcome::Record(v),
                 Err(e) => ReadOutcome::Invalid(e),
             },
             Ok(None) => ReadOutcome::Missing,
             Err(ReadError::Locked { .. }) => ReadOutcome::Locked,
+            Err(ReadError::TooLarge { len, .. }) => ReadOutcome::TooLarge(len),
             Err(e) => ReadOutcome::Failed(e.to_string()),
         }
+    }
+
+    /// Checks that a file can be created in the channel folder (in the
+    /// temporary subfolder the atomic writes use, so the controller's
+    /// watcher sees nothing).
+    pub fn probe_writable(&self) -> Result<(), ChannelError> {
+        probe_dir(&self.dir.join(files::TEMP_DIR), "channel folder")
     }
 
     /// True while another process holds the command file locked.
@@ -223,6 +231,21 @@ impl Channel {
     }
 }
 
+/// Creates, writes and removes a small file in `dir` (created if missing).
+fn probe_dir(dir: &Path, what: &'static str) -> Result<(), ChannelError> {
+    use std::io::Write;
+    let path = dir.join(format!(".probe.svc{}", std::process::id()));
+    let io = |source| ChannelError::Io {
+        what,
+        path: dir.display().to_string(),
+        source,
+    };
+    std::fs::create_dir_all(dir).map_err(io)?;
+    let written = File::create(&path).and_then(|mut f| f.write_all(b"probe"));
+    let _ = std::fs::remove_file(&path);
+    written.map_err(io)
+}
+
 /// Holds an exclusive lock on `<channel>/kb_service.lock` while the service runs.
 #[derive(Debug)]
 pub struct ServiceLock {
@@ -250,18 +273,22 @@ impl ServiceLock {
     }
 }
 
-/// Persistent, strictly increasing command ids. Ids are reserved in blocks
-/// written (and synced) to `<data_dir>/next_cid` before use, so a restarted
-/// service — even after a crash — starts above every id it ever sent.
+/// Persistent command ids, each newer than the last ([`kuka_protocol::cid_is_newer`]:
+/// ids wrap from 2147483647 to 1, so they never run out). Ids are reserved
+/// in blocks written (and synced) to `<data_dir>/next_cid` before use, so a
+/// restarted service — even after a crash — starts after every id it ever
+/// sent.
 #[derive(Debug)]
 pub struct CidStore {
     path: PathBuf,
-    next: i64,
-    reserved_until: i64,
+    next: Cid,
+    /// Ids left in the block on disk (0: write a new block first).
+    reserved: i64,
+    /// The value last written to the file.
+    on_disk: Option<i64>,
 }
 
 const CID_BLOCK: i64 = 1024;
-const CID_MAX: i64 = i32::MAX as i64;
 
 impl CidStore {
     /// Opens the counter in `data_dir` (created if needed).
@@ -273,7 +300,7 @@ impl CidStore {
         })?;
         let path = data_dir.join("next_cid");
         let next = match std::fs::read_to_string(&path) {
-            Ok(text) => text.trim().parse::<i64>().ok().filter(|v| (1..=CID_MAX).contains(v)).unwrap_or_else(|| {
+            Ok(text) => text.trim().parse::<Cid>().ok().filter(|v| *v >= 1).unwrap_or_else(|| {
                 tracing::warn!(path = %path.display(), "command id counter unreadable; starting from the controller's ids");
                 1
             }),
@@ -282,25 +309,68 @@ impl CidStore {
         Ok(CidStore {
             path,
             next,
-            reserved_until: next,
+            reserved: 0,
+            on_disk: None,
         })
     }
 
-    /// The next id, at least `floor` (ids the controller reports having seen).
-    pub fn next(&mut self, floor: Cid) -> Result<Cid, ChannelError> {
-        self.next = self.next.max(i64::from(floor) + 1);
-        if self.next > CID_MAX {
-            return Err(ChannelError::CidExhausted(self.path.display().to_string()));
+    /// The next id, newer than `last_accepted` (the last id the controller
+    /// reports having accepted; 0 if unknown). Fails only when the counter
+    /// cannot be persisted (the data folder is not writable).
+    pub fn next(&mut self, last_accepted: Cid) -> Result<Cid, ChannelError> {
+        self.raise(last_accepted);
+        if self.reserved <= 0 {
+            self.reserve()?;
         }
-        if self.next >= self.reserved_until {
-            let until = (self.next + CID_BLOCK).min(CID_MAX + 1);
-            self.persist(until)?;
-            self.reserved_until = until;
+        Ok(self.take())
+    }
+
+    /// Like [`Self::next`], for a STOP: it never fails. If the block cannot
+    /// be persisted the id is used anyway (a STOP must always go out) and
+    /// the error is returned beside it for the caller to report. The cost
+    /// is small: after a restart with a lost counter, the controller's own
+    /// `last_cid` still keeps new ids newer.
+    pub fn next_for_stop(&mut self, last_accepted: Cid) -> (Cid, Option<ChannelError>) {
+        self.raise(last_accepted);
+        let error = if self.reserved <= 0 {
+            self.reserve().err()
+        } else {
+            None
+        };
+        (self.take(), error)
+    }
+
+    /// Checks that the counter file can be replaced, by writing it again
+    /// with the value it holds (or the next id, which no restart can find
+    /// used).
+    pub fn probe_writable(&mut self) -> Result<(), ChannelError> {
+        let value = self.on_disk.unwrap_or(i64::from(self.next));
+        self.persist(value)
+    }
+
+    /// Makes the next id newer than `last_accepted`.
+    fn raise(&mut self, last_accepted: Cid) {
+        if last_accepted > 0 && !kuka_protocol::cid_is_newer(self.next, last_accepted) {
+            self.next = kuka_protocol::cid_after(last_accepted);
+            // The block on disk may lie before the new id.
+            self.reserved = 0;
         }
+    }
+
+    fn take(&mut self) -> Cid {
         let cid = self.next;
-        self.next += 1;
-        // In range by the check above.
-        Ok(Cid::try_from(cid).unwrap_or(i32::MAX))
+        self.next = kuka_protocol::cid_after(cid);
+        self.reserved -= 1;
+        cid
+    }
+
+    /// Writes the start of the block after the next one to the file.
+    fn reserve(&mut self) -> Result<(), ChannelError> {
+        let end = (i64::from(self.next) - 1 + CID_BLOCK).rem_euclid(i64::from(Cid::MAX)) + 1;
+        self.persist(end)?;
+        self.reserved = CID_BLOCK;
+        self.on_disk = Some(end);
+        Ok(())
     }
 
     fn persist(&self, value: i64) -> Result<(), ChannelError> {
@@ -338,6 +408,38 @@ mod tests {
             b.next(5000).expect("cid") == 5001,
             "floor from the controller wins"
         );
+    }
+
+    #[test]
+    fn cids_wrap_after_the_largest_and_never_run_out() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let mut a = CidStore::open(dir.path()).expect("open");
+        // A controller that reports the largest id (or a forged state file).
+        assert_eq!(a.next(i32::MAX).expect("cid"), 1);
+        assert_eq!(
+            a.next(i32::MAX).expect("cid"),
+            2,
+            "an old maximum is not newer"
+        );
+        drop(a);
+        let mut b = CidStore::open(dir.path()).expect("open");
+        let after = b.next(0).expect("cid");
+        assert!(
+            after > 2 && after <= 1025,
+            "restart continues after the wrap: {after}"
+        );
+    }
+
+    #[test]
+    fn a_stop_gets_an_id_even_when_the_counter_cannot_be_written() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let mut a = CidStore::open(dir.path()).expect("open");
+        // The counter's place is taken by a directory: it cannot be replaced.
+        std::fs::create_dir(dir.path().join("next_cid")).expect("dir");
+        assert!(a.next(0).is_err(), "a command waits for a persisted id");
+        let (cid, error) = a.next_for_stop(0);
+        assert!(cid >= 1);
+        assert!(error.is_some(), "the failure is reported");
     }
 
     #[test]

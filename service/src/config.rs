@@ -102,6 +102,9 @@ pub struct ServerConfig {
     pub cors_origins: Vec<String>,
     /// Serve HTTPS with this certificate and key (PEM files).
     pub tls: Option<TlsConfig>,
+    /// At shutdown, how long the running job may go on while stop, cancel
+    /// and reads are still served (ms); after it the robot is stopped.
+    pub shutdown_grace_ms: u64,
 }
 
 /// HTTPS (rustls): a certificate chain and its private key, both PEM.
@@ -374,6 +377,7 @@ impl Default for ServerConfig {
             max_connections_per_client: 256,
             cors_origins: Vec::new(),
             tls: None,
+            shutdown_grace_ms: 30_000,
         }
     }
 }

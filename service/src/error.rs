@@ -79,6 +79,16 @@ pub enum ErrorCode {
     ProtocolError,
     /// A bug or an unexpected I/O failure.
     Internal,
+    /// The service cannot write the channel folder or its data folder
+    /// (disk full, permissions); nothing was sent.
+    StorageUnavailable,
+    /// The controller accepted the command but lost it (it restarted, or
+    /// went idle without a result); `completed` says how far it got.
+    CommandLost,
+    /// The job belonged to an earlier run of the service, or is no longer kept.
+    Gone,
+    /// The service is shutting down: it takes no new jobs (stop and reads still work).
+    ShuttingDown,
 }
 
 impl ErrorCode {
@@ -113,6 +123,9 @@ impl ErrorCode {
             ErrorCode::RequestTimeout => 504,
             ErrorCode::ProtocolError => 502,
             ErrorCode::Internal => 500,
+            ErrorCode::StorageUnavailable | ErrorCode::ShuttingDown => 503,
+            ErrorCode::CommandLost => 502,
+            ErrorCode::Gone => 410,
         }
     }
 
@@ -154,6 +167,10 @@ impl ErrorCode {
             ErrorCode::RequestTimeout => "Request timeout",
             ErrorCode::ProtocolError => "Protocol error",
             ErrorCode::Internal => "Internal error",
+            ErrorCode::StorageUnavailable => "Storage unavailable",
+            ErrorCode::CommandLost => "Command lost by the controller",
+            ErrorCode::Gone => "Gone",
+            ErrorCode::ShuttingDown => "Shutting down",
         }
     }
 
@@ -195,6 +212,10 @@ impl ErrorCode {
             ErrorCode::RequestTimeout => "request_timeout",
             ErrorCode::ProtocolError => "protocol_error",
             ErrorCode::Internal => "internal",
+            ErrorCode::StorageUnavailable => "storage_unavailable",
+            ErrorCode::CommandLost => "command_lost",
+            ErrorCode::Gone => "gone",
+            ErrorCode::ShuttingDown => "shutting_down",
         }
     }
 }

@@ -32,6 +32,10 @@ pub mod events {
     pub const CHANNEL_LOCKED: u32 = 20;
     /// The command file is writable again.
     pub const CHANNEL_UNLOCKED: u32 = 21;
+    /// The controller program restarted (its heartbeat number went back).
+    pub const CONTROLLER_RESTARTED: u32 = 12;
+    /// The result file holds a result for a command the service did not send.
+    pub const FOREIGN_RESULT: u32 = 22;
     /// A job failed.
     pub const JOB_FAILED: u32 = 30;
     /// A plugin failed.

@@ -74,7 +74,7 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
     let query_secret = if query_token_allowed(&app, &template) {
         take_query_token(&mut req)
     } else {
-        None
+        QuerySecret::Absent
     };
     let rule = access::policy::rule(req.method().as_str(), &template);
     let Some(needed) = rule.role else {
@@ -208,13 +208,32 @@ fn query_token_allowed(app: &AppState, template: &str) -> bool {
     app.access.query_token && (template.starts_with("/krl/") || template == "/api/v1/events")
 }
 
+/// The `access_token` query parameter(s) of a request.
+enum QuerySecret {
+    /// None given.
+    Absent,
+    /// Exactly one.
+    One(String),
+    /// More than one: refused like several `Authorization` headers (which
+    /// one a proxy or client library keeps is anybody's guess).
+    Several,
+}
+
 /// Removes `access_token` from the query string (handlers never see it)
 /// and returns it.
-fn take_query_token(req: &mut Request) -> Option<String> {
+fn take_query_token(req: &mut Request) -> QuerySecret {
+    take_query_tokens(req).unwrap_or(QuerySecret::Absent)
+}
+
+fn take_query_tokens(req: &mut Request) -> Option<QuerySecret> {
     let query = req.uri().query()?;
     let pairs: Vec<(String, String)> = serde_urlencoded::from_str(query).ok()?;
     let (token, rest): (Vec<_>, Vec<_>) = pairs.into_iter().partition(|(k, _)| k == QUERY_TOKEN);
-    let secret = token.into_iter().next()?.1;
+    let secret = match token.len() {
+        0 => return None,
+        1 => QuerySecret::One(token.into_iter().next()?.1),
+        _ => QuerySecret::Several,
+    };
     let rest = serde_urlencoded::to_string(&rest).ok()?;
     let path = req.uri().path();
     let path_and_query = if rest.is_empty() {
@@ -289,7 +308,7 @@ fn is_loopback_host(host: &str) -> bool {
 fn identify(
     app: &AppState,
     req: &Request,
-    query_secret: Option<String>,
+    query_secret: QuerySecret,
     client: Option<std::net::IpAddr>,
     safety: bool,
 ) -> Result<Principal, Box<Response>> {
@@ -297,6 +316,17 @@ fn identify(
         return Ok(Principal::anonymous());
     }
     let uri = req.uri();
+    let query_secret = match query_secret {
+        QuerySecret::Absent => None,
+        QuerySecret::One(s) => Some(s),
+        QuerySecret::Several => {
+            return Err(Box::new(unauthenticated(
+                uri,
+                "send one access_token parameter, not several",
+                Challenge::InvalidRequest,
+            )));
+        }
+    };
     let mut headers = req.headers().get_all(header::AUTHORIZATION).iter();
     let from_header = headers.next().map(|v| v.to_str().unwrap_or_default());
     if headers.next().is_some() {

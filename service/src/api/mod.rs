@@ -101,9 +101,10 @@ struct ApiDoc;
 
 /// Service health.
 #[derive(Debug, Serialize, ToSchema)]
-#[schema(example = json!({"status": "ok", "version": "0.1.0", "connection": "online", "simulated": true}))]
+#[schema(example = json!({"status": "ok", "version": "0.1.0", "connection": "online", "simulated": true, "degraded": []}))]
 pub struct Health {
-    /// Always `ok` when the service answers.
+    /// `ok` when commands can be sent; `degraded` when something stops
+    /// them (the reasons are in `degraded`).
     pub status: &'static str,
     /// Service version.
     pub version: &'static str,
@@ -111,18 +112,31 @@ pub struct Health {
     pub connection: Connection,
     /// True when running on the embedded simulator.
     pub simulated: bool,
+    /// Why commands cannot be sent now, each with a stable `code` and a
+    /// sentence (empty when `status` is `ok`); the same list as
+    /// `degraded` in `/api/v1/state`.
+    pub degraded: Vec<crate::error::BridgeError>,
 }
 
-/// Is the service up?
+/// Is the service up, and can it send commands?
 ///
-/// Always 200 while the service runs; `connection` tells whether the controller is reachable.
-#[utoipa::path(get, path = "/health", tag = "service", responses((status = 200, body = Health)))]
+/// 200 while the service runs. `status` is `ok` when commands can be sent,
+/// `degraded` with the reasons when they cannot (controller offline,
+/// channel locked or not writable, data folder not writable, controller in
+/// its error state, a junk controller file, shutting down).
+#[utoipa::path(get, path = "/health", tag = "service", responses((status = 200, description = "The service runs; `status` says whether commands can be sent.", body = Health)))]
 async fn health(State(app): State<AppState>) -> axum::Json<Health> {
+    let state = app.engine.state();
     axum::Json(Health {
-        status: "ok",
+        status: if state.degraded.is_empty() {
+            "ok"
+        } else {
+            "degraded"
+        },
         version: env!("CARGO_PKG_VERSION"),
-        connection: app.engine.state().connection,
+        connection: state.connection,
         simulated: app.sim.is_some(),
+        degraded: state.degraded,
     })
 }
 

@@ -197,6 +197,10 @@ pub fn statuscode(code: ErrorCode) -> i32 {
         ErrorCode::TooManyAttempts => 73,
         ErrorCode::Overloaded => 74,
         ErrorCode::RequestTimeout => 75,
+        ErrorCode::StorageUnavailable => 76,
+        ErrorCode::CommandLost => 41,
+        ErrorCode::Gone => 77,
+        ErrorCode::ShuttingDown => 78,
         ErrorCode::Internal => 99,
     }
 }

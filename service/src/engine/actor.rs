@@ -37,6 +37,73 @@ struct InFlight {
     sent_at: Instant,
     deadline: Instant,
     acked: bool,
+    /// When a state file first showed the controller not busy although it
+    /// had accepted this command and no result for it was read: the
+    /// command is lost (the controller restarted) if a result file written
+    /// after that ([`LOST_GRACE`] later or more) still lacks it.
+    idle_since: Option<Instant>,
+    /// The result file's stamp at `idle_since`: a controller that cannot
+    /// write its result (a locked file) leaves it unchanged, a restarted
+    /// one rewrites it.
+    idle_stamp: Option<FileStamp>,
+}
+
+/// How long the controller may look idle after accepting a command before
+/// its missing result counts as lost. The protocol has the result written
+/// before the state, so a result is normally read in the same refresh; the
+/// grace covers a KRL program that rewrites its files in place.
+const LOST_GRACE: Duration = Duration::from_millis(150);
+
+/// How many command ids the engine remembers (sent ones, and ones whose
+/// result it has handled). The result file holds the last 8.
+const LEDGER_LEN: usize = 256;
+
+/// The command ids of this run: which the service sent (and for which
+/// job), and which results it has handled. A result is handled once; a
+/// result for an id the service never sent is foreign: reported, never
+/// taken for another command's answer, never used to pick new ids.
+#[derive(Default)]
+struct CidLedger {
+    sent: VecDeque<(Cid, Option<JobId>)>,
+    seen: VecDeque<Cid>,
+}
+
+impl CidLedger {
+    fn sent(&mut self, cid: Cid, job: Option<JobId>) {
+        if self.sent.len() >= LEDGER_LEN {
+            self.sent.pop_front();
+        }
+        self.sent.push_back((cid, job));
+    }
+
+    /// The job a sent id belonged to: `Some(None)` for a STOP, `None` if
+    /// this run never sent it.
+    fn job_of(&self, cid: Cid) -> Option<Option<JobId>> {
+        self.sent.iter().find(|(c, _)| *c == cid).map(|(_, j)| *j)
+    }
+
+    fn is_seen(&self, cid: Cid) -> bool {
+        self.seen.contains(&cid)
+    }
+
+    fn see(&mut self, cid: Cid) {
+        if self.seen.len() >= LEDGER_LEN {
+            self.seen.pop_front();
+        }
+        self.seen.push_back(cid);
+    }
+}
+
+/// Why commands cannot be sent at the moment, found by the engine's own
+/// probes and failures (cleared by the next success).
+#[derive(Default)]
+struct Faults {
+    /// The channel folder cannot be written.
+    channel: Option<String>,
+    /// The data folder (command id counter) cannot be written.
+    data: Option<String>,
+    /// The result or state file is larger than any protocol file.
+    oversize: Option<String>,
 }
 
 struct StopInFlight {
@@ -64,7 +131,8 @@ struct ControllerView {
     seq_changed_at: Option<Instant>,
     online: bool,
     locked: bool,
-    max_result_cid: Cid,
+    /// The heartbeat went backwards: the controller program restarted.
+    restarted_at: Option<Instant>,
     pose: Option<(Frame, u8, u8)>,
     axes: Option<[f64; 6]>,
     tool: Option<Frame>,
@@ -98,7 +166,20 @@ pub(crate) struct Actor {
     checking: Option<JobId>,
     /// The engine's own queue, for answers from helper threads.
     events: Option<std::sync::mpsc::Sender<Msg>>,
+    /// Command ids sent and results handled in this run.
+    ledger: CidLedger,
+    /// What stops commands from being sent (reported as `degraded`).
+    faults: Faults,
+    /// When the folders were last checked for writing.
+    probed_at: Option<Instant>,
+    /// Channel probes since the last data folder probe.
+    probes: u32,
 }
+
+/// How often the engine checks that it can write the channel folder.
+const PROBE_INTERVAL: Duration = Duration::from_secs(1);
+/// How often it checks the data folder (a synced rewrite of the counter).
+const DATA_PROBE_EVERY: u32 = 5;
 
 fn result_error(r: &ResultRecord) -> Option<BridgeError> {
     let (code, detail) = match r.code {
@@ -268,6 +349,10 @@ impl Actor {
             ctl: ControllerView::default(),
             speeds,
             shutting_down: None,
+            ledger: CidLedger::default(),
+            faults: Faults::default(),
+            probed_at: None,
+            probes: 0,
         }
     }
 
@@ -280,7 +365,9 @@ impl Actor {
         });
         // Results already in the file belong to earlier runs.
         if let ReadOutcome::Record(r) = self.channel.read_results(true) {
-            self.ctl.max_result_cid = r.results.iter().map(|r| r.cid).max().unwrap_or(0);
+            for rec in &r.results {
+                self.ledger.see(rec.cid);
+            }
         }
         tracing::info!(dir = %self.channel.dir().display(), "engine running");
         let poll = self.cfg.poll_interval();
@@ -300,6 +387,7 @@ impl Actor {
                 next_poll = now + poll;
                 self.refresh(Changed::BOTH);
                 self.check_timeouts();
+                self.probe_folders(now);
                 // The locked state ends when the holder lets go, not only at the next write.
                 if self.ctl.locked && self.pending.is_none() && !self.channel.command_locked() {
                     tracing::warn!(event_id = events::CHANNEL_UNLOCKED, dir = %self.channel.dir().display(), "channel unlocked");
@@ -502,15 +590,13 @@ impl Actor {
             JobState::Cancelled,
             BridgeError::new(ErrorCode::Cancelled, "stopped before it was sent"),
         );
-        let cid = match self.next_cid() {
-            Ok(cid) => cid,
-            Err(e) => {
-                if let Some(w) = waiter {
-                    let _ = w.send(Err(e));
-                }
-                return;
-            }
-        };
+        // A STOP never waits for the counter file: it goes out even when
+        // the data folder cannot be written.
+        let (cid, error) = self.cids.next_for_stop(self.last_accepted());
+        if let Some(e) = error {
+            tracing::error!(error = %crate::error::chain(&e), cid, "command id counter not written; sending the stop anyway");
+            self.data_fault();
+        }
         self.stop = Some(StopInFlight {
             cid,
             deadline: None,
@@ -537,16 +623,33 @@ impl Actor {
         }
     }
 
+    /// The id the controller last accepted, as its state file says. Only
+    /// the state counts: result lines are not a floor for new ids (a
+    /// foreign line could otherwise push the counter anywhere).
+    fn last_accepted(&self) -> Cid {
+        self.ctl.state.as_ref().map_or(0, |s| s.last_cid)
+    }
+
     fn next_cid(&mut self) -> Result<Cid> {
-        let floor = self
-            .ctl
-            .state
-            .as_ref()
-            .map_or(0, |s| s.last_cid)
-            .max(self.ctl.max_result_cid);
-        self.cids
-            .next(floor)
-            .map_err(|e| BridgeError::new(ErrorCode::Internal, crate::error::chain(&e)))
+        match self.cids.next(self.last_accepted()) {
+            Ok(cid) => {
+                self.faults.data = None;
+                Ok(cid)
+            }
+            Err(e) => {
+                tracing::error!(error = %crate::error::chain(&e), "command id counter not written");
+                let e = self.data_fault();
+                Err(e)
+            }
+        }
+    }
+
+    /// The data folder cannot be written: recorded for `degraded`, and the
+    /// client's error (the path and OS error go to the log only).
+    fn data_fault(&mut self) -> BridgeError {
+        let detail = "the service cannot write its data folder (command id counter); nothing was sent. Check the disk and the folder's permissions".to_string();
+        self.faults.data = Some(detail.clone());
+        BridgeError::new(ErrorCode::StorageUnavailable, detail)
     }
 
     /// Writes a command now, or keeps it pending while the file is locked.
@@ -577,6 +680,7 @@ impl Actor {
         self.spin_stamp = self.channel.results_stamp();
         match self.channel.write_command(&p.cmd) {
             Ok(()) => {
+                self.faults.channel = None;
                 if self.ctl.locked {
                     tracing::warn!(event_id = events::CHANNEL_UNLOCKED, dir = %self.channel.dir().display(), "channel unlocked");
                     self.ctl.locked = false;
@@ -611,10 +715,12 @@ impl Actor {
             Err(ChannelError::Encode(e)) => {
                 self.write_failed(BridgeError::invalid(crate::error::chain(&e)))
             }
-            Err(e) => self.write_failed(BridgeError::new(
-                ErrorCode::Internal,
-                crate::error::chain(&e),
-            )),
+            Err(e) => {
+                tracing::error!(error = %crate::error::chain(&e), dir = %self.channel.dir().display(), "command file not written");
+                let detail = "the service cannot write the command file into the channel folder; nothing was sent. Check the disk and the folder's permissions";
+                self.faults.channel = Some(detail.into());
+                self.write_failed(BridgeError::new(ErrorCode::StorageUnavailable, detail))
+            }
         }
     }
 
@@ -643,6 +749,7 @@ impl Actor {
 
     /// A command reached the channel.
     fn written(&mut self, cmd: CommandFile, job: Option<(QueuedJob, Duration)>, now: Instant) {
+        self.ledger.sent(cmd.cid, job.as_ref().map(|(j, _)| j.id));
         match job {
             Some((job, timeout)) => {
                 tracing::debug!(
@@ -670,6 +777,8 @@ impl Actor {
                     sent_at: now,
                     deadline: now + timeout,
                     acked: false,
+                    idle_since: None,
+                    idle_stamp: None,
                 });
             }
             None => {
@@ -691,18 +800,25 @@ impl Actor {
         };
         match state {
             ReadOutcome::Record(s) => {
-                let changed = self.ctl.state.as_ref().is_none_or(|old| old.seq != s.seq);
-                if changed {
+                self.oversize(kuka_protocol::STATE_FILE, None);
+                let old_seq = self.ctl.state.as_ref().map(|old| old.seq);
+                if old_seq != Some(s.seq) {
                     // The first heartbeat seen may be a stale file: only a change proves life.
-                    if self.ctl.state.is_some() {
+                    if let Some(old) = old_seq {
                         self.ctl.seq_changed_at = Some(now);
+                        // seq only grows (wrapping at the top): a smaller one
+                        // means a controller program that started afresh.
+                        if s.seq < old && old < i32::MAX - 1_000_000 {
+                            self.on_restart(old, s.seq, now);
+                        }
                     }
-                    self.on_state(s);
+                    self.on_state(s, now);
                 }
             }
             ReadOutcome::Invalid(e) => {
                 tracing::trace!(error = %e, "state file not complete; reading again later")
             }
+            ReadOutcome::TooLarge(len) => self.oversize(kuka_protocol::STATE_FILE, Some(len)),
             ReadOutcome::Failed(e) => tracing::debug!(error = %e, "state file unreadable"),
             ReadOutcome::Missing | ReadOutcome::Locked | ReadOutcome::Unchanged => {}
         }
@@ -715,16 +831,21 @@ impl Actor {
         };
         match results {
             ReadOutcome::Record(r) => {
+                self.oversize(kuka_protocol::RESULT_FILE, None);
                 for rec in r.results {
-                    if rec.cid > self.ctl.max_result_cid {
-                        self.ctl.max_result_cid = rec.cid;
+                    if !self.ledger.is_seen(rec.cid) {
+                        self.ledger.see(rec.cid);
                         self.on_result(rec);
                     }
                 }
+                // Read without the running command's result: lost if the
+                // controller has been idle with it long enough.
+                self.check_lost(now);
             }
             ReadOutcome::Invalid(e) => {
                 tracing::debug!(error = %e, "result file not complete; reading again later")
             }
+            ReadOutcome::TooLarge(len) => self.oversize(kuka_protocol::RESULT_FILE, Some(len)),
             ReadOutcome::Failed(e) => tracing::debug!(error = %e, "result file unreadable"),
             ReadOutcome::Missing | ReadOutcome::Locked | ReadOutcome::Unchanged => {}
         }
@@ -747,15 +868,31 @@ impl Actor {
         }
     }
 
-    fn on_state(&mut self, s: StateFile) {
+    fn on_state(&mut self, s: StateFile, now: Instant) {
         self.ctl.pose = Some((s.position, s.s, s.t));
         self.ctl.axes = Some(s.axes);
         self.ctl.tool = Some(s.tool);
         self.ctl.base = Some(s.base);
+        let stamp = match &self.inflight {
+            Some(f) if f.idle_since.is_none() => Some(self.channel.results_stamp()),
+            _ => None,
+        };
         if let Some(f) = &mut self.inflight {
-            let picked = s.last_cid >= f.cid || s.busy_cid == f.cid;
+            // last_cid is f.cid or newer: accepted.
+            let accepted = s.last_cid > 0 && !kuka_protocol::cid_is_newer(f.cid, s.last_cid);
+            let picked = accepted || s.busy_cid == f.cid;
             if picked && !f.acked {
                 f.acked = true;
+            }
+            let running = s.status == ControllerStatus::Busy && s.busy_cid == f.cid;
+            if accepted && !running {
+                if f.idle_since.is_none() {
+                    f.idle_since = Some(now);
+                    f.idle_stamp = stamp.flatten();
+                }
+            } else {
+                f.idle_since = None;
+                f.idle_stamp = None;
             }
             if s.status == ControllerStatus::Busy && s.busy_cid == f.cid {
                 let id = f.id;
@@ -794,27 +931,44 @@ impl Actor {
             self.ctl.axes = Some(r.axes);
             // Results come in command-id order: a command older than the STOP
             // without a result of its own was superseded before the controller
-            // read it, so it never ran.
-            if let Some(f) = self.inflight.take_if(|f| f.cid < r.cid) {
-                tracing::info!(
-                    job = f.id,
-                    cid = f.cid,
-                    "command superseded by stop before it ran"
-                );
-                let why = BridgeError::new(
-                    ErrorCode::Cancelled,
-                    "stopped before the controller started it; nothing moved",
-                );
+            // read it, so it never ran — unless the controller had picked it
+            // up (then it lost the command, e.g. in a restart).
+            if let Some(f) = self
+                .inflight
+                .take_if(|f| kuka_protocol::cid_is_newer(r.cid, f.cid))
+            {
+                let why = if f.acked {
+                    let done = self.shared_job(f.id).map_or(0, |j| j.completed);
+                    tracing::warn!(
+                        job = f.id,
+                        cid = f.cid,
+                        completed = done,
+                        "stopped; the controller gave no result for the command it had picked up"
+                    );
+                    BridgeError::new(
+                        ErrorCode::Cancelled,
+                        format!(
+                            "stopped; the controller had picked up command {} but gave no result for it (was it restarted?); {done} motion(s) had completed by its last report",
+                            f.cid
+                        ),
+                    )
+                } else {
+                    tracing::info!(
+                        job = f.id,
+                        cid = f.cid,
+                        "command superseded by stop before it ran"
+                    );
+                    BridgeError::new(
+                        ErrorCode::Cancelled,
+                        "stopped before the controller started it; nothing moved",
+                    )
+                };
                 self.shared.finish(f.id, JobState::Cancelled, why);
             }
             return;
         }
         let Some(f) = self.inflight.take_if(|f| f.cid == r.cid) else {
-            tracing::info!(
-                cid = r.cid,
-                code = r.code.code(),
-                "result for a command no job waits for (late or foreign)"
-            );
+            self.on_other_result(r);
             return;
         };
         self.answered_at = Some(Instant::now());
@@ -875,6 +1029,197 @@ impl Actor {
             };
             j.error = error;
         });
+    }
+
+    /// A result that is neither the running command's nor the STOP's: the
+    /// late answer of a command whose job has already ended (it then
+    /// takes the controller's outcome), or a foreign line (reported).
+    fn on_other_result(&mut self, r: ResultRecord) {
+        match self.ledger.job_of(r.cid) {
+            Some(Some(id)) => {
+                let Ok(job) = self.shared_job(id) else { return };
+                let state = match r.code {
+                    ResultCode::Ok => JobState::Done,
+                    ResultCode::Cancelled => JobState::Cancelled,
+                    _ => JobState::Failed,
+                };
+                let mut error = result_error(&r);
+                if job.operation != "move"
+                    && let Some(e) = &mut error
+                {
+                    e.motion = None;
+                }
+                tracing::warn!(
+                    job = id,
+                    cid = r.cid,
+                    code = r.code.code(),
+                    was = job.state.as_str(),
+                    "late result: the job takes the controller's outcome"
+                );
+                self.shared.update(id, |j| {
+                    j.state = state;
+                    j.error = error;
+                    j.late_result = true;
+                    j.finished_ms = Some(now_ms());
+                    if j.operation == "move" || r.code == ResultCode::Ok {
+                        j.completed = r.completed as usize;
+                    }
+                    j.axes = Some(r.axes.into());
+                    if j.frame.is_none() {
+                        j.position = Some(Position::new(&r.position, r.s, r.t));
+                    }
+                });
+            }
+            Some(None) => {
+                tracing::debug!(cid = r.cid, "late result of a stop");
+            }
+            None => {
+                tracing::warn!(
+                    event_id = events::FOREIGN_RESULT,
+                    cid = r.cid,
+                    code = r.code.code(),
+                    "result for a command this service did not send; ignored"
+                );
+                self.shared.publish(Event::Alarm(BridgeError::new(
+                    ErrorCode::ProtocolError,
+                    format!(
+                        "the result file holds a result for command {}, which this run of the service did not send (an earlier run's command, or another writer); it is ignored",
+                        r.cid
+                    ),
+                )));
+            }
+        }
+    }
+
+    /// The running command was accepted by the controller, which has been
+    /// idle since without a result for it: it lost the command (a restart
+    /// of the controller program). The job ends now with what is known.
+    fn check_lost(&mut self, now: Instant) {
+        let Some(f) = &self.inflight else { return };
+        let Some(since) = f.idle_since else { return };
+        let restarted = self.ctl.restarted_at.is_some_and(|t| t >= f.sent_at);
+        if !restarted
+            && (now.duration_since(since) < LOST_GRACE
+                || self.channel.results_stamp() == f.idle_stamp)
+        {
+            return;
+        }
+        let Some(f) = self.inflight.take() else {
+            return;
+        };
+        let job = self.shared_job(f.id).ok();
+        let done = job.as_ref().map_or(0, |j| j.completed);
+        let of = job
+            .as_ref()
+            .filter(|j| j.motions > 0)
+            .map_or(String::new(), |j| format!(" of {}", j.motions));
+        let why = if restarted {
+            "the controller program restarted"
+        } else {
+            "the controller is idle"
+        };
+        let e = BridgeError::new(
+            ErrorCode::CommandLost,
+            format!(
+                "the controller accepted command {} but {why} without a result for it; {done}{of} motion(s) had completed by its last report, the rest did not run",
+                f.cid
+            ),
+        );
+        tracing::warn!(
+            event_id = events::JOB_FAILED,
+            job = f.id,
+            cid = f.cid,
+            completed = done,
+            "command lost by the controller"
+        );
+        self.shared.finish(f.id, JobState::Failed, e);
+        self.answered_at = Some(now);
+    }
+
+    /// The heartbeat number went backwards.
+    fn on_restart(&mut self, old: i32, new: i32, now: Instant) {
+        tracing::warn!(
+            event_id = events::CONTROLLER_RESTARTED,
+            old_seq = old,
+            new_seq = new,
+            "controller restarted (heartbeat number went back)"
+        );
+        self.ctl.restarted_at = Some(now);
+        self.shared.publish(Event::Alarm(BridgeError::new(
+            ErrorCode::ControllerOffline,
+            "the controller program restarted (its heartbeat number started again)",
+        )));
+    }
+
+    /// A result or state file over [`kuka_protocol::MAX_CONTROLLER_FILE_LEN`]
+    /// (`Some(size)`), or one of normal size again (`None`).
+    fn oversize(&mut self, file: &str, len: Option<u64>) {
+        match len {
+            Some(len) => {
+                if self.faults.oversize.is_none() {
+                    tracing::error!(
+                        file,
+                        len,
+                        max = kuka_protocol::MAX_CONTROLLER_FILE_LEN,
+                        "controller file too large; not read"
+                    );
+                    let detail = format!(
+                        "{file} is {len} bytes, more than the {} a protocol file can be; it is not read until it is rewritten",
+                        kuka_protocol::MAX_CONTROLLER_FILE_LEN
+                    );
+                    self.shared.publish(Event::Alarm(BridgeError::new(
+                        ErrorCode::ProtocolError,
+                        detail.clone(),
+                    )));
+                    self.faults.oversize = Some(detail);
+                }
+            }
+            None => {
+                if self
+                    .faults
+                    .oversize
+                    .as_deref()
+                    .is_some_and(|d| d.starts_with(file))
+                {
+                    self.faults.oversize = None;
+                }
+            }
+        }
+    }
+
+    /// Checks now and then that the channel and data folders can be
+    /// written, so `degraded` shows before a command fails.
+    fn probe_folders(&mut self, now: Instant) {
+        if self
+            .probed_at
+            .is_some_and(|t| now.duration_since(t) < PROBE_INTERVAL)
+        {
+            return;
+        }
+        self.probed_at = Some(now);
+        match self.channel.probe_writable() {
+            Ok(()) => self.faults.channel = None,
+            Err(e) => {
+                if self.faults.channel.is_none() {
+                    tracing::error!(error = %crate::error::chain(&e), "channel folder not writable");
+                }
+                self.faults.channel = Some("the service cannot write into the channel folder: commands, stop included, cannot be sent. Check the disk and the folder's permissions".into());
+            }
+        }
+        self.probes += 1;
+        if self.probes < DATA_PROBE_EVERY && self.faults.data.is_none() {
+            return;
+        }
+        self.probes = 0;
+        match self.cids.probe_writable() {
+            Ok(()) => self.faults.data = None,
+            Err(e) => {
+                if self.faults.data.is_none() {
+                    tracing::error!(error = %crate::error::chain(&e), "data folder not writable");
+                }
+                self.faults.data = Some("the service cannot write its data folder (command id and job id counters): commands will fail once the ids reserved on disk are used (stop excepted). Check the disk and the folder's permissions".into());
+            }
+        }
     }
 
     fn fail_inflight(&mut self, error: BridgeError) {
@@ -999,7 +1344,8 @@ impl Actor {
             // failed (e.g. after a timeout): wait for it to become idle.
             if let Some(s) = &self.ctl.state
                 && s.status == ControllerStatus::Busy
-                && s.busy_cid > self.ctl.max_result_cid
+                && s.busy_cid != 0
+                && !self.ledger.is_seen(s.busy_cid)
             {
                 return;
             }
@@ -1209,6 +1555,56 @@ impl Actor {
         Ok(())
     }
 
+    /// Why commands cannot be sent now (see [`RobotState::degraded`]).
+    fn degraded(&self) -> Vec<BridgeError> {
+        let mut out = Vec::new();
+        let mut add = |code, detail: &str| out.push(BridgeError::new(code, detail));
+        if self.shutting_down.is_some() {
+            add(
+                ErrorCode::ShuttingDown,
+                "the service is shutting down: it takes no new jobs; stop still works",
+            );
+        }
+        if !self.ctl.online {
+            add(
+                ErrorCode::ControllerOffline,
+                "no heartbeat from the controller (is its program running?)",
+            );
+        }
+        if self.ctl.locked {
+            add(
+                ErrorCode::ChannelLocked,
+                "the command file is locked by another process",
+            );
+        }
+        for fault in [&self.faults.channel, &self.faults.data]
+            .into_iter()
+            .flatten()
+        {
+            add(ErrorCode::StorageUnavailable, fault);
+        }
+        if let Some(fault) = &self.faults.oversize {
+            add(ErrorCode::ProtocolError, fault);
+        }
+        if let Some(e) = self.ctl.state.as_ref().and_then(state_error) {
+            out.push(BridgeError::new(
+                ErrorCode::ControllerError,
+                format!("the controller is in its error state ({}): acknowledge it with POST /api/v1/reset", e.detail),
+            ));
+        } else if self
+            .ctl
+            .state
+            .as_ref()
+            .is_some_and(|s| s.status == ControllerStatus::Error)
+        {
+            out.push(BridgeError::new(
+                ErrorCode::ControllerError,
+                "the controller is in its error state: acknowledge it with POST /api/v1/reset",
+            ));
+        }
+        out
+    }
+
     fn publish_state(&self) {
         let now = Instant::now();
         let s = self.ctl.state.as_ref();
@@ -1250,6 +1646,7 @@ impl Actor {
             base: self.ctl.base.map(Into::into),
             speed: self.speeds,
             model: self.shared.safety.model().map(|m| m.name.clone()),
+            degraded: self.degraded(),
         };
         let changed = self.shared.state.send_if_modified(|cur| {
             // The heartbeat age changes every call; publish only real changes.

@@ -47,8 +47,16 @@ pub(crate) struct Shared {
     events: broadcast::Sender<Event>,
     safety: Safety,
     next_id: AtomicU64,
+    /// The first job id of this run: lower ids belong to earlier runs.
+    first_id: JobId,
+    /// Persists job ids in blocks, so a restarted service never reuses one.
+    job_ids: Mutex<JobIdStore>,
+    /// Unix ms when this run started (for the 410 answer).
+    started_ms: u64,
     max_queue: usize,
     queued: AtomicU64,
+    /// Set at shutdown: new jobs are refused.
+    draining: std::sync::atomic::AtomicBool,
 }
 
 impl Shared {
@@ -138,8 +146,14 @@ impl Engine {
             base: None,
             speed: speeds,
             model: parts.safety.model().map(|m| m.name.clone()),
+            degraded: vec![BridgeError::new(
+                ErrorCode::ControllerOffline,
+                "no heartbeat from the controller yet",
+            )],
         };
         let (state, _) = watch::channel(initial);
+        let job_ids = JobIdStore::open(&config.data_dir);
+        let first_id = job_ids.next;
         let (events, _) = broadcast::channel(1024);
         let shared = Arc::new(Shared {
             jobs: Mutex::new(JobTable {
@@ -149,9 +163,13 @@ impl Engine {
             state,
             events,
             safety: parts.safety,
-            next_id: AtomicU64::new(1),
+            next_id: AtomicU64::new(first_id),
+            first_id,
+            job_ids: Mutex::new(job_ids),
+            started_ms: now_ms(),
             max_queue: config.motion.max_queue,
             queued: AtomicU64::new(0),
+            draining: std::sync::atomic::AtomicBool::new(false),
         });
         let (tx, rx) = std::sync::mpsc::channel();
         let actor = actor::Actor::new(
@@ -205,6 +223,12 @@ impl Engine {
         timeout: Option<Duration>,
         origin: Option<String>,
     ) -> Result<Job> {
+        if self.shared.draining.load(Ordering::SeqCst) {
+            return Err(BridgeError::new(
+                ErrorCode::ShuttingDown,
+                "the service is shutting down and takes no new jobs; stop still works",
+            ));
+        }
         if let Operation::Move(motions) = &op {
             self.shared.safety.check_request(motions)?;
         }
@@ -235,6 +259,11 @@ impl Engine {
             ));
         }
         let id = self.shared.next_id.fetch_add(1, Ordering::SeqCst);
+        self.shared
+            .job_ids
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .reserve_through(id);
         let job = Job {
             id,
             operation: op.name().into(),
@@ -255,6 +284,7 @@ impl Engine {
             error: None,
             origin,
             requested_by: crate::access::current_principal().map(|p| p.name),
+            late_result: false,
         };
         crate::access::note_job(id);
         {
@@ -301,7 +331,7 @@ impl Engine {
                 .jobs
                 .get(&id)
                 .map(|tx| tx.subscribe())
-                .ok_or_else(|| not_found(id))?
+                .ok_or_else(|| self.unknown_job(id))?
         };
         let finished = tokio::time::timeout(max, rx.wait_for(|j| j.state.is_terminal()))
             .await
@@ -359,7 +389,30 @@ impl Engine {
             .jobs
             .get(&id)
             .map(|tx| tx.borrow().clone())
-            .ok_or_else(|| not_found(id))
+            .ok_or_else(|| self.unknown_job(id))
+    }
+
+    /// The error for a job id not in the table: 410 for an id of an
+    /// earlier run or one no longer kept, 404 for one never issued.
+    fn unknown_job(&self, id: JobId) -> BridgeError {
+        if id < self.shared.first_id {
+            BridgeError::new(
+                ErrorCode::Gone,
+                format!(
+                    "job {id} belonged to an earlier run of the service, which restarted at {} (Unix ms); its outcome was not kept, and a job still queued or running then did not go on",
+                    self.shared.started_ms
+                ),
+            )
+        } else if id < self.shared.next_id.load(Ordering::SeqCst) {
+            BridgeError::new(
+                ErrorCode::Gone,
+                format!(
+                    "job {id} finished too long ago: only the last {JOB_HISTORY} jobs are kept"
+                ),
+            )
+        } else {
+            not_found(id)
+        }
     }
 
     /// Recent jobs, newest first.
@@ -392,6 +445,7 @@ impl Engine {
     /// Graceful shutdown: queued jobs are cancelled, the running one may
     /// finish (bounded by its timeout), then the actor exits.
     pub async fn shutdown(&self) {
+        self.shared.draining.store(true, Ordering::SeqCst);
         let (tx, rx) = oneshot::channel();
         if self.tx.send(Msg::Shutdown(tx)).is_ok() {
             let _ = rx.await;
@@ -435,10 +489,64 @@ fn check_speeds(s: &SpeedSettings, safety: &Safety) -> Result<()> {
 }
 
 fn not_found(id: JobId) -> BridgeError {
-    BridgeError::new(
-        ErrorCode::NotFound,
-        format!("no job {id} (finished jobs are kept for the last {JOB_HISTORY})"),
-    )
+    BridgeError::new(ErrorCode::NotFound, format!("no job {id} was ever created"))
+}
+
+/// How many job ids are reserved on disk at a time.
+const JOB_ID_BLOCK: u64 = 1024;
+
+/// Job ids that stay unique across restarts: like command ids, they are
+/// reserved in blocks in `<data_dir>/next_job` before use. Without a
+/// readable file (first start, or a lost file) ids start at 1, or above
+/// the current time in seconds × 1000 when the file exists but is
+/// unreadable, so that an earlier run's ids are not reused.
+struct JobIdStore {
+    path: std::path::PathBuf,
+    next: JobId,
+    /// Ids below this are covered by the file.
+    reserved_until: JobId,
+}
+
+impl JobIdStore {
+    fn open(data_dir: &std::path::Path) -> JobIdStore {
+        let path = data_dir.join("next_job");
+        let next = match std::fs::read_to_string(&path) {
+            Ok(text) => text.trim().parse::<JobId>().ok().filter(|v| *v >= 1).unwrap_or_else(|| {
+                tracing::warn!(path = %path.display(), "job id counter unreadable; starting above the clock");
+                (now_ms() / 1000).max(1) * 1000
+            }),
+            Err(_) => 1,
+        };
+        let mut store = JobIdStore {
+            path,
+            next,
+            reserved_until: next,
+        };
+        store.reserve_through(next);
+        store
+    }
+
+    /// Makes sure the file covers `id` (writes the next block when not).
+    fn reserve_through(&mut self, id: JobId) {
+        if id < self.reserved_until {
+            return;
+        }
+        let until = id + JOB_ID_BLOCK;
+        let dir = self.path.parent().unwrap_or(std::path::Path::new("."));
+        match kuka_protocol::files::atomic_write_bytes(
+            dir,
+            "next_job",
+            "svc",
+            until.to_string().as_bytes(),
+        ) {
+            Ok(()) => self.reserved_until = until,
+            Err(e) => {
+                // Ids stay unique within this run; only a restart could
+                // reuse them. `degraded` reports the data folder.
+                tracing::error!(error = %crate::error::chain(&e), "job id counter not written");
+            }
+        }
+    }
 }
 
 fn stopped() -> BridgeError {

@@ -255,6 +255,12 @@ pub struct Job {
     /// when auth is off).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub requested_by: Option<String>,
+    /// True when the controller's result came after the job had already
+    /// ended (reported `timeout` while the result file was unreadable, for
+    /// example): `state`, `error` and `completed` are then the controller's
+    /// own outcome, which replaced the earlier one.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub late_result: bool,
 }
 
 /// Connection to the controller.
@@ -328,6 +334,12 @@ pub struct RobotState {
     pub speed: SpeedSettings,
     /// Robot model used for checks (None: checks off).
     pub model: Option<String>,
+    /// Why commands cannot be sent now; empty when they can. Each entry has
+    /// a stable `code` (`controller_offline`, `channel_locked`,
+    /// `storage_unavailable`, `controller_error`, `protocol_error`,
+    /// `shutting_down`) and a sentence. `/health` says `degraded` while
+    /// this is not empty.
+    pub degraded: Vec<BridgeError>,
 }
 
 /// A push event (Server-Sent Events on `/api/v1/events`).

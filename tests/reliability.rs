@@ -1,0 +1,570 @@
+//! What a client or the controller side sends must never take the bridge
+//! down or silence Stop (issue 17): foreign and poisoned command ids in the
+//! controller's files, a controller restarted in the middle of a batch, a
+//! result file locked past the job's timeout, job ids across a service
+//! restart, folders that cannot be written, junk files, a shutdown during
+//! a motion, duplicate query tokens. Real files; the controller is a
+//! separate simulator process where the fault is on its side.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use kuka_bridge_tests::{Options, SimProcess, TestService, initial_admin_secret, test_config};
+use kuka_protocol::{
+    RESULT_FILE, ResultCode, ResultFile, ResultRecord, STATE_FILE, StateFile, files,
+};
+use serde_json::{Value, json};
+
+fn cli() -> &'static str {
+    env!("CARGO_BIN_EXE_kuka-bridge-cli")
+}
+
+/// A service without an embedded simulator on `root/channel`, with its
+/// data in `root/data` (so a restarted service finds both again).
+async fn service_on(root: &Path) -> TestService {
+    let mut c = test_config(root);
+    c.simulator.enabled = false;
+    let dirs = tempfile::tempdir_in(root).expect("tempdir");
+    TestService::start_with(c, dirs).await
+}
+
+/// A motion that takes about a second at 100 % override.
+fn slow_motion(a1: f64) -> Value {
+    json!({"type": "ptp_axes", "axes": {"a1": a1}, "velocity_pct": 5})
+}
+
+/// Polls the job until `done` says so (or `within` passes); returns it.
+async fn wait_job(
+    t: &TestService,
+    id: u64,
+    within: Duration,
+    done: impl Fn(&Value) -> bool,
+) -> Value {
+    let deadline = Instant::now() + within;
+    loop {
+        let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
+        if done(&j) || Instant::now() > deadline {
+            return j;
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+}
+
+fn terminal(j: &Value) -> bool {
+    ["done", "failed", "cancelled"].contains(&j["state"].as_str().unwrap_or(""))
+}
+
+/// Polls `/health` until `ok` says so (10 s at most); returns it.
+async fn wait_health(t: &TestService, ok: impl Fn(&Value) -> bool) -> Value {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        let (_, h) = t.get("/health").await;
+        if ok(&h) || Instant::now() > deadline {
+            return h;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+}
+
+fn degraded_with(h: &Value, code: &str) -> bool {
+    h["status"] == "degraded"
+        && h["degraded"]
+            .as_array()
+            .is_some_and(|a| a.iter().any(|d| d["code"] == code))
+}
+
+/// A result line as a foreign writer would put it into the file.
+fn foreign_result(cid: i32) -> ResultRecord {
+    ResultRecord {
+        cid,
+        code: ResultCode::Ok,
+        completed: 0,
+        axis: 0,
+        position: kuka_protocol::Frame::default(),
+        s: 2,
+        t: 0,
+        axes: [0.0; 6],
+    }
+}
+
+/// Adds `extra` to the result file in `dir` (atomically, as a controller writes it).
+fn append_result(dir: &Path, extra: ResultRecord) {
+    let mut results = files::read(dir, RESULT_FILE)
+        .ok()
+        .flatten()
+        .and_then(|t| ResultFile::decode(&t).ok())
+        .map(|r| r.results)
+        .unwrap_or_default();
+    results.push(extra);
+    let text = ResultFile { results }.encode().expect("encode");
+    files::atomic_write_bytes(dir, RESULT_FILE, "test", text.as_bytes()).expect("write");
+}
+
+async fn motion_and_stop_work(t: &TestService, what: &str) {
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 300}}]))
+        .await;
+    assert_eq!(s, 200, "{what}: a motion works: {v}");
+    let (s, v) = t.post("/api/v1/stop").await;
+    assert_eq!(s, 200, "{what}: stop works: {v}");
+}
+
+/// A result line with the largest command id (or any id the service never
+/// sent) is reported and ignored: commands and Stop go on, across a
+/// restart of the service and of the controller; a state file that says
+/// the controller accepted the largest id makes the ids wrap, not run out.
+#[tokio::test]
+async fn poisoned_command_ids_never_block_commands_or_stop() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let channel = root.path().join("channel");
+    let mut sim = SimProcess::spawn(cli(), &channel, 0.0);
+    let t = service_on(root.path()).await;
+    t.wait_connection("online").await;
+    motion_and_stop_work(&t, "before").await;
+
+    append_result(&channel, foreign_result(i32::MAX));
+    // The line is read and reported; the next command is not hurt.
+    let mut events = t
+        .http
+        .get(t.url("/api/v1/events"))
+        .send()
+        .await
+        .expect("events");
+    append_result(&channel, foreign_result(i32::MAX - 7));
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let mut seen = String::new();
+    while !seen.contains("did not send") && Instant::now() < deadline {
+        match tokio::time::timeout(Duration::from_secs(1), events.chunk()).await {
+            Ok(Ok(Some(chunk))) => seen.push_str(&String::from_utf8_lossy(&chunk)),
+            _ => continue,
+        }
+    }
+    assert!(seen.contains("2147483640"), "alarm names the foreign id");
+    drop(events);
+    motion_and_stop_work(&t, "after a foreign result line").await;
+    let (_, h) = t.get("/health").await;
+    assert_eq!(h["status"], "ok", "{h}");
+
+    // A restarted service (same data folder) reads the line as old.
+    t.service.shutdown().await.expect("shutdown");
+    let t = service_on(root.path()).await;
+    t.wait_connection("online").await;
+    motion_and_stop_work(&t, "after a service restart").await;
+
+    // The controller restarts with the largest id in both of its files
+    // (it recovers last_cid from them): ids wrap past it. The last command
+    // file goes too (PROTOCOL.md §8: with its history gone, a controller
+    // would take the stale command for a new one).
+    sim.kill();
+    std::fs::remove_file(channel.join(kuka_protocol::COMMAND_FILE)).expect("remove command");
+    let only_max = ResultFile {
+        results: vec![foreign_result(i32::MAX)],
+    };
+    let text = only_max.encode().expect("encode");
+    files::atomic_write_bytes(&channel, RESULT_FILE, "test", text.as_bytes()).expect("write");
+    let state = files::read(&channel, STATE_FILE)
+        .expect("read")
+        .expect("state file");
+    let mut state = StateFile::decode(&state).expect("decode");
+    state.last_cid = i32::MAX;
+    let text = state.encode().expect("encode");
+    files::atomic_write_bytes(&channel, STATE_FILE, "test", text.as_bytes()).expect("write");
+    let _sim = SimProcess::spawn(cli(), &channel, 0.0);
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        let (_, st) = t.get("/api/v1/state").await;
+        if (st["controller"]["last_cid"] == i32::MAX && st["connection"] == "online")
+            || Instant::now() > deadline
+        {
+            assert_eq!(st["controller"]["last_cid"], i32::MAX, "{st}");
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    motion_and_stop_work(&t, "after the controller accepted the largest id").await;
+    let (_, st) = t.get("/api/v1/state").await;
+    let last = st["controller"]["last_cid"].as_i64().expect("last_cid");
+    assert!(last < 1 << 30, "the ids wrapped: last_cid {last}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// A result for a higher, foreign command id written while a job runs does
+/// not hide the job's own result.
+#[tokio::test]
+async fn a_foreign_result_during_a_job_does_not_hide_its_own() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let channel = root.path().join("channel");
+    let _sim = SimProcess::spawn(cli(), &channel, 1.0);
+    let t = service_on(root.path()).await;
+    t.wait_connection("online").await;
+    let (s, job) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [slow_motion(30.0)], "wait": false}),
+        )
+        .await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    let j = wait_job(&t, id, Duration::from_secs(5), |j| {
+        j["state"] == "executing"
+    })
+    .await;
+    let cid = j["cid"].as_i64().expect("cid") as i32;
+    append_result(&channel, foreign_result(cid + 1000));
+    let j = wait_job(&t, id, Duration::from_secs(8), terminal).await;
+    assert_eq!(j["state"], "done", "{j}");
+    assert!(j.get("late_result").is_none(), "{j}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// The controller is killed in the middle of a 4-motion batch and started
+/// again at once: the job ends at once with how far it got, and the next
+/// job runs (before: `executing` until its timeout, new jobs refused).
+#[tokio::test]
+async fn a_controller_restarted_mid_batch_resolves_the_job_at_once() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let channel = root.path().join("channel");
+    let mut sim = SimProcess::spawn(cli(), &channel, 1.0);
+    let t = service_on(root.path()).await;
+    t.wait_connection("online").await;
+    let batch: Vec<Value> = [20.0, 0.0, 20.0, 0.0]
+        .iter()
+        .map(|a| slow_motion(*a))
+        .collect();
+    let (s, job) = t
+        .post_json("/api/v1/motions", &json!({"motions": batch, "wait": false}))
+        .await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    let j = wait_job(&t, id, Duration::from_secs(10), |j| {
+        j["completed"].as_u64() >= Some(2) || terminal(j)
+    })
+    .await;
+    assert_eq!(j["state"], "executing", "{j}");
+    let completed = j["completed"].as_u64().expect("completed");
+    sim.kill();
+    let restarted = Instant::now();
+    let _sim = SimProcess::spawn(cli(), &channel, 1.0);
+    let j = wait_job(&t, id, Duration::from_secs(10), terminal).await;
+    let took = restarted.elapsed();
+    assert_eq!(j["state"], "failed", "{j}");
+    assert_eq!(j["error"]["code"], "command_lost", "{j}");
+    assert_eq!(j["completed"].as_u64(), Some(completed), "{j}");
+    let detail = j["error"]["detail"].as_str().expect("detail");
+    assert!(detail.contains(&format!("{completed} of 4")), "{detail}");
+    assert!(took < Duration::from_secs(3), "resolved in {took:?}");
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 300}}]))
+        .await;
+    assert_eq!(s, 200, "the next job runs: {v}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// The controller cannot write its result (the file is locked) until after
+/// the job's timeout: the job first fails with `timeout`, then takes the
+/// controller's late OK (`late_result`), instead of staying failed although
+/// the robot reached the target.
+#[tokio::test]
+async fn a_late_result_turns_a_timed_out_job_into_done() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let channel = root.path().join("channel");
+    let _sim = SimProcess::spawn(cli(), &channel, 1.0);
+    let t = service_on(root.path()).await;
+    t.wait_connection("online").await;
+    let (s, _) = t.post("/krl/getpos").await;
+    assert_eq!(s, 200);
+    let holder = std::fs::File::open(channel.join(RESULT_FILE)).expect("open");
+    holder.lock().expect("lock");
+    let (s, job) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [slow_motion(15.0)], "wait": false, "timeout_ms": 2500}),
+        )
+        .await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    let j = wait_job(&t, id, Duration::from_secs(8), terminal).await;
+    assert_eq!(
+        (j["state"].as_str(), j["error"]["code"].as_str()),
+        (Some("failed"), Some("timeout")),
+        "{j}"
+    );
+    // The robot stands at the target meanwhile.
+    let (_, st) = t.get("/api/v1/state").await;
+    assert!(
+        (st["axes"]["a1"].as_f64().expect("a1") - 15.0).abs() < 0.01,
+        "{st}"
+    );
+    drop(holder);
+    let j = wait_job(&t, id, Duration::from_secs(5), |j| j["state"] == "done").await;
+    assert_eq!(j["state"], "done", "{j}");
+    assert_eq!(j["late_result"], true, "{j}");
+    assert!(j["error"].is_null(), "{j}");
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 300}}]))
+        .await;
+    assert_eq!(s, 200, "{v}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// Job ids go on after a restart of the service; an id of the earlier run
+/// answers 410 with the reason, one never issued 404.
+#[tokio::test]
+async fn job_ids_are_unique_across_service_restarts() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let start = || async {
+        let mut c = test_config(root.path());
+        c.simulator.enabled = true;
+        c.simulator.time_scale = 0.0;
+        let dirs = tempfile::tempdir_in(root.path()).expect("tempdir");
+        TestService::start_with(c, dirs).await
+    };
+    let t = start().await;
+    let (s, job) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [{"type": "ptp", "target": {"x": 300}}], "wait": false}),
+        )
+        .await;
+    assert_eq!(s, 202, "{job}");
+    let first = job["id"].as_u64().expect("id");
+    wait_job(&t, first, Duration::from_secs(5), terminal).await;
+    t.service.shutdown().await.expect("shutdown");
+
+    let t = start().await;
+    let (s, v) = t.get(&format!("/api/v1/jobs/{first}")).await;
+    assert_eq!((s, v["code"].as_str()), (410, Some("gone")), "{v}");
+    assert!(
+        v["detail"]
+            .as_str()
+            .expect("detail")
+            .contains("earlier run"),
+        "{v}"
+    );
+    let (s, job) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 310}}]))
+        .await;
+    assert_eq!(s, 200, "{job}");
+    let second = job["id"].as_u64().expect("id");
+    assert!(second > first, "{second} after {first}");
+    let (s, v) = t.get(&format!("/api/v1/jobs/{}", second + 10_000)).await;
+    assert_eq!((s, v["code"].as_str()), (404, Some("not_found")), "{v}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// `/health` and `/api/v1/state` say `degraded`, with a code and the
+/// reason, while commands cannot be sent, and `ok` again after.
+#[tokio::test]
+async fn health_says_degraded_while_commands_cannot_be_sent() {
+    let t = TestService::start(Options::default()).await;
+    let (_, h) = t.get("/health").await;
+    assert_eq!(h["status"], "ok", "{h}");
+    assert_eq!(h["degraded"], json!([]), "{h}");
+
+    // The data folder's command id counter cannot be replaced.
+    let counter = t.config.data_dir.join("next_cid");
+    let _ = std::fs::remove_file(&counter);
+    std::fs::create_dir(&counter).expect("block the counter");
+    std::fs::write(counter.join("x"), b"x").expect("non-empty");
+    let h = wait_health(&t, |h| degraded_with(h, "storage_unavailable")).await;
+    assert!(degraded_with(&h, "storage_unavailable"), "{h}");
+    let (_, st) = t.get("/api/v1/state").await;
+    assert!(
+        st["degraded"]
+            .as_array()
+            .is_some_and(|a| a.iter().any(|d| d["code"] == "storage_unavailable")),
+        "{st}"
+    );
+    let (s, v) = t.post("/api/v1/stop").await;
+    assert_eq!(s, 200, "stop does not need the counter file: {v}");
+    std::fs::remove_dir_all(&counter).expect("unblock");
+    let h = wait_health(&t, |h| h["status"] == "ok").await;
+    assert_eq!(h["status"], "ok", "{h}");
+
+    // A junk result file far over any protocol file's size.
+    let junk = vec![b'x'; 4 << 20];
+    files::atomic_write_bytes(&t.channel_dir(), RESULT_FILE, "test", &junk).expect("junk");
+    let h = wait_health(&t, |h| degraded_with(h, "protocol_error")).await;
+    assert!(degraded_with(&h, "protocol_error"), "{h}");
+    // The controller's next result replaces it.
+    let (s, v) = t.post("/krl/getpos").await;
+    assert_eq!(s, 200, "{v}");
+    let h = wait_health(&t, |h| h["status"] == "ok").await;
+    assert_eq!(h["status"], "ok", "{h}");
+
+    // The channel folder cannot take the atomic writes' temporary files.
+    let tmp = t.channel_dir().join(files::TEMP_DIR);
+    let aside = t.channel_dir().join("kb-tmp-aside");
+    std::fs::rename(&tmp, &aside).expect("move aside");
+    std::fs::write(&tmp, b"not a folder").expect("block");
+    let h = wait_health(&t, |h| degraded_with(h, "storage_unavailable")).await;
+    assert!(degraded_with(&h, "storage_unavailable"), "{h}");
+    std::fs::remove_file(&tmp).expect("unblock");
+    let h = wait_health(&t, |h| h["status"] == "ok").await;
+    assert_eq!(h["status"], "ok", "{h}");
+    let (s, _) = t.post("/krl/getpos").await;
+    assert_eq!(s, 200);
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// Two `access_token` parameters are refused like two `Authorization`
+/// headers; one is accepted.
+#[tokio::test]
+async fn duplicate_query_tokens_are_refused() {
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.auth.require_on_loopback = true;
+            c.auth.query_token = true;
+        }),
+        ..Options::default()
+    })
+    .await;
+    let secret = initial_admin_secret(&t.config.data_dir);
+    let (s, v) = t
+        .post(&format!(
+            "/krl/getpos?access_token={secret}&access_token=kb_other"
+        ))
+        .await;
+    assert_eq!(s, 401, "{v}");
+    assert!(v.to_string().contains("not several"), "{v}");
+    let (s, v) = t
+        .post(&format!(
+            "/krl/getpos?access_token={secret}&access_token={secret}"
+        ))
+        .await;
+    assert_eq!(s, 401, "even the same secret twice: {v}");
+    let (s, v) = t.post(&format!("/krl/getpos?access_token={secret}")).await;
+    assert_eq!(s, 200, "{v}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// SIGTERM while a motion runs: the service drains. New jobs are refused
+/// with 503 `shutting_down`, reads and Stop are still served, and it exits
+/// once the motion has ended.
+#[cfg(unix)]
+#[tokio::test]
+async fn sigterm_keeps_stop_working_until_the_motion_has_ended() {
+    use std::process::{Command, Stdio};
+    let root = tempfile::tempdir().expect("tempdir");
+    let mut child = Command::new(cli())
+        .args([
+            "run",
+            "--simulate",
+            "--time-scale",
+            "1",
+            "--listen",
+            "127.0.0.1:0",
+            "--data-dir",
+        ])
+        .arg(root.path().join("data"))
+        .env("KUKA_BRIDGE_LOG", "warn")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("spawn");
+    let stdout = child.stdout.take().expect("stdout");
+    let (url, console) = kuka_bridge_tests::read_banner(stdout);
+    assert!(url.starts_with("http://"), "{console}");
+    let http = reqwest::Client::new();
+    let post = |path: &str, body: Value| {
+        let req = http.post(format!("{url}{path}")).json(&body);
+        async move {
+            let r = req.send().await.expect("request");
+            kuka_bridge_tests::decode(r).await
+        }
+    };
+    // Online first.
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        let r = http
+            .get(format!("{url}/health"))
+            .send()
+            .await
+            .expect("health");
+        let h: Value = r.json().await.expect("json");
+        if h["connection"] == "online" || Instant::now() > deadline {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    let (s, job) = post(
+        "/api/v1/motions",
+        json!({"motions": [slow_motion(60.0)], "wait": false}),
+    )
+    .await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        let j: Value = http
+            .get(format!("{url}/api/v1/jobs/{id}"))
+            .send()
+            .await
+            .expect("job")
+            .json()
+            .await
+            .expect("json");
+        if j["state"] == "executing" || Instant::now() > deadline {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    let pid = child.id().to_string();
+    assert!(
+        Command::new("kill")
+            .args(["-TERM", &pid])
+            .status()
+            .expect("kill")
+            .success()
+    );
+    // Draining: a new job is refused, the health says why.
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let refused = loop {
+        let (s, v) = post(
+            "/api/v1/motions",
+            json!({"motions": [{"type": "ptp", "target": {"x": 300}}], "wait": false}),
+        )
+        .await;
+        if s == 503 || Instant::now() > deadline {
+            break (s, v);
+        }
+        // The signal has not arrived yet: this job queues behind the motion
+        // and is cancelled when the drain starts.
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    };
+    assert_eq!(
+        (refused.0, refused.1["code"].as_str()),
+        (503, Some("shutting_down")),
+        "{}",
+        refused.1
+    );
+    let h: Value = http
+        .get(format!("{url}/health"))
+        .send()
+        .await
+        .expect("health")
+        .json()
+        .await
+        .expect("json");
+    assert!(degraded_with(&h, "shutting_down"), "{h}");
+    // Stop still gets through and ends the motion.
+    let r = http
+        .post(format!("{url}/api/v1/stop"))
+        .send()
+        .await
+        .expect("stop");
+    let (s, v) = kuka_bridge_tests::decode(r).await;
+    assert_eq!(s, 200, "stop during the drain: {v}");
+    let end = Instant::now() + Duration::from_secs(20);
+    let code = loop {
+        if let Some(s) = child.try_wait().expect("wait") {
+            break s;
+        }
+        assert!(
+            Instant::now() < end,
+            "the service did not exit after the stop"
+        );
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    };
+    assert!(code.success(), "clean exit: {code:?}");
+}
