@@ -62,7 +62,11 @@ pub fn cid_is_newer(cid: Cid, last: Cid) -> bool {
 
 /// The id after `cid`: `cid + 1`, wrapping from 2147483647 to 1.
 pub fn cid_after(cid: Cid) -> Cid {
-    if cid <= 0 || cid == Cid::MAX { 1 } else { cid + 1 }
+    if cid <= 0 || cid == Cid::MAX {
+        1
+    } else {
+        cid + 1
+    }
 }
 
 /// The newer of two ids by [`cid_is_newer`] (`a` when neither is newer).
@@ -93,7 +97,15 @@ mod tests {
         assert!(cid_is_newer(5000, i32::MAX));
         assert!(!cid_is_newer(i32::MAX, 5000), "a poisoned maximum is old");
         // Whatever the controller last accepted, the id after it is newer.
-        for last in [1, 2, 1 << 29, (1 << 30) - 1, 1 << 30, i32::MAX - 1, i32::MAX] {
+        for last in [
+            1,
+            2,
+            1 << 29,
+            (1 << 30) - 1,
+            1 << 30,
+            i32::MAX - 1,
+            i32::MAX,
+        ] {
             assert!(cid_is_newer(cid_after(last), last), "after {last}");
             assert!(!cid_is_newer(last, cid_after(last)), "before {last}");
         }
