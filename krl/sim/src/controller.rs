@@ -431,6 +431,7 @@ impl Controller {
         let (axes, tool, base, speed) = (self.axes, self.tool, self.base, self.speed);
         let spawned = std::thread::Builder::new()
             .name(format!("kuka-sim-kbu{n}"))
+            .stack_size(crate::program::DRY_RUN_STACK_BYTES)
             .spawn(move || {
                 let _ = tx.send(prepare(n, loaded, &model, axes, tool, base, speed));
             });
