@@ -570,6 +570,14 @@ impl Actor {
             // Still leave a STOP on the channel: a controller that comes back
             // reads the newest command first.
             self.request_stop(None);
+            if self.stop.is_none() {
+                // Not even written (the channel folder cannot be written).
+                let _ = reply.send(Err(BridgeError::new(
+                    ErrorCode::StorageUnavailable,
+                    "the controller is offline and the stop could not be written to the channel folder; nothing was sent",
+                )));
+                return;
+            }
             let _ = reply.send(Err(BridgeError::new(
                 ErrorCode::ControllerOffline,
                 "the controller is offline: a stop command was left on the channel, but nothing confirms it",
@@ -1197,6 +1205,15 @@ impl Actor {
             return;
         }
         self.probed_at = Some(now);
+        // A lock shows before a command meets it.
+        if !self.ctl.locked && self.pending.is_none() && self.channel.command_locked() {
+            tracing::warn!(event_id = events::CHANNEL_LOCKED, dir = %self.channel.dir().display(), "command file locked by another process");
+            self.ctl.locked = true;
+            self.shared.publish(Event::Alarm(BridgeError::new(
+                ErrorCode::ChannelLocked,
+                "the command file is locked by another process",
+            )));
+        }
         match self.channel.probe_writable() {
             Ok(()) => self.faults.channel = None,
             Err(e) => {

@@ -395,7 +395,9 @@ impl Engine {
     /// The error for a job id not in the table: 410 for an id of an
     /// earlier run or one no longer kept, 404 for one never issued.
     fn unknown_job(&self, id: JobId) -> BridgeError {
-        if id < self.shared.first_id {
+        if id == 0 {
+            not_found(id)
+        } else if id < self.shared.first_id {
             BridgeError::new(
                 ErrorCode::Gone,
                 format!(
