@@ -342,10 +342,15 @@ impl CidStore {
 
     /// Checks that the counter file can be replaced, by writing it again
     /// with the value it holds (or the next id, which no restart can find
-    /// used).
+    /// used). When ids were used beyond the block on disk (STOPs sent while
+    /// it could not be written), it reserves a new block instead, so the
+    /// file is ahead of every id sent as soon as it can be written again.
     pub fn probe_writable(&mut self) -> Result<(), ChannelError> {
-        let value = self.on_disk.unwrap_or(i64::from(self.next));
-        self.persist(value)
+        match self.on_disk {
+            Some(value) if self.reserved > 0 => self.persist(value),
+            Some(_) => self.reserve(),
+            None => self.persist(i64::from(self.next)),
+        }
     }
 
     /// Makes the next id newer than `last_accepted`.
@@ -440,6 +445,16 @@ mod tests {
         let (cid, error) = a.next_for_stop(0);
         assert!(cid >= 1);
         assert!(error.is_some(), "the failure is reported");
+        assert!(a.probe_writable().is_err());
+        // Writable again: the probe puts the file ahead of the stop's id.
+        std::fs::remove_dir(dir.path().join("next_cid")).expect("unblock");
+        a.probe_writable().expect("probe");
+        let on_disk: i64 = std::fs::read_to_string(dir.path().join("next_cid"))
+            .expect("read")
+            .trim()
+            .parse()
+            .expect("number");
+        assert!(on_disk > i64::from(cid), "{on_disk} after {cid}");
     }
 
     #[test]

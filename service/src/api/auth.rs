@@ -336,6 +336,13 @@ fn identify(
             Challenge::InvalidRequest,
         )));
     }
+    if from_header.is_some() && query_secret.is_some() {
+        return Err(Box::new(unauthenticated(
+            uri,
+            "send the token once: in the Authorization header or as access_token, not both",
+            Challenge::InvalidRequest,
+        )));
+    }
     let secret = match from_header {
         Some(h) => {
             let mut parts = h.splitn(2, ' ');
