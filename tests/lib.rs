@@ -209,11 +209,14 @@ impl TestService {
         decode(r).await
     }
 
-    /// PUT raw bytes (a plugin's .wasm).
+    /// PUT raw bytes (a plugin's .wasm). An install compiles the plugin
+    /// (minutes for a Python one when every test installs at once on a
+    /// two-core machine), so it may take longer than other requests.
     pub async fn put_bytes(&self, path: &str, body: Vec<u8>) -> (u16, Value) {
         let r = self
             .http
             .put(self.url(path))
+            .timeout(Duration::from_secs(300))
             .header("content-type", "application/wasm")
             .body(body)
             .send()
@@ -304,13 +307,52 @@ fn run(cmd: &mut std::process::Command) {
     assert!(status.success(), "{cmd:?} failed: {status}");
 }
 
+/// The target the example plugins are built for.
+const WASM_TARGET: &str = "wasm32-wasip2";
+
+/// Makes sure the toolchain can build for [`WASM_TARGET`]. `rustup` adds
+/// the targets of `rust-toolchain.toml` only when it installs the
+/// toolchain, so a machine that already had the pinned toolchain may lack
+/// it: then it is added here (`rustup target add`), and if that cannot be
+/// done the tests stop at once with the command to run.
+fn ensure_wasm_target() {
+    let dir = examples_dir();
+    let installed = std::process::Command::new("rustup")
+        .args(["target", "list", "--installed"])
+        .current_dir(&dir)
+        .output();
+    let Ok(listed) = installed else {
+        // No rustup (a toolchain from elsewhere): the build says what is missing.
+        return;
+    };
+    if String::from_utf8_lossy(&listed.stdout)
+        .lines()
+        .any(|l| l.trim() == WASM_TARGET)
+    {
+        return;
+    }
+    eprintln!(
+        "the {WASM_TARGET} target is missing: adding it with `rustup target add {WASM_TARGET}`"
+    );
+    let added = std::process::Command::new("rustup")
+        .args(["target", "add", WASM_TARGET])
+        .current_dir(&dir)
+        .status();
+    assert!(
+        added.is_ok_and(|s| s.success()),
+        "the plugin tests need the {WASM_TARGET} target and it could not be added; run `rustup target add {WASM_TARGET}` in {} and test again",
+        dir.display()
+    );
+}
+
 fn build_rust_plugins(out: &Path) {
+    ensure_wasm_target();
     let target = out.join("target");
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let manifest = examples_dir().join("Cargo.toml");
     let build = |target_dir: &Path, extra: &[&str]| {
         run(std::process::Command::new(&cargo)
-            .args(["build", "--quiet", "--release", "--target", "wasm32-wasip2"])
+            .args(["build", "--quiet", "--release", "--target", WASM_TARGET])
             .arg("--manifest-path")
             .arg(&manifest)
             .arg("--target-dir")

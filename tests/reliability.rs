@@ -378,7 +378,11 @@ async fn job_ids_are_unique_across_service_restarts() {
 /// reason, while commands cannot be sent, and `ok` again after.
 #[tokio::test]
 async fn health_says_degraded_while_commands_cannot_be_sent() {
-    let t = TestService::start(Options::default()).await;
+    let root = tempfile::tempdir().expect("tempdir");
+    let channel = root.path().join("channel");
+    let _sim = SimProcess::spawn(cli(), &channel, 0.0);
+    let t = service_on(root.path()).await;
+    t.wait_connection("online").await;
     let (_, h) = t.get("/health").await;
     assert_eq!(h["status"], "ok", "{h}");
     assert_eq!(h["degraded"], json!([]), "{h}");
@@ -405,7 +409,7 @@ async fn health_says_degraded_while_commands_cannot_be_sent() {
 
     // A junk result file far over any protocol file's size.
     let junk = vec![b'x'; 4 << 20];
-    files::atomic_write_bytes(&t.channel_dir(), RESULT_FILE, "test", &junk).expect("junk");
+    files::atomic_write_bytes(&channel, RESULT_FILE, "test", &junk).expect("junk");
     let h = wait_health(&t, |h| degraded_with(h, "protocol_error")).await;
     assert!(degraded_with(&h, "protocol_error"), "{h}");
     // The controller's next result replaces it.
@@ -415,12 +419,21 @@ async fn health_says_degraded_while_commands_cannot_be_sent() {
     assert_eq!(h["status"], "ok", "{h}");
 
     // The channel folder cannot take the atomic writes' temporary files.
-    let tmp = t.channel_dir().join(files::TEMP_DIR);
-    let aside = t.channel_dir().join("kb-tmp-aside");
+    let tmp = channel.join(files::TEMP_DIR);
+    let aside = channel.join("kb-tmp-aside");
     std::fs::rename(&tmp, &aside).expect("move aside");
     std::fs::write(&tmp, b"not a folder").expect("block");
     let h = wait_health(&t, |h| degraded_with(h, "storage_unavailable")).await;
     assert!(degraded_with(&h, "storage_unavailable"), "{h}");
+    // The simulator writes through the same folder: it is offline too.
+    let h = wait_health(&t, |h| degraded_with(h, "controller_offline")).await;
+    assert!(degraded_with(&h, "controller_offline"), "{h}");
+    let (s, v) = t.post("/api/v1/stop").await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (503, Some("storage_unavailable")),
+        "a stop that cannot be written says so: {v}"
+    );
     std::fs::remove_file(&tmp).expect("unblock");
     let h = wait_health(&t, |h| h["status"] == "ok").await;
     assert_eq!(h["status"], "ok", "{h}");
