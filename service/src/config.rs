@@ -167,13 +167,20 @@ pub struct ChannelConfig {
     /// After writing a command, how long (µs) the engine watches for the
     /// answer in a busy loop (result file metadata and its queue) before it
     /// waits for file events: a quick answer arrives without two thread
-    /// wake-ups. 0 turns it off (saves that CPU on a busy controller PC).
-    pub answer_spin_us: u64,
+    /// wake-ups. 0 turns it off. Unset: 300 with the embedded simulator,
+    /// 0 otherwise (a real controller answers after its Submit cycle of
+    /// 12 ms or more, so the loop would only burn the controller PC's CPU).
+    pub answer_spin_us: Option<u64>,
     /// After a command's answer, how long (µs) the engine watches its queue
     /// in a busy loop before it sleeps: the next request of a client that
     /// sends one command after the other is then taken without a thread
-    /// wake-up. 0 turns it off.
-    pub request_spin_us: u64,
+    /// wake-up. 0 turns it off. Unset: 250 with the embedded simulator, 0
+    /// otherwise.
+    pub request_spin_us: Option<u64>,
+    /// Set by the service from `simulator.enabled` (not a config key): the
+    /// defaults of the two busy loops above depend on it.
+    #[serde(skip)]
+    pub simulated: bool,
 }
 
 /// Which robot the checks use.
@@ -391,8 +398,9 @@ impl Default for ChannelConfig {
             ack_timeout_ms: 2000,
             command_timeout_ms: 60_000,
             lock_timeout_ms: 2000,
-            answer_spin_us: 300,
-            request_spin_us: 250,
+            answer_spin_us: None,
+            request_spin_us: None,
+            simulated: false,
         }
     }
 }
@@ -475,11 +483,13 @@ fn ms(v: u64) -> Duration {
 impl ChannelConfig {
     /// Busy-wait for a quick answer.
     pub fn answer_spin(&self) -> Duration {
-        Duration::from_micros(self.answer_spin_us)
+        let default = if self.simulated { 300 } else { 0 };
+        Duration::from_micros(self.answer_spin_us.unwrap_or(default))
     }
     /// Busy-wait for the next request after an answer.
     pub fn request_spin(&self) -> Duration {
-        Duration::from_micros(self.request_spin_us)
+        let default = if self.simulated { 250 } else { 0 };
+        Duration::from_micros(self.request_spin_us.unwrap_or(default))
     }
     /// Poll period.
     pub fn poll_interval(&self) -> Duration {
@@ -641,8 +651,8 @@ impl Config {
             }
         }
         for (key, v) in [
-            ("channel.answer_spin_us", c.answer_spin_us),
-            ("channel.request_spin_us", c.request_spin_us),
+            ("channel.answer_spin_us", c.answer_spin_us.unwrap_or(0)),
+            ("channel.request_spin_us", c.request_spin_us.unwrap_or(0)),
         ] {
             if v > 10_000 {
                 return Err(self.invalid(
@@ -974,6 +984,20 @@ mod tests {
             text.contains("robot.model") && text.contains("kr3_r540"),
             "{text}"
         );
+        // Busy loops only where answers can come within them.
+        let c = ChannelConfig::default();
+        assert_eq!((c.answer_spin(), c.request_spin()), (Duration::ZERO, Duration::ZERO));
+        let sim = ChannelConfig {
+            simulated: true,
+            ..ChannelConfig::default()
+        };
+        assert_eq!(sim.answer_spin(), Duration::from_micros(300));
+        assert_eq!(sim.request_spin(), Duration::from_micros(250));
+        let set = ChannelConfig {
+            answer_spin_us: Some(50),
+            ..ChannelConfig::default()
+        };
+        assert_eq!(set.answer_spin(), Duration::from_micros(50));
         for key in ["answer_spin_us", "request_spin_us"] {
             let text = invalid(&format!("[channel]\n{key} = 20000\n"));
             assert!(

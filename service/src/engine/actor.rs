@@ -333,7 +333,10 @@ impl Actor {
             shared,
             channel,
             cids,
-            cfg: config.channel.clone(),
+            cfg: crate::config::ChannelConfig {
+                simulated: config.simulator.enabled,
+                ..config.channel.clone()
+            },
             program_dir: config.program_dir(),
             keep_modules: config.programs.keep_modules,
             checking: None,
