@@ -73,9 +73,22 @@ mkdir -p "$(dirname "$out")"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
-# wixl resolves File/@Source relative to the current directory and cannot
-# take absolute paths, so it runs in a staging folder of symlinks.
-ln -s "$exe" "$work/kuka-bridge.exe"
+# The release build carries line tables (≈ 200 MB); the MSI ships the exe
+# without debug information and symbols (≈ 40 MB). They go to a separate
+# artifact beside the MSI, for crash analysis (gdb or addr2line with the
+# .debug file next to the exe; the exe names it in .gnu_debuglink).
+debug_file="$(dirname "$out")/kuka-bridge-$version.exe.debug"
+objcopy_bin="${OBJCOPY:-x86_64-w64-mingw32-objcopy}"
+if command -v "$objcopy_bin" >/dev/null; then
+    "$objcopy_bin" --only-keep-debug "$exe" "$debug_file"
+    "$objcopy_bin" --strip-all --add-gnu-debuglink="$debug_file" "$exe" "$work/kuka-bridge.exe"
+    echo "== kuka-bridge.exe $(du -m "$work/kuka-bridge.exe" | cut -f1) MB shipped; symbols and line tables in $debug_file" >&2
+else
+    echo "build-msi.sh: $objcopy_bin not found: the MSI ships the exe with its debug information" >&2
+    # wixl resolves File/@Source relative to the current directory and cannot
+    # take absolute paths, so it runs in a staging folder of symlinks.
+    ln -s "$exe" "$work/kuka-bridge.exe"
+fi
 ln -s "$root/docs" "$work/docs"
 ln -s "$root/krl" "$work/krl"
 

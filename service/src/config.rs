@@ -986,7 +986,10 @@ mod tests {
         );
         // Busy loops only where answers can come within them.
         let c = ChannelConfig::default();
-        assert_eq!((c.answer_spin(), c.request_spin()), (Duration::ZERO, Duration::ZERO));
+        assert_eq!(
+            (c.answer_spin(), c.request_spin()),
+            (Duration::ZERO, Duration::ZERO)
+        );
         let sim = ChannelConfig {
             simulated: true,
             ..ChannelConfig::default()

@@ -255,10 +255,10 @@ impl ProgramStore {
             .at_line("src", routine.line));
         }
         if self.simulated {
-            kuka_sim::names::check_names(&program).map_err(|u| {
+            kuka_krl_runtime::names::check_names(&program).map_err(|u| {
                 BridgeError::new(ErrorCode::InvalidProgram, u.to_string()).at_line("src", u.line)
             })?;
-            kuka_sim::interp::check_subset(&program).map_err(|u| {
+            kuka_krl_runtime::interp::check_subset(&program).map_err(|u| {
                 BridgeError::new(ErrorCode::ProgramUnsupported, u.to_string())
                     .at_line("src", u.line)
             })?;

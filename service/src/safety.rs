@@ -8,9 +8,9 @@
 
 use kuka_kinematics::MotionKind;
 use kuka_kinematics::{IkError, MotionError, RobotModel, plan};
+use kuka_krl_runtime::interp::{RunError, Start, Step};
+use kuka_krl_runtime::program::PrepareError;
 use kuka_protocol::{Frame, MAX_REAL, MotionRecord, SpeedRecord};
-use kuka_sim::interp::{RunError, Start, Step};
-use kuka_sim::program::PrepareError;
 
 use crate::config::{MotionConfig, WorkspaceBox};
 use crate::error::{BridgeError, ErrorCode, Result};
@@ -220,8 +220,8 @@ impl Safety {
             return Ok(());
         };
         let records = motions;
-        let motions: Vec<_> = records.iter().map(kuka_sim::to_motion).collect();
-        let to_pose = |f: &Frame| kuka_sim::frame_to_pose(f);
+        let motions: Vec<_> = records.iter().map(kuka_krl_runtime::to_motion).collect();
+        let to_pose = |f: &Frame| kuka_krl_runtime::frame_to_pose(f);
         let execution = plan::plan(
             model,
             &start.axes,
@@ -281,19 +281,23 @@ impl Safety {
         let st = Start {
             model,
             axes: start.axes,
-            tool: kuka_sim::frame_to_pose(tool),
-            base: kuka_sim::frame_to_pose(base),
+            tool: kuka_krl_runtime::frame_to_pose(tool),
+            base: kuka_krl_runtime::frame_to_pose(base),
             speed,
         };
-        let run =
-            kuka_sim::program::interpret(&module.src, module.dat.as_deref(), &module.name, &st);
+        let run = kuka_krl_runtime::program::interpret(
+            &module.src,
+            module.dat.as_deref(),
+            &module.name,
+            &st,
+        );
         let (steps, complete) = match run {
             Ok(steps) => (steps, true),
             Err(PrepareError::Parse(e)) => return Err(crate::programs::program_error(&e)),
             Err(PrepareError::Run(RunError::TooLong { steps, .. })) => (steps, false),
             // Beyond the simulator's subset: only a real KRC can run it.
             Err(PrepareError::Run(RunError::Unsupported(_))) => return Ok(unchecked),
-            // Too deep or too large for the interpreter (kuka_sim::interp's
+            // Too deep or too large for the interpreter (kuka_krl_runtime::interp's
             // limits): refused like a program that does not parse.
             Err(PrepareError::Run(RunError::Limit { line, message })) => {
                 return Err(BridgeError::new(
@@ -371,9 +375,14 @@ impl Safety {
                 }
             }
         }
-        let phases = kuka_sim::program::phases(steps);
-        kuka_sim::program::dry_run(model, &start.axes, &phases, &plan::PlanSettings::default())
-            .map_err(|e| at(motion_error(&e.error), e.line))?;
+        let phases = kuka_krl_runtime::program::phases(steps);
+        kuka_krl_runtime::program::dry_run(
+            model,
+            &start.axes,
+            &phases,
+            &plan::PlanSettings::default(),
+        )
+        .map_err(|e| at(motion_error(&e.error), e.line))?;
         Ok(ProgramCheck {
             checked: true,
             complete,

@@ -4,14 +4,15 @@
 use std::collections::VecDeque;
 use std::time::Instant;
 
-use crate::interp::{self, RunError};
-use crate::program::{Phase, PrepareError, phases};
 use kuka_kinematics::{
     Axes, Execution, IkError, Motion, MotionError, MotionKind, PlanSettings, Pose, RobotModel,
 };
+use kuka_krl_runtime::interp::{self, RunError};
+use kuka_krl_runtime::program::{Phase, PrepareError, phases};
+use kuka_krl_runtime::{frame_to_pose, pose_to_frame, to_motion};
 use kuka_protocol::{
-    Cid, Command, ControllerStatus, Frame, MotionRecord, OperatingMode, RESULT_HISTORY, ResultCode,
-    ResultRecord, SpeedRecord, StateFile,
+    Cid, Command, ControllerStatus, Frame, OperatingMode, RESULT_HISTORY, ResultCode, ResultRecord,
+    SpeedRecord, StateFile,
 };
 use serde::Serialize;
 
@@ -31,23 +32,6 @@ pub struct TraceSample {
     /// Axis angles A1..A6.
     #[cfg_attr(feature = "openapi", schema(value_type = Vec<f64>))]
     pub axes: Axes,
-}
-
-/// Converts a protocol frame to a kinematics pose.
-pub fn frame_to_pose(f: &Frame) -> Pose {
-    Pose::new(f.x, f.y, f.z, f.a, f.b, f.c)
-}
-
-/// Converts a kinematics pose to a protocol frame.
-pub fn pose_to_frame(p: &Pose) -> Frame {
-    Frame {
-        x: p.x,
-        y: p.y,
-        z: p.z,
-        a: p.a,
-        b: p.b,
-        c: p.c,
-    }
 }
 
 /// A batch being played back.
@@ -116,7 +100,7 @@ fn prepare(
         base,
         speed,
     };
-    crate::program::interpret(&src, dat.as_deref(), &module, &start).map_err(|e| {
+    kuka_krl_runtime::program::interpret(&src, dat.as_deref(), &module, &start).map_err(|e| {
         tracing::info!(%module, error = %e, "program refused");
         match &e {
             PrepareError::Parse(p) => (ResultCode::BadCommand, p.line().unwrap_or(0)),
@@ -179,49 +163,6 @@ fn motion_error_code(e: &MotionError) -> (ResultCode, u8) {
         MotionError::Singularity(_) => (ResultCode::Singularity, 0),
         MotionError::Geometry(_) => (ResultCode::Geometry, 0),
         MotionError::Parameter(_) => (ResultCode::BadCommand, 0),
-    }
-}
-
-/// Converts a protocol motion record to a planner motion.
-pub fn to_motion(r: &MotionRecord) -> Motion {
-    let (kind, p) = match r {
-        MotionRecord::Ptp {
-            target,
-            s,
-            t,
-            params,
-        } => (
-            MotionKind::Ptp {
-                target: frame_to_pose(target),
-                s: *s,
-                t: *t,
-            },
-            params,
-        ),
-        MotionRecord::PtpAxes { axes, params } => (MotionKind::PtpAxes { axes: *axes }, params),
-        MotionRecord::Lin { target, params } => (
-            MotionKind::Lin {
-                target: frame_to_pose(target),
-            },
-            params,
-        ),
-        MotionRecord::Circ {
-            aux,
-            target,
-            params,
-        } => (
-            MotionKind::Circ {
-                aux: Pose::new(aux[0], aux[1], aux[2], 0.0, 0.0, 0.0),
-                target: frame_to_pose(target),
-            },
-            params,
-        ),
-    };
-    Motion {
-        kind,
-        velocity: p.velocity,
-        acceleration_pct: p.acceleration_pct,
-        approx_mm: p.approx_mm,
     }
 }
 
@@ -431,7 +372,7 @@ impl Controller {
         let (axes, tool, base, speed) = (self.axes, self.tool, self.base, self.speed);
         let spawned = std::thread::Builder::new()
             .name(format!("kuka-sim-kbu{n}"))
-            .stack_size(crate::program::DRY_RUN_STACK_BYTES)
+            .stack_size(kuka_krl_runtime::program::DRY_RUN_STACK_BYTES)
             .spawn(move || {
                 let _ = tx.send(prepare(n, loaded, &model, axes, tool, base, speed));
             });

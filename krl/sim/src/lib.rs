@@ -9,13 +9,12 @@
 //! records the executed TCP trace. It knows nothing about HTTP; the service
 //! embeds it in `--simulate` mode and tests run it in-process or as a
 //! separate process (`kuka-bridge simulate`) to kill, hang or lock it.
+//! Uploaded programs (RUN) are executed with the KRL runtime
+//! ([`kuka_krl_runtime`]), the same interpreter the service's dry run uses.
 #![deny(missing_docs)]
 
 mod controller;
-pub mod interp;
-pub mod names;
-pub mod program;
 mod runner;
 
-pub use controller::{TraceSample, frame_to_pose, pose_to_frame, to_motion};
+pub use controller::TraceSample;
 pub use runner::{SimConfig, SimController, SimError, SimSnapshot};

@@ -1422,7 +1422,7 @@ impl Actor {
                 .name("kuka-dry-run".into())
                 // A margin: the interpreter's own limits keep its deepest
                 // run within a 2 MiB stack in a debug build.
-                .stack_size(kuka_sim::program::DRY_RUN_STACK_BYTES)
+                .stack_size(kuka_krl_runtime::program::DRY_RUN_STACK_BYTES)
                 .spawn(move || {
                     let result = safety.check_program(&program, &start, &tool, &base, speed);
                     let _ = events.send(Msg::ProgramChecked(job, result));

@@ -1,7 +1,7 @@
 //! The file protocol pinned from both directions by **executing the shipped
 //! KRL controller program** (`krl/KRC/R1/Program/kbridge`) with the
 //! simulator's KRL interpreter in its test harness
-//! ([`kuka_sim::interp::run_with_files`], in-memory files):
+//! ([`kuka_krl_runtime::interp::run_with_files`], in-memory files):
 //!
 //! - service → KRL: every line the Rust encoder writes into a command file
 //!   is parsed by the program's own line parser `KbLine` with the format
@@ -34,12 +34,12 @@ use std::sync::OnceLock;
 
 use kuka_kinematics::{Pose, RobotModel};
 use kuka_krl::{DatFile, Expr, Program, SrcFile, Stmt, StmtKind, parse_dat, parse_src};
+use kuka_krl_runtime::interp::{Globals, Start, run_with_files};
 use kuka_protocol::{
     COMMAND_FILE, Command, CommandFile, ControllerStatus, Frame, MotionParams, MotionRecord,
     OperatingMode, RESULT_FILE, ResultCode, ResultFile, ResultRecord, STATE_FILE, SpeedRecord,
     StateFile, checksum,
 };
-use kuka_sim::interp::{Globals, Start, run_with_files};
 
 // ---------------------------------------------------------------- the program
 

@@ -9,13 +9,15 @@
 //!
 //! The property tests run a modest number of cases so that `cargo test`
 //! stays quick; run more with
-//! `PROPTEST_CASES=5000 cargo test -p kuka-sim --test limits`.
+//! `PROPTEST_CASES=5000 cargo test -p kuka-krl-runtime --test limits`.
 
 use kuka_kinematics::{Pose, RobotModel};
 use kuka_krl::{MAX_BLOCK_DEPTH, MAX_EXPR_DEPTH, Program};
+use kuka_krl_runtime::interp::{
+    MAX_CALL_DEPTH, MAX_NESTING, RunError, Start, Step, check_subset, run,
+};
+use kuka_krl_runtime::names::check_names;
 use kuka_protocol::SpeedRecord;
-use kuka_sim::interp::{MAX_CALL_DEPTH, MAX_NESTING, RunError, Start, Step, check_subset, run};
-use kuka_sim::names::check_names;
 use proptest::prelude::*;
 
 const SPEED: SpeedRecord = SpeedRecord {

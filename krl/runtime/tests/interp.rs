@@ -5,8 +5,8 @@
 use kuka_kinematics::plan::{PlanSettings, plan};
 use kuka_kinematics::{IkError, Motion, MotionError, MotionKind, Pose, RobotModel};
 use kuka_krl::Program;
+use kuka_krl_runtime::interp::{RunError, Start, Step, Unsupported, check_subset, run};
 use kuka_protocol::SpeedRecord;
-use kuka_sim::interp::{RunError, Start, Step, Unsupported, check_subset, run};
 
 const SPEED: SpeedRecord = SpeedRecord {
     override_pct: 100.0,
