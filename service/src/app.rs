@@ -235,7 +235,7 @@ fn open_access(
     }
     let audit_dir = config.audit_dir();
     let audit = access::audit::AuditLog::open(&audit_dir, config.log.retention_days)
-        .and_then(|a| access::private_file::restrict_dir(&audit_dir).map(|()| a))
+        .and_then(|a| crate::platform::private_file::restrict_dir(&audit_dir).map(|()| a))
         .map_err(|source| AppError::Audit {
             path: audit_dir.display().to_string(),
             source,

@@ -15,7 +15,7 @@ use kuka_krl::{Program, ProgramError, RoutineKind};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use crate::engine::now_ms;
+use crate::clock::now_ms;
 use crate::error::{BridgeError, ErrorCode, Result};
 
 /// The entry point the thesis bridge called (`DEFFCT INT fuploaded()`).

@@ -92,7 +92,12 @@ fn main() {
         for i in 0..n + 200 {
             let start = Instant::now();
             engine
-                .execute(kuka_bridge::engine::Operation::GetPosition, None, Duration::from_secs(5))
+                .execute(
+                    kuka_bridge::engine::Operation::GetPosition,
+                    None,
+                    Duration::from_secs(5),
+                    kuka_bridge::engine::Caller::default(),
+                )
                 .await
                 .expect("get position");
             if i >= 200 {

@@ -91,7 +91,7 @@ pub(crate) fn classify(
     if e.downcast_ref::<wasmtime::PoolConcurrencyLimitError>()
         .is_some()
     {
-        return PluginError::Busy(crate::runtime::MAX_CONCURRENT_REQUESTS);
+        return PluginError::Busy(crate::MAX_CONCURRENT_REQUESTS);
     }
     if symptoms.memory_refused {
         return PluginError::Memory {

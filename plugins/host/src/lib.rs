@@ -13,6 +13,9 @@
 //!
 //! This is the only crate of the workspace that depends on wasmtime.
 
+/// Plugin requests (instances) that may run at the same time.
+pub const MAX_CONCURRENT_REQUESTS: u32 = 64;
+
 mod bindings;
 mod cache;
 mod call;

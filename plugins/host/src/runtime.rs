@@ -20,8 +20,7 @@ pub(crate) const TICK: Duration = Duration::from_millis(10);
 /// Bytes of each pooled memory and table kept mapped between requests.
 const KEEP_RESIDENT: usize = 1 << 20;
 
-/// Plugin requests (instances) that may run at the same time.
-pub const MAX_CONCURRENT_REQUESTS: u32 = 64;
+use crate::MAX_CONCURRENT_REQUESTS;
 
 /// Finished stores that may wait to be dropped after their answer left
 /// (see `call::drop_later`); the pool has room for them on top of

@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 use tracing_appender::rolling::RollingFileAppender;
 use utoipa::{IntoParams, ToSchema};
 
-use crate::engine::JobId;
+use crate::clock::JobId;
 
 /// One audited request.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]

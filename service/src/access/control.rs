@@ -90,7 +90,7 @@ impl Control {
 
     fn renew(&self, h: &mut Held) {
         h.expires = Instant::now() + self.ttl;
-        h.lease.expires_ms = crate::engine::now_ms() + self.ttl.as_millis() as u64;
+        h.lease.expires_ms = crate::clock::now_ms() + self.ttl.as_millis() as u64;
     }
 
     /// The current lease, if any (while one of the holder's calls runs,
@@ -99,7 +99,7 @@ impl Control {
         self.lock().as_ref().map(|h| {
             let mut lease = h.lease.clone();
             if h.active > 0 {
-                lease.expires_ms = crate::engine::now_ms() + self.ttl.as_millis() as u64;
+                lease.expires_ms = crate::clock::now_ms() + self.ttl.as_millis() as u64;
             }
             lease
         })
@@ -132,7 +132,7 @@ impl Control {
             }
             tracing::warn!(from = %h.lease.holder, to = %who.name, "control taken over by an admin");
         }
-        let now = crate::engine::now_ms();
+        let now = crate::clock::now_ms();
         let id = super::tokens::random_hex(8).unwrap_or_else(|_| format!("{now:x}"));
         let lease = Lease {
             id,

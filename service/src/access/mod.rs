@@ -12,7 +12,6 @@
 pub mod audit;
 pub mod control;
 pub mod policy;
-pub mod private_file;
 pub mod tokens;
 
 use std::collections::HashMap;
@@ -25,7 +24,7 @@ pub use control::{Control, Lease};
 pub use policy::{Role, Rule};
 pub use tokens::{TokenError, TokenInfo, TokenStore};
 
-use crate::engine::JobId;
+use crate::clock::JobId;
 
 /// The query parameter old clients may use instead of the header (weaker:
 /// URLs end up in proxies' and browsers' histories).
@@ -88,6 +87,15 @@ impl RequestContext {
 /// The caller of the request this task serves, if any.
 pub fn current_principal() -> Option<Principal> {
     REQUEST.try_with(|r| r.principal.clone()).ok()
+}
+
+/// The engine's [`crate::engine::Caller`] for the request being served:
+/// its principal's name, and [`note_job`] to record the jobs it creates.
+pub fn caller() -> crate::engine::Caller {
+    crate::engine::Caller {
+        name: current_principal().map(|p| p.name),
+        on_job: Some(Arc::new(note_job)),
+    }
 }
 
 /// Records that the current request created job `id` (for the audit).
@@ -203,9 +211,11 @@ pub fn ensure_admin(tokens: &TokenStore, data_dir: &Path) -> Result<Option<PathB
          # `kuka-bridge token revoke {}` once you have created your own tokens.\n{}\n",
         info.name, info.name, secret
     );
-    private_file::write(&path, text.as_bytes()).map_err(|source| TokenError::Io {
-        path: path.display().to_string(),
-        source,
+    crate::platform::private_file::write(&path, text.as_bytes()).map_err(|source| {
+        TokenError::Io {
+            path: path.display().to_string(),
+            source,
+        }
     })?;
     Ok(Some(path))
 }

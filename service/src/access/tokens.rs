@@ -13,7 +13,7 @@ use sha2::{Digest, Sha256};
 use utoipa::ToSchema;
 
 use super::Role;
-use super::private_file;
+use crate::platform::private_file;
 
 /// The prefix of every secret (recognisable in a leaked file or paste).
 pub const SECRET_PREFIX: &str = "kb_";
@@ -292,7 +292,7 @@ impl TokenStore {
         let info = TokenInfo {
             name: name.into(),
             role,
-            created_ms: crate::engine::now_ms(),
+            created_ms: crate::clock::now_ms(),
         };
         let record = Record {
             info: info.clone(),

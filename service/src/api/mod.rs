@@ -244,3 +244,24 @@ pub fn app(mut state: AppState) -> Router {
 pub(crate) fn ok_json(body: &impl Serialize) -> Response {
     problem::json_response(200, "application/json", body)
 }
+
+#[cfg(test)]
+mod tests {
+    /// Every documented operation has its own line in the access table
+    /// (`access::policy`): a new endpoint cannot be added without deciding
+    /// who may call it.
+    #[test]
+    fn every_documented_operation_has_a_rule() {
+        let doc = super::openapi();
+        let paths = doc["paths"].as_object().expect("paths");
+        let mut missing = Vec::new();
+        for (path, item) in paths {
+            for method in item.as_object().expect("path item").keys() {
+                if crate::access::policy::documented_rule(method, path).is_none() {
+                    missing.push(format!("{} {path}", method.to_uppercase()));
+                }
+            }
+        }
+        assert!(missing.is_empty(), "no access rule for: {missing:?}");
+    }
+}

@@ -113,7 +113,11 @@ async fn run(
     let timeout = Some(timeout.unwrap_or(app.programs.run_timeout()));
     let job = app
         .engine
-        .submit(Operation::RunProgram(program), timeout)
+        .submit(
+            Operation::RunProgram(program),
+            timeout,
+            crate::access::caller(),
+        )
         .await?;
     if req.wait == Some(false) {
         let mut r = json_response(202, "application/json", &job);

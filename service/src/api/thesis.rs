@@ -248,7 +248,12 @@ async fn run_with(
 ) -> Response {
     match app
         .engine
-        .execute(op, timeout, app.wait_budget(timeout))
+        .execute(
+            op,
+            timeout,
+            app.wait_budget(timeout),
+            crate::access::caller(),
+        )
         .await
     {
         Ok(job) => done(job_position(&job, frame_result)),

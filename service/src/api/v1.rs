@@ -178,7 +178,10 @@ pub(crate) fn check_frame(f: &CartesianFrame) -> Result<(), BridgeError> {
 }
 
 async fn execute(app: &AppState, op: Operation) -> Result<Job, Problem> {
-    Ok(app.engine.execute(op, None, app.request_timeout).await?)
+    Ok(app
+        .engine
+        .execute(op, None, app.request_timeout, crate::access::caller())
+        .await?)
 }
 
 /// Robot and controller state.
@@ -244,7 +247,11 @@ async fn post_motions(
     }
     let job = app
         .engine
-        .submit(Operation::Move(batch.motions), timeout)
+        .submit(
+            Operation::Move(batch.motions),
+            timeout,
+            crate::access::caller(),
+        )
         .await?;
     if batch.wait == Some(false) {
         let mut r = json_response(202, "application/json", &job);

@@ -2,7 +2,7 @@
 //! controller. It reacts to submissions, file events and a poll tick; the
 //! poll is the source of truth, events only make it faster.
 
-use crate::logging::events;
+use crate::event_ids as events;
 use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::{Duration, Instant};

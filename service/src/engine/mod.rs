@@ -104,6 +104,19 @@ impl Shared {
     }
 }
 
+/// Who asks for a job, passed with every submission: the engine records
+/// the name in the job (`requested_by`) and tells `on_job` the new job's
+/// id (access control keeps it for the request's audit record). The
+/// engine knows nothing else of the caller.
+#[derive(Clone, Default)]
+pub struct Caller {
+    /// The token name (`anonymous` when access control is off); `None` when
+    /// nobody in particular asks.
+    pub name: Option<String>,
+    /// Called with the id of each job created for this caller.
+    pub on_job: Option<Arc<dyn Fn(JobId) + Send + Sync>>,
+}
+
 /// A cheap, cloneable handle to the engine.
 #[derive(Clone)]
 pub struct Engine {
@@ -211,9 +224,14 @@ impl Engine {
         self.shared.events.subscribe()
     }
 
-    /// Validates and queues an operation; returns the queued job.
-    pub async fn submit(&self, op: Operation, timeout: Option<Duration>) -> Result<Job> {
-        self.submit_from(op, timeout, None).await
+    /// Validates and queues an operation for `caller`; returns the queued job.
+    pub async fn submit(
+        &self,
+        op: Operation,
+        timeout: Option<Duration>,
+        caller: Caller,
+    ) -> Result<Job> {
+        self.submit_from(op, timeout, None, caller).await
     }
 
     /// [`Self::submit`] on behalf of `origin` (recorded in the job).
@@ -222,6 +240,7 @@ impl Engine {
         op: Operation,
         timeout: Option<Duration>,
         origin: Option<String>,
+        caller: Caller,
     ) -> Result<Job> {
         if self.shared.draining.load(Ordering::SeqCst) {
             return Err(BridgeError::new(
@@ -283,10 +302,12 @@ impl Engine {
             frame: None,
             error: None,
             origin,
-            requested_by: crate::access::current_principal().map(|p| p.name),
+            requested_by: caller.name.clone(),
             late_result: false,
         };
-        crate::access::note_job(id);
+        if let Some(on_job) = &caller.on_job {
+            on_job(id);
+        }
         {
             let mut table = self.shared.table();
             let (tx, _) = watch::channel(job.clone());
@@ -342,14 +363,15 @@ impl Engine {
         }
     }
 
-    /// Submits, waits, and turns a failed job into its error.
+    /// Submits for `caller`, waits, and turns a failed job into its error.
     pub async fn execute(
         &self,
         op: Operation,
         timeout: Option<Duration>,
         max_wait: Duration,
+        caller: Caller,
     ) -> Result<Job> {
-        self.execute_from(op, timeout, max_wait, None).await
+        self.execute_from(op, timeout, max_wait, None, caller).await
     }
 
     /// [`Self::execute`] on behalf of `origin` (recorded in the job).
@@ -359,8 +381,9 @@ impl Engine {
         timeout: Option<Duration>,
         max_wait: Duration,
         origin: Option<String>,
+        caller: Caller,
     ) -> Result<Job> {
-        let job = self.submit_from(op, timeout, origin).await?;
+        let job = self.submit_from(op, timeout, origin, caller).await?;
         let job = self.wait(job.id, max_wait).await?;
         match (&job.state, &job.error) {
             (JobState::Done, _) => Ok(job),

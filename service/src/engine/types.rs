@@ -7,8 +7,7 @@ use utoipa::ToSchema;
 use crate::error::BridgeError;
 use crate::motion::{MotionRequest, SpeedSettings};
 
-/// Job identifier (increasing, unique per service run).
-pub type JobId = u64;
+pub use crate::clock::{JobId, now_ms};
 
 /// A Cartesian frame in mm and degrees (A, B, C about Z, Y, X).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize, ToSchema)]
@@ -405,11 +404,4 @@ impl From<&kuka_protocol::MotionRecord> for PlannedMotion {
             axes,
         }
     }
-}
-
-/// Unix time in ms.
-pub fn now_ms() -> u64 {
-    std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_millis() as u64)
 }

@@ -144,6 +144,7 @@ impl host::BridgeApi for EngineBridge {
                     Some(ctx.request_time),
                     ctx.request_time,
                     Some(format!("plugin:{}@{}", ctx.plugin, ctx.version)),
+                    crate::access::caller(),
                 )
                 .await
                 .map_err(host_error)?;

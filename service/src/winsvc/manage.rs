@@ -16,9 +16,9 @@ use windows_service::service_manager::{ServiceManager, ServiceManagerAccess};
 use winreg::RegKey;
 use winreg::enums::{HKEY_LOCAL_MACHINE, KEY_ALL_ACCESS, REG_EXPAND_SZ};
 
-use super::process::{Process, running_image, wait_exited};
 use super::{DESCRIPTION, DISPLAY_NAME, EVENT_SOURCE, SERVICE_NAME, config_path, program_data};
 use crate::config::Config;
+use crate::platform::process::{Process, running_image, wait_exited};
 
 /// Where Event Log sources of the Application log are registered.
 const EVENTLOG_KEY: &str = r"SYSTEM\CurrentControlSet\Services\EventLog\Application";

@@ -1,14 +1,12 @@
 //! The Windows shell of the binary (compiled on Windows only): the service
 //! entry the service manager starts ([`service`]), `kuka-bridge service
-//! install | uninstall | start | stop | status` ([`manage`]), waiting for
-//! the service's process to exit ([`process`]) and the Event Log layer
-//! ([`eventlog`]). Everything else is the same code as console
+//! install | uninstall | start | stop | status` ([`manage`]); the Win32
+//! calls they need (the Event Log layer, process lookup) are in
+//! [`crate::platform`]. Everything else is the same code as console
 //! mode: the service calls [`crate::app::run`] with the stop request as its
 //! shutdown signal. This module is the binary's edge, like `cli`.
 
-pub mod eventlog;
 pub mod manage;
-pub mod process;
 pub mod service;
 
 use std::path::PathBuf;
@@ -19,8 +17,7 @@ pub const SERVICE_NAME: &str = "kuka-bridge";
 pub const DISPLAY_NAME: &str = "KUKA Bridge";
 /// Description shown in services.msc.
 pub const DESCRIPTION: &str = "REST API for KUKA robot controllers (KRC, KSS 8.x) over a file protocol; see http://127.0.0.1:8080/docs/";
-/// Event Log source (Application log).
-pub const EVENT_SOURCE: &str = "kuka-bridge";
+pub use crate::platform::eventlog::EVENT_SOURCE;
 
 /// `%ProgramData%\kuka-bridge`: config, logs, plugins, programs, data.
 pub fn program_data() -> PathBuf {

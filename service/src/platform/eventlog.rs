@@ -1,6 +1,6 @@
 //! A tracing layer that reports to the Windows Event Log (Application log,
-//! source [`super::EVENT_SOURCE`]): warnings and errors, and any event with
-//! an `event_id` field (ids in [`crate::logging::events`]). The message
+//! source [`EVENT_SOURCE`]): warnings and errors, and any event with
+//! an `event_id` field (ids in [`crate::event_ids`]). The message
 //! file registered for the source is `EventCreate.exe`, whose messages are
 //! the text itself (ids 1–1000), so the entries read as the log lines do.
 //!
@@ -19,7 +19,10 @@ use windows_sys::Win32::System::EventLog::{
     RegisterEventSourceW, ReportEventW,
 };
 
-use crate::logging::events;
+use crate::event_ids as events;
+
+/// Event Log source (Application log).
+pub const EVENT_SOURCE: &str = "kuka-bridge";
 
 /// Reports events to the Event Log.
 pub struct EventLogLayer {
