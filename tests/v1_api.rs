@@ -492,7 +492,11 @@ async fn async_jobs_cancel_stop_and_events() {
         tokio::time::sleep(Duration::from_millis(10)).await;
     }
     assert!(executing, "job reached executing");
-    tokio::time::sleep(Duration::from_millis(200)).await;
+    // Part way: A1 has left 0 (the job then says where it stopped).
+    t.wait_state("A1 to move", |st| {
+        st["axes"]["a1"].as_f64().is_some_and(|a1| a1 > 0.1)
+    })
+    .await;
     let (s, v) = t.post("/api/v1/stop").await;
     assert_eq!((s, &v), (200, &json!({"stopped": true})));
     let (_, j) = t.get(&location).await;
@@ -771,5 +775,48 @@ async fn model_and_planned_paths() {
     let (s, v) = t.get("/api/v1/events?types=plans").await;
     assert_eq!(s, 422);
     assert!(v["detail"].as_str().unwrap_or("").contains("plan"), "{v}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// Every answer carries an `x-request-id`; an error body carries the same
+/// id as `request_id`. An internal failure (the program folder cannot be
+/// written) answers a code and a sentence: the path and the operating
+/// system's error are in the log under that id, never in the answer.
+#[tokio::test]
+async fn errors_carry_the_request_id_and_no_internal_paths() {
+    let t = TestService::start(Options::default()).await;
+    let r = t.request(reqwest::Method::GET, "/api/v1/jobs/987654").await;
+    let id = r
+        .headers()
+        .get("x-request-id")
+        .expect("x-request-id")
+        .to_str()
+        .expect("ascii")
+        .to_string();
+    let (s, v) = kuka_bridge_tests::decode(r).await;
+    assert_eq!(
+        (s, v["request_id"].as_str()),
+        (404, Some(id.as_str())),
+        "{v}"
+    );
+    let r = t.request(reqwest::Method::GET, "/health").await;
+    let other = r.headers().get("x-request-id").expect("x-request-id");
+    assert_ne!(other.to_str().expect("ascii"), id, "one id per request");
+
+    let folder = t.config.data_dir.join("programs");
+    std::fs::remove_dir_all(&folder).expect("remove");
+    std::fs::write(&folder, b"not a folder").expect("block");
+    let src = "DEF p()\n  PTP {A1 10}\nEND\n";
+    let (s, v) = t
+        .post_json("/api/v1/programs", &json!({"name": "p", "src": src}))
+        .await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (503, Some("storage_unavailable")),
+        "{v}"
+    );
+    let root = t.dirs.path().display().to_string();
+    assert!(!v.to_string().contains(&root), "no internal path: {v}");
+    assert!(v["request_id"].is_string(), "{v}");
     t.service.shutdown().await.expect("shutdown");
 }

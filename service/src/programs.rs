@@ -294,9 +294,10 @@ impl ProgramStore {
         };
         let key = stored.info.name.to_ascii_lowercase();
         let io = |e: std::io::Error| {
+            tracing::error!(dir = %self.dir.display(), error = %e, "program not stored");
             BridgeError::new(
-                ErrorCode::Internal,
-                format!("cannot store the program in {}: {e}", self.dir.display()),
+                ErrorCode::StorageUnavailable,
+                "the service cannot store the program in its data folder; the service log (under this request's id) says why",
             )
         };
         let meta = serde_json::to_string_pretty(&stored.info)
@@ -304,12 +305,7 @@ impl ProgramStore {
         let tag = format!("svc{}", std::process::id());
         let write = |ext: &str, text: &str| {
             kuka_protocol::files::atomic_write(&self.dir, &format!("{key}.{ext}"), &tag, text)
-                .map_err(|e| {
-                    BridgeError::new(
-                        ErrorCode::Internal,
-                        format!("cannot store the program: {e}"),
-                    )
-                })
+                .map_err(|e| io(std::io::Error::other(crate::error::chain(&e))))
         };
         write("src", &stored.src)?;
         match &stored.dat {

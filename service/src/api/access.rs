@@ -178,7 +178,13 @@ async fn get_audit(
         .audit
         .query(q)
         .await
-        .map_err(|e| BridgeError::new(ErrorCode::Internal, format!("audit trail: {e}")))?;
+        .map_err(|e| {
+            tracing::error!(error = %e, "audit trail not read");
+            BridgeError::new(
+                ErrorCode::StorageUnavailable,
+                "the service cannot read its audit trail; the service log (under this request's id) says why",
+            )
+        })?;
     Ok(ok_json(&records))
 }
 

@@ -46,17 +46,78 @@ pub fn outer_layers(router: Router<AppState>, server: &ServerConfig) -> Router<A
     router
         .layer(axum::middleware::from_fn(problem_for_bare_errors))
         // Failed requests are logged where they fail, with their code; the
-        // HTTP layer only traces. The span names the path, never the query
-        // string (it may carry `access_token`).
+        // HTTP layer only traces. The span names the request id and the
+        // path, never the query string (it may carry `access_token`); every
+        // event logged while the request is served carries them.
         .layer(
             TraceLayer::new_for_http()
                 .make_span_with(|req: &axum::http::Request<_>| {
-                    tracing::debug_span!("request", method = %req.method(), path = %req.uri().path())
+                    let id = req
+                        .extensions()
+                        .get::<RequestId>()
+                        .map_or("", |r| r.0.as_str());
+                    tracing::info_span!("request", id = %id, method = %req.method(), path = %req.uri().path())
                 })
+                .on_request(())
+                .on_response(())
+                .on_body_chunk(())
+                .on_eos(())
                 .on_failure(
                     tower_http::trace::DefaultOnFailure::new().level(tracing::Level::DEBUG),
                 ),
         )
+        .layer(axum::middleware::from_fn(request_id))
+}
+
+/// A request's id: unique in this run and across restarts (the start
+/// time, then a counter), in the `x-request-id` answer header and in the
+/// `request_id` of every error body, and on every log line written while
+/// the request is served.
+#[derive(Debug, Clone)]
+pub struct RequestId(pub String);
+
+/// Largest error body the request id is added to (all of ours are far smaller).
+const MAX_PROBLEM_BODY: usize = 64 * 1024;
+
+/// Gives the request its id and puts it into the answer.
+async fn request_id(mut req: Request, next: Next) -> Response {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    static STARTED: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
+    let started = *STARTED.get_or_init(|| crate::clock::now_ms() / 1000);
+    let id = format!("{started:x}-{}", NEXT.fetch_add(1, Ordering::Relaxed));
+    req.extensions_mut().insert(RequestId(id.clone()));
+    let resp = next.run(req).await;
+    let (mut parts, body) = resp.into_parts();
+    if let Ok(v) = HeaderValue::from_str(&id) {
+        parts.headers.insert("x-request-id", v);
+    }
+    let json_error = (parts.status.is_client_error() || parts.status.is_server_error())
+        && parts
+            .headers
+            .get(header::CONTENT_TYPE)
+            .and_then(|v| v.to_str().ok())
+            .is_some_and(|v| v.contains("json"));
+    if !json_error {
+        return Response::from_parts(parts, body);
+    }
+    let Ok(bytes) = axum::body::to_bytes(body, MAX_PROBLEM_BODY).await else {
+        return Response::from_parts(parts, axum::body::Body::empty());
+    };
+    let with_id = match serde_json::from_slice::<serde_json::Value>(&bytes) {
+        Ok(serde_json::Value::Object(mut map)) => {
+            map.insert("request_id".into(), serde_json::Value::String(id));
+            serde_json::to_vec(&map).ok()
+        }
+        _ => None,
+    };
+    match with_id {
+        Some(out) => {
+            parts.headers.remove(header::CONTENT_LENGTH);
+            Response::from_parts(parts, axum::body::Body::from(out))
+        }
+        None => Response::from_parts(parts, axum::body::Body::from(bytes)),
+    }
 }
 
 /// At most `server.max_concurrent_requests` requests run at once; more are

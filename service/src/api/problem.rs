@@ -54,6 +54,11 @@ pub struct ProblemDetails {
     /// Job the error belongs to.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub job_id: Option<JobId>,
+    /// The request's id (also the `x-request-id` header): the service log
+    /// has the request's internal details (paths, operating system errors)
+    /// under it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub request_id: Option<String>,
 }
 
 impl ProblemDetails {
@@ -73,6 +78,7 @@ impl ProblemDetails {
             file: e.file.clone(),
             line: e.line,
             job_id: None,
+            request_id: None,
         }
     }
 }

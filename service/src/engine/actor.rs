@@ -1531,9 +1531,13 @@ impl Actor {
     ) -> Result<()> {
         let m = crate::programs::module_text(cid, program);
         let fail = |e: &dyn std::fmt::Display| {
+            tracing::error!(module = %m.name, dir = %dir.display(), error = %e, "program module not written");
             BridgeError::new(
                 ErrorCode::ProgramsUnavailable,
-                format!("cannot write {} into {}: {e}", m.name, dir.display()),
+                format!(
+                    "cannot write module {} into the controller's program folder (programs.controller_dir); the service log says why",
+                    m.name
+                ),
             )
         };
         std::fs::create_dir_all(dir).map_err(|e| fail(&e))?;

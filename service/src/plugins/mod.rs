@@ -328,9 +328,10 @@ impl PluginRegistry {
             .map_err(|e| plugin_error(&e))?;
         let path = self.file_path(name);
         write_atomically(&path, &wasm).map_err(|e| {
+            tracing::error!(file = %path.display(), error = %e, "plugin file not written");
             BridgeError::new(
-                ErrorCode::Internal,
-                format!("cannot write {}: {e}", path.display()),
+                ErrorCode::StorageUnavailable,
+                "the service cannot write the plugin into its plugins folder; the service log (under this request's id) says why",
             )
         })?;
         let seen = FileSeen {
