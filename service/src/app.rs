@@ -11,10 +11,10 @@ use kuka_sim::{SimConfig, SimController};
 use tokio::sync::{oneshot, watch};
 use tokio::task::JoinHandle;
 
-use crate::channel::{Channel, ChannelError, CidStore, ServiceLock};
 use crate::config::{Config, ConfigError};
-use crate::engine::{Engine, EngineParts};
+use crate::engine::Engine;
 use crate::safety::Safety;
+use kuka_engine::{ChannelError, ServiceLock};
 
 /// Why the service could not start or stopped with an error.
 #[derive(Debug, thiserror::Error)]
@@ -37,9 +37,6 @@ pub enum AppError {
         #[source]
         source: std::io::Error,
     },
-    /// The engine thread could not start.
-    #[error("cannot start the engine")]
-    Engine(#[source] std::io::Error),
     /// The program store cannot be opened.
     #[error("program store {path}")]
     Programs {
@@ -106,9 +103,12 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
     };
     let model = config.robot_model()?;
     let dir = config.channel_dir();
-    let channel = Channel::open(&dir)?;
+    std::fs::create_dir_all(&dir).map_err(|source| ChannelError::Io {
+        what: "cannot create channel directory",
+        path: dir.display().to_string(),
+        source,
+    })?;
     let lock = ServiceLock::acquire(&dir)?;
-    let cids = CidStore::open(&config.data_dir)?;
     let sim = if config.simulator.enabled {
         let mut sc = SimConfig::new(&dir);
         if let Some(d) = config.program_dir() {
@@ -124,15 +124,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         None
     };
     let safety = Safety::new(config.motion.clone(), config.workspace, model);
-    let engine = Engine::start(
-        &config,
-        EngineParts {
-            channel,
-            cids,
-            safety,
-        },
-    )
-    .map_err(AppError::Engine)?;
+    let engine = Engine::start(&config.engine_settings(), safety)?;
     let listener = tokio::net::TcpListener::bind(config.server.listen)
         .await
         .map_err(|source| AppError::Bind {

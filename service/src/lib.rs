@@ -7,22 +7,17 @@
 //! engine to the API. `app::run` wires it together for the binary and tests.
 #![deny(missing_docs)]
 
+// The engine's modules under their old paths (`crate::engine`, ...).
+pub use kuka_engine::{clock, engine, error, event_ids, motion, programs, safety};
+
 pub mod access;
 pub mod api;
 pub mod app;
-pub mod channel;
 pub mod cli;
-pub mod clock;
 pub mod config;
-pub mod engine;
-pub mod error;
-pub mod event_ids;
 pub mod logging;
-pub mod motion;
 pub mod platform;
 pub mod plugins;
-pub mod programs;
-pub mod safety;
 pub mod server;
 #[cfg(windows)]
 pub mod winsvc;

@@ -15,11 +15,11 @@ use tokio::sync::{broadcast, oneshot, watch};
 
 pub use types::*;
 
-use crate::channel::{Channel, CidStore};
-use crate::config::Config;
+use crate::channel::{Channel, ChannelError, CidStore};
 use crate::error::{BridgeError, ErrorCode, Result};
 use crate::motion::SpeedSettings;
 use crate::safety::Safety;
+use crate::settings::EngineSettings;
 
 /// How many finished jobs are kept for `GET /jobs`.
 const JOB_HISTORY: usize = 1000;
@@ -124,20 +124,14 @@ pub struct Engine {
     tx: std::sync::mpsc::Sender<Msg>,
 }
 
-/// What the engine needs to start.
-pub struct EngineParts {
-    /// The channel.
-    pub channel: Channel,
-    /// The command id counter.
-    pub cids: CidStore,
-    /// Safety gate.
-    pub safety: Safety,
-}
-
 impl Engine {
     /// Starts the actor on a thread of its own.
-    pub fn start(config: &Config, parts: EngineParts) -> std::io::Result<Engine> {
-        let speeds = SpeedSettings::from_config(&config.motion);
+    /// It opens the channel directory and the command id counter itself:
+    /// nothing else touches the channel's files.
+    pub fn start(settings: &EngineSettings, safety: Safety) -> Result<Engine, ChannelError> {
+        let channel = Channel::open(&settings.channel_dir)?;
+        let cids = CidStore::open(&settings.data_dir)?;
+        let speeds = SpeedSettings::from_config(&settings.motion);
         let initial = RobotState {
             connection: Connection::Offline,
             controller: ControllerInfo {
@@ -158,14 +152,14 @@ impl Engine {
             tool: None,
             base: None,
             speed: speeds,
-            model: parts.safety.model().map(|m| m.name.clone()),
+            model: safety.model().map(|m| m.name.clone()),
             degraded: vec![BridgeError::new(
                 ErrorCode::ControllerOffline,
                 "no heartbeat from the controller yet",
             )],
         };
         let (state, _) = watch::channel(initial);
-        let job_ids = JobIdStore::open(&config.data_dir);
+        let job_ids = JobIdStore::open(&settings.data_dir);
         let first_id = job_ids.next;
         let (events, _) = broadcast::channel(1024);
         let shared = Arc::new(Shared {
@@ -175,24 +169,17 @@ impl Engine {
             }),
             state,
             events,
-            safety: parts.safety,
+            safety,
             next_id: AtomicU64::new(first_id),
             first_id,
             job_ids: Mutex::new(job_ids),
             started_ms: now_ms(),
-            max_queue: config.motion.max_queue,
+            max_queue: settings.motion.max_queue,
             queued: AtomicU64::new(0),
             draining: std::sync::atomic::AtomicBool::new(false),
         });
         let (tx, rx) = std::sync::mpsc::channel();
-        let actor = actor::Actor::new(
-            shared.clone(),
-            parts.channel,
-            parts.cids,
-            config,
-            rx,
-            speeds,
-        );
+        let actor = actor::Actor::new(shared.clone(), channel, cids, settings, rx, speeds);
         // The actor owns the channel and does small blocking file I/O: it gets
         // a thread of its own that blocks on one queue (requests and file
         // events), so a file event wakes it directly and HTTP work never
@@ -200,7 +187,12 @@ impl Engine {
         let events = tx.clone();
         std::thread::Builder::new()
             .name("kuka-engine".into())
-            .spawn(move || actor.run(events))?;
+            .spawn(move || actor.run(events))
+            .map_err(|source| ChannelError::Io {
+                what: "cannot start the engine thread",
+                path: String::new(),
+                source,
+            })?;
         Ok(Engine { shared, tx })
     }
 

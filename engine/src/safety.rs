@@ -12,9 +12,9 @@ use kuka_krl_runtime::interp::{RunError, Start, Step};
 use kuka_krl_runtime::program::PrepareError;
 use kuka_protocol::{Frame, MAX_REAL, MotionRecord, SpeedRecord};
 
-use crate::config::{MotionConfig, WorkspaceBox};
 use crate::error::{BridgeError, ErrorCode, Result};
 use crate::motion::{MotionRequest, StartPoint, TargetSpec};
+use crate::settings::{MotionConfig, WorkspaceBox};
 
 /// The safety gate shared by HTTP handlers and (later) plugins.
 #[derive(Debug, Clone)]

@@ -17,10 +17,10 @@ use tokio::sync::oneshot;
 
 use super::{Msg, Shared};
 use crate::channel::{Changed, Channel, ChannelError, CidStore, FileStamp, ReadOutcome};
-use crate::config::{ChannelConfig, Config};
 use crate::engine::types::*;
 use crate::error::{BridgeError, ErrorCode, Result};
 use crate::motion::{SpeedSettings, StartPoint, resolve};
+use crate::settings::{ChannelConfig, EngineSettings};
 
 /// A job waiting in the queue.
 pub(crate) struct QueuedJob {
@@ -325,7 +325,7 @@ impl Actor {
         shared: Arc<Shared>,
         channel: Channel,
         cids: CidStore,
-        config: &Config,
+        config: &EngineSettings,
         rx: mpsc::Receiver<Msg>,
         speeds: SpeedSettings,
     ) -> Self {
@@ -333,12 +333,9 @@ impl Actor {
             shared,
             channel,
             cids,
-            cfg: crate::config::ChannelConfig {
-                simulated: config.simulator.enabled,
-                ..config.channel.clone()
-            },
-            program_dir: config.program_dir(),
-            keep_modules: config.programs.keep_modules,
+            cfg: config.channel.clone(),
+            program_dir: config.program_dir.clone(),
+            keep_modules: config.keep_modules,
             checking: None,
             events: None,
             default_approx_mm: config.motion.default_batch_approx_mm,

@@ -3,11 +3,11 @@
 //! request check, resolution against the robot's pose, and the kinematic
 //! check of the resolved motions. Whatever the body, each step answers
 //! `Ok` or a `BridgeError`; none panics, hangs or overflows.
-//! `PROPTEST_CASES=20000 cargo test -p kuka-bridge --test motion_fuzz` runs longer.
+//! `PROPTEST_CASES=20000 cargo test -p kuka-engine --test motion_fuzz` runs longer.
 
-use kuka_bridge::config::MotionConfig;
-use kuka_bridge::motion::{MotionRequest, SpeedSettings, StartPoint, resolve};
-use kuka_bridge::safety::Safety;
+use kuka_engine::motion::{MotionRequest, SpeedSettings, StartPoint, resolve};
+use kuka_engine::safety::Safety;
+use kuka_engine::settings::MotionConfig;
 use kuka_kinematics::RobotModel;
 use kuka_protocol::Frame;
 use proptest::prelude::*;

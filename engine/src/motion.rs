@@ -6,8 +6,8 @@ use kuka_protocol::{Frame, MotionParams, MotionRecord};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use crate::config::MotionConfig;
 use crate::error::{BridgeError, Result};
+use crate::settings::MotionConfig;
 
 /// A Cartesian target; omitted components keep their current value (the
 /// previous motion's target inside a batch).
