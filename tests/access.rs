@@ -10,11 +10,30 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use kuka_bridge_tests::{Options, TestService, example_plugins, initial_admin_secret};
+use kuka_bridge_tests::{
+    CliService, Options, TestService, WAIT, example_plugins, initial_admin_secret, wait_for,
+};
 use serde_json::{Value, json};
 
 fn cli() -> &'static str {
     env!("CARGO_BIN_EXE_kuka-bridge-cli")
+}
+
+/// Waits until two requests hold the service's two request slots: two
+/// motion jobs that have not ended (asked of the engine in this process: a
+/// request to the service would take a slot itself).
+async fn both_in_flight(t: &TestService) {
+    wait_for(WAIT, "two slow motion requests in flight", async || {
+        let jobs = t.service.engine.jobs(16);
+        let open = jobs.iter().filter(|j| !j.state.is_terminal()).count();
+        if open >= 2 {
+            Ok(())
+        } else {
+            let states: Vec<&str> = jobs.iter().map(|j| j.state.as_str()).collect();
+            Err(format!("{open} unfinished jobs; states {states:?}"))
+        }
+    })
+    .await;
 }
 
 /// Starts a simulated service that requires tokens on loopback.
@@ -395,10 +414,17 @@ async fn control_lease_conflicts_expiry_and_audit() {
     )
     .await;
     assert_eq!(s, 409);
-    // The admin goes silent: the lease lapses and others may write again.
-    tokio::time::sleep(Duration::from_millis(1300)).await;
-    let (s, v, _) = call(&t, "GET", "/api/v1/control", Some(&two), None).await;
-    assert_eq!((s, &v["lease"]), (200, &Value::Null), "{v}");
+    // The admin goes silent: the lease (1 s) lapses and others may write again.
+    wait_for(WAIT, "the admin's silent lease to lapse", async || {
+        let (s, v, _) = call(&t, "GET", "/api/v1/control", Some(&two), None).await;
+        assert_eq!(s, 200, "{v}");
+        if v["lease"].is_null() {
+            Ok(())
+        } else {
+            Err(v.to_string())
+        }
+    })
+    .await;
     let (s, _, _) = call(
         &t,
         "POST",
@@ -624,7 +650,7 @@ async fn edge_limits_and_cors() {
     };
     let a = tokio::spawn(slow(150.0));
     let b = tokio::spawn(slow(90.0));
-    tokio::time::sleep(Duration::from_millis(300)).await;
+    both_in_flight(&t).await;
     let r = t
         .http
         .get(t.url("/api/v1/state"))
@@ -730,24 +756,22 @@ async fn serves_https_with_the_configured_certificate() {
 fn no_secret_in_logs_audit_or_errors() {
     let root = tempfile::tempdir().expect("tempdir");
     let data = root.path().join("data");
-    let mut child = Command::new(cli())
-        .args([
-            "run",
+    let mut service = CliService::spawn(
+        cli(),
+        "debug",
+        [
             "--simulate",
             "--require-auth",
             "--listen",
             "127.0.0.1:0",
             "--time-scale",
             "0",
-        ])
-        .arg("--data-dir")
-        .arg(&data)
-        .env("KUKA_BRIDGE_LOG", "debug")
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("spawn");
-    let (url, console) = kuka_bridge_tests::read_banner(child.stdout.take().expect("stdout"));
+            "--data-dir",
+            data.to_str().expect("a UTF-8 temporary path"),
+        ],
+    );
+    let url = service.url().to_string();
+    let console = service.console();
     assert!(
         console.contains("initial-admin-token.txt"),
         "the console says where: {console}"
@@ -799,15 +823,9 @@ fn no_secret_in_logs_audit_or_errors() {
         (bodies, op)
     });
     let (bodies, op) = bodies;
-    let _ = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status();
-    let _ = child.wait();
-    let mut stderr = String::new();
-    if let Some(mut e) = child.stderr.take() {
-        let _ = std::io::Read::read_to_string(&mut e, &mut stderr);
-    }
-    let mut everything = format!("{console}\n{stderr}\n{bodies}");
+    service.terminate();
+    service.wait_exit(Duration::from_secs(20), "after SIGTERM");
+    let mut everything = format!("{}\n{}\n{bodies}", service.console(), service.log());
     for entry in std::fs::read_dir(data.join("logs"))
         .expect("logs")
         .chain(std::fs::read_dir(data.join("logs/audit")).expect("audit"))
@@ -855,7 +873,7 @@ async fn stop_gets_through_overload_and_lockout() {
     };
     let a = tokio::spawn(slow(150.0));
     let b = tokio::spawn(slow(90.0));
-    tokio::time::sleep(Duration::from_millis(400)).await;
+    both_in_flight(&t).await;
     let (s, v, h) = call(&t, "GET", "/api/v1/state", Some(&op), None).await;
     assert_eq!((s, v["code"].as_str()), (503, Some("overloaded")), "{v}");
     assert_eq!(h["retry-after"], "1");
@@ -919,6 +937,8 @@ async fn lease_outlives_a_long_call_and_ends_with_its_token() {
                 .map(|r| r.status().as_u16())
         })
     };
+    // Let time pass on purpose: the test is that the lease does NOT lapse
+    // during the call, so wait past its 1 s (no state shows "not yet").
     tokio::time::sleep(Duration::from_millis(1600)).await;
     let (s, v, _) = call(&t, "POST", "/api/v1/control", Some(&two), None).await;
     assert_eq!(
@@ -995,7 +1015,9 @@ async fn idle_and_excess_connections_are_closed() {
     for _ in 0..3 {
         idle.push(quiet().await);
     }
-    tokio::time::sleep(Duration::from_millis(100)).await;
+    // No wait needed: the server admits connections in its accept loop, in
+    // the order the kernel queued them (the order of the connects above),
+    // so the three are counted before the fourth.
     let fourth = quiet().await;
     assert!(
         closed_within(fourth, Duration::from_millis(300)).await,
@@ -1043,7 +1065,9 @@ async fn full_service_makes_room_and_drops_clients_that_do_not_read() {
     for _ in 0..2 {
         quiet.push(tokio::net::TcpStream::connect(addr).await.expect("connect"));
     }
-    tokio::time::sleep(Duration::from_millis(100)).await;
+    // No wait needed: the server admits connections in its accept loop in
+    // the order they were made, so both quiet ones hold a place before the
+    // client below arrives.
     let r = reqwest::Client::new()
         .get(t.url("/health"))
         .timeout(Duration::from_secs(2))
@@ -1058,6 +1082,10 @@ async fn full_service_makes_room_and_drops_clients_that_do_not_read() {
     let mut s = socket.connect(addr).await.expect("connect");
     let one = "GET /openapi.json HTTP/1.1\r\nHost: x\r\n\r\n".repeat(200);
     s.write_all(one.as_bytes()).await.expect("send");
+    // Let time pass on purpose: this client does not read for 2.5 s (the
+    // server drops a connection whose writes are stuck for 0.5 s). Waiting
+    // on anything here would mean reading, and the server's connection
+    // table is not visible from outside.
     tokio::time::sleep(Duration::from_millis(2500)).await;
     let mut total = 0usize;
     let mut buf = vec![0u8; 64 * 1024];

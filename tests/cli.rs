@@ -2,10 +2,11 @@
 //! shutdown), exit codes, and configuration errors that name the file and
 //! the key.
 
-#[cfg(unix)]
-use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
+
+#[cfg(unix)]
+use kuka_bridge_tests::CliService;
 
 fn cli() -> &'static str {
     env!("CARGO_BIN_EXE_kuka-bridge-cli")
@@ -29,49 +30,24 @@ fn log_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
 fn console_run_writes_a_daily_log_file_and_flushes_it_on_shutdown() {
     let root = tempfile::tempdir().expect("tempdir");
     let data = root.path().join("data");
-    let mut child = Command::new(cli())
-        .args([
-            "run",
+    let mut service = CliService::spawn(
+        cli(),
+        "info",
+        [
             "--simulate",
             "--time-scale",
             "0",
             "--listen",
             "127.0.0.1:0",
             "--data-dir",
-        ])
-        .arg(&data)
-        .env("KUKA_BRIDGE_LOG", "info")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("spawn");
-    let stdout = child.stdout.take().expect("stdout");
-    let mut lines = BufReader::new(stdout).lines();
-    let url = loop {
-        let line = lines
-            .next()
-            .expect("the service prints its URL")
-            .expect("line");
-        if let Some(rest) = line.split("listening on ").nth(1) {
-            break rest.trim().to_string();
-        }
-    };
+            data.to_str().expect("a UTF-8 temporary path"),
+        ],
+    );
+    let url = service.url();
     assert!(url.starts_with("http://127.0.0.1:"), "{url}");
     // Graceful stop (SIGTERM, as systemd or `kill` would).
-    let pid = child.id().to_string();
-    let status = Command::new("kill")
-        .args(["-TERM", &pid])
-        .status()
-        .expect("kill");
-    assert!(status.success());
-    let end = Instant::now() + Duration::from_secs(20);
-    let code = loop {
-        if let Some(s) = child.try_wait().expect("wait") {
-            break s;
-        }
-        assert!(Instant::now() < end, "the service did not stop");
-        std::thread::sleep(Duration::from_millis(50));
-    };
+    service.terminate();
+    let code = service.wait_exit(Duration::from_secs(20), "after SIGTERM");
     assert!(code.success(), "clean exit: {code:?}");
 
     let logs = log_files(&data.join("logs"));

@@ -5,10 +5,10 @@
 use std::io::Write;
 use std::path::Path;
 #[cfg(unix)]
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
-use kuka_bridge_tests::{Options, TestService, assert_close, test_config};
+use kuka_bridge_tests::{Options, TestService, WAIT, assert_close, test_config, wait_for};
 use kuka_protocol::{
     COMMAND_FILE, CommandFile, ControllerStatus, Frame, OperatingMode, RESULT_FILE, ResultCode,
     ResultFile, ResultRecord, STATE_FILE, StateFile,
@@ -45,6 +45,20 @@ async fn service_without_sim(root: &tempfile::TempDir) -> TestService {
 
 fn slow_motion() -> Value {
     json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 160}, "velocity_pct": 5}], "wait": false})
+}
+
+/// Waits until the command file holds a STOP (the service superseded
+/// what was there); that command.
+async fn stop_in_command_file(dir: &Path) -> CommandFile {
+    let path = dir.join(COMMAND_FILE);
+    wait_for(WAIT, "a STOP in the command file", async || {
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        match CommandFile::decode(&text) {
+            Ok(cmd) if cmd.command == kuka_protocol::Command::Stop => Ok(cmd),
+            _ => Err(text),
+        }
+    })
+    .await
 }
 
 async fn wait_job_state(
@@ -138,14 +152,21 @@ async fn hung_controller_process_gives_timeout() {
     );
     t.wait_connection("online").await;
     // After the timeout the service sent STOP: the resumed controller brakes.
-    tokio::time::sleep(Duration::from_millis(300)).await;
-    let (_, st) = t.get("/api/v1/state").await;
-    let cmd =
-        std::fs::read_to_string(root.path().join("channel").join(COMMAND_FILE)).unwrap_or_default();
-    assert_eq!(
-        st["controller"]["status"], "idle",
-        "{st}\njob: {j}\ncommand file: {cmd}"
-    );
+    let command_file = root.path().join("channel").join(COMMAND_FILE);
+    wait_for(
+        WAIT,
+        "the resumed controller to brake to idle",
+        async || {
+            let (_, st) = t.get("/api/v1/state").await;
+            if st["controller"]["status"] == "idle" {
+                Ok(())
+            } else {
+                let cmd = std::fs::read_to_string(&command_file).unwrap_or_default();
+                Err(format!("{st}\njob: {j}\ncommand file: {cmd}"))
+            }
+        },
+    )
+    .await;
     let (s, v) = t.post("/krl/getpos").await;
     assert_eq!(s, 200, "{v}");
     t.service.shutdown().await.expect("shutdown");
@@ -356,10 +377,7 @@ async fn command_never_picked_up_times_out_and_is_superseded() {
         "bounded by the ack timeout"
     );
     // The service superseded the unread command with a STOP.
-    tokio::time::sleep(Duration::from_millis(100)).await;
-    let cmd = CommandFile::decode(&std::fs::read_to_string(dir.join(COMMAND_FILE)).expect("cmd"))
-        .expect("decode");
-    assert_eq!(cmd.command, kuka_protocol::Command::Stop);
+    let cmd = stop_in_command_file(&dir).await;
     stop.store(true, std::sync::atomic::Ordering::SeqCst);
     fake.join().expect("fake controller");
     // A real controller that now starts never executes the timed-out motion.
@@ -371,7 +389,24 @@ async fn command_never_picked_up_times_out_and_is_superseded() {
     })
     .expect("sim");
     t.wait_connection("online").await;
-    tokio::time::sleep(Duration::from_millis(100)).await;
+    // Until it has taken the STOP that replaced the motion: the motion can
+    // no longer reach it.
+    wait_for(
+        WAIT,
+        "the started controller to take the STOP",
+        async || {
+            let seen = sim.snapshot();
+            if seen.last_cid >= cmd.cid && !seen.busy {
+                Ok(())
+            } else {
+                Err(format!(
+                    "last cid {} (STOP {}), busy {}",
+                    seen.last_cid, cmd.cid, seen.busy
+                ))
+            }
+        },
+    )
+    .await;
     assert_close(sim.snapshot().axes[0], 0.0, 1e-9, "A1 never moved");
     t.service.shutdown().await.expect("shutdown");
 }
@@ -535,48 +570,38 @@ fn cpu_seconds(pid: u32) -> f64 {
 #[cfg(target_os = "linux")]
 #[tokio::test]
 async fn idle_service_does_not_spin() {
-    use std::io::BufRead;
+    use kuka_bridge_tests::CliService;
     let root = tempfile::tempdir().expect("tempdir");
-    let mut child = Command::new(cli())
-        .args([
-            "run",
+    let mut service = CliService::spawn(
+        cli(),
+        "warn",
+        [
             "--simulate",
             "--time-scale",
             "0",
             "--listen",
             "127.0.0.1:0",
             "--data-dir",
-        ])
-        .arg(root.path())
-        .env("KUKA_BRIDGE_LOG", "warn")
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("spawn service");
-    let stdout = child.stdout.take().expect("stdout");
-    let mut lines = std::io::BufReader::new(stdout).lines();
-    let url = lines
-        .by_ref()
-        .map_while(Result::ok)
-        .find_map(|l| l.split("listening on ").nth(1).map(str::to_string))
-        .expect("banner with the URL");
+            root.path().to_str().expect("a UTF-8 temporary path"),
+        ],
+    );
+    let url = service.url().to_string();
     let http = reqwest::Client::new();
-    let mut ok = false;
-    for _ in 0..100 {
-        if let Ok(r) = http.post(format!("{url}/krl/getpos")).send().await
-            && r.status() == 200
-        {
-            ok = true;
-            break;
+    wait_for(WAIT, "the service to answer getpos", async || {
+        match http.post(format!("{url}/krl/getpos")).send().await {
+            Ok(r) if r.status() == 200 => Ok(()),
+            Ok(r) => Err(format!("status {}", r.status())),
+            Err(e) => Err(e.to_string()),
         }
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
-    assert!(ok, "service answered");
-    let pid = child.id();
+    })
+    .await;
+    let pid = service.pid();
     let before = cpu_seconds(pid);
+    // Let time pass on purpose: the CPU the idle service uses in 2 s is
+    // the measurement.
     tokio::time::sleep(Duration::from_secs(2)).await;
     let used = cpu_seconds(pid) - before;
-    let _ = child.kill();
-    let _ = child.wait();
+    service.kill();
     // A 50 ms heartbeat and poll cost well under 5 %; a read loop costs a core or two.
     assert!(used < 0.4, "idle service used {used:.2} CPU seconds in 2 s");
 }
@@ -594,7 +619,8 @@ async fn stop_superseding_an_unread_command_cancels_it() {
     wait_job_state(&t, id, false, "sent", Duration::from_secs(2)).await;
     let t2 = t.clone();
     let stop = tokio::spawn(async move { t2.post("/api/v1/stop").await });
-    tokio::time::sleep(Duration::from_millis(100)).await;
+    // The STOP has replaced the unread motion before the controller resumes.
+    stop_in_command_file(&t.channel_dir()).await;
     sim.resume();
     let (s, v) = stop.await.expect("stop task");
     assert_eq!(s, 200, "{v}");

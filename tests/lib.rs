@@ -120,6 +120,34 @@ impl TestService {
         panic!("connection never became {want}");
     }
 
+    /// Polls `GET /api/v1/state` until `ok` holds for it ([`WAIT`] at
+    /// most, then a panic naming `what`); that state.
+    pub async fn wait_state(&self, what: &str, ok: impl Fn(&Value) -> bool) -> Value {
+        wait_for(WAIT, what, async || {
+            let (status, st) = self.get("/api/v1/state").await;
+            if status == 200 && ok(&st) {
+                Ok(st)
+            } else {
+                Err(format!("{status} {st}"))
+            }
+        })
+        .await
+    }
+
+    /// Polls `GET /api/v1/jobs/{id}` until `ok` holds for the job
+    /// ([`WAIT`] at most, then a panic naming `what`); that job.
+    pub async fn wait_job(&self, id: u64, what: &str, ok: impl Fn(&Value) -> bool) -> Value {
+        wait_for(WAIT, what, async || {
+            let (status, job) = self.get(&format!("/api/v1/jobs/{id}")).await;
+            if status == 200 && ok(&job) {
+                Ok(job)
+            } else {
+                Err(format!("{status} {job}"))
+            }
+        })
+        .await
+    }
+
     /// A request with no body, answered as is (status, headers, body).
     pub async fn request(&self, method: reqwest::Method, path: &str) -> reqwest::Response {
         self.http
@@ -232,6 +260,33 @@ impl TestService {
             &serde_json::json!({ "motions": motions }),
         )
         .await
+    }
+}
+
+/// How long the tests wait for a state before they fail: generous for a
+/// loaded two-core machine running debug builds (a state that is reached
+/// ends the wait at once).
+pub const WAIT: Duration = Duration::from_secs(10);
+
+/// Polls `probe` every 10 ms until it returns `Ok`, for at most `within`,
+/// then panics naming `what` and the last `Err` (what was seen instead).
+/// The tests synchronise with this on a state, never with a fixed sleep.
+pub async fn wait_for<T>(
+    within: Duration,
+    what: &str,
+    mut probe: impl AsyncFnMut() -> Result<T, String>,
+) -> T {
+    let deadline = tokio::time::Instant::now() + within;
+    loop {
+        let seen = match probe().await {
+            Ok(v) => return v,
+            Err(seen) => seen,
+        };
+        assert!(
+            tokio::time::Instant::now() < deadline,
+            "waited {within:?} for {what}; last seen: {seen}"
+        );
+        tokio::time::sleep(Duration::from_millis(10)).await;
     }
 }
 
@@ -441,6 +496,32 @@ fn build_python_plugin(out: &Path) {
         .arg(out.join("py-square.wasm")));
 }
 
+/// What a test does when a tool it needs is not installed: it fails at
+/// once, saying `what` is missing and the command that installs it
+/// (`install`). It never passes silently. Only when the environment
+/// variable `skip_var` is set (to anything but "" or "0") and `CI` is not,
+/// it prints a loud SKIPPED line (past the test harness's output capture)
+/// and returns, and the caller returns early: skipped because the user
+/// asked for it. Under `CI` a missing tool always fails.
+pub fn missing_tool(what: &str, install: &str, skip_var: &str) {
+    let set = |var: &str| std::env::var_os(var).is_some_and(|v| !v.is_empty() && v != "0");
+    if set("CI") {
+        panic!("CI must run this test, but {what}; install it with `{install}`");
+    }
+    if set(skip_var) {
+        use std::io::Write;
+        // Straight to stderr: `eprintln!` in a passing test is captured.
+        let _ = writeln!(
+            std::io::stderr(),
+            "\n*** SKIPPED ({skip_var} is set): {what}; this test did NOT run ***\n"
+        );
+        return;
+    }
+    panic!(
+        "{what}. Install it with `{install}` and run the tests again, or set {skip_var}=1 to skip these tests on purpose."
+    );
+}
+
 /// The secret in the first-start admin token file of `data_dir`.
 pub fn initial_admin_secret(data_dir: &Path) -> String {
     let text = std::fs::read_to_string(data_dir.join("initial-admin-token.txt"))
@@ -493,24 +574,190 @@ impl Drop for SimProcess {
     }
 }
 
-/// Reads a `kuka-bridge run` console up to "Press Ctrl-C": the URL it
-/// listens on and everything it printed.
-pub fn read_banner(stdout: impl std::io::Read) -> (String, String) {
-    use std::io::BufRead;
-    let mut url = String::new();
-    let mut console = String::new();
-    for line in std::io::BufReader::new(stdout).lines() {
-        let line = line.expect("line");
-        console.push_str(&line);
-        console.push('\n');
-        if let Some(rest) = line.split("listening on ").nth(1) {
-            url = rest.trim().to_string();
+/// `kuka-bridge run` in its own process, as an operator starts it: the URL
+/// from its console banner, what it prints on stdout (the console) and
+/// stderr (the log) collected while it runs (so it never blocks on a full
+/// pipe), and killed when dropped. `cli` is the CLI binary
+/// (`env!("CARGO_BIN_EXE_kuka-bridge-cli")` in a test or bench).
+pub struct CliService {
+    child: std::process::Child,
+    url: String,
+    stdout: std::sync::Arc<std::sync::Mutex<String>>,
+    stderr: std::sync::Arc<std::sync::Mutex<String>>,
+    readers: Vec<std::thread::JoinHandle<()>>,
+}
+
+/// How long `kuka-bridge run` may take to print its banner (a debug build
+/// on a loaded two-core machine).
+const BANNER_TIMEOUT: Duration = Duration::from_secs(60);
+
+impl CliService {
+    /// Runs `cli run <args>` with `KUKA_BRIDGE_LOG=<log>` (a level such as
+    /// `warn`) and waits for its banner, up to "Press Ctrl-C"; panics with
+    /// everything it printed if it exits first or prints no banner within
+    /// 60 s.
+    pub fn spawn<I, S>(cli: &str, log: &str, args: I) -> CliService
+    where
+        I: IntoIterator<Item = S>,
+        S: AsRef<std::ffi::OsStr>,
+    {
+        use std::process::{Command, Stdio};
+        let mut child = Command::new(cli)
+            .arg("run")
+            .args(args)
+            .env("KUKA_BRIDGE_LOG", log)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap_or_else(|e| panic!("cannot start {cli} run: {e}"));
+        let stdout = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
+        let stderr = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
+        let (banner, url) = std::sync::mpsc::channel();
+        let readers = vec![
+            collect_lines(
+                child.stdout.take().expect("stdout is piped"),
+                stdout.clone(),
+                move |line, url: &mut Option<String>| {
+                    if let Some(rest) = line.split("listening on ").nth(1) {
+                        *url = Some(rest.trim().to_string());
+                    }
+                    if line.starts_with("Press Ctrl-C")
+                        && let Some(u) = url.take()
+                    {
+                        let _ = banner.send(u);
+                    }
+                },
+            ),
+            collect_lines(
+                child.stderr.take().expect("stderr is piped"),
+                stderr.clone(),
+                |_, _: &mut Option<String>| {},
+            ),
+        ];
+        let mut service = CliService {
+            child,
+            url: String::new(),
+            stdout,
+            stderr,
+            readers,
+        };
+        match url.recv_timeout(BANNER_TIMEOUT) {
+            Ok(url) => service.url = url,
+            Err(e) => {
+                service.kill();
+                panic!(
+                    "`{cli} run` printed no banner with its URL ({e}); stdout:\n{}\nstderr:\n{}",
+                    service.console(),
+                    service.log()
+                );
+            }
         }
-        if line.starts_with("Press Ctrl-C") {
-            break;
+        service
+    }
+
+    /// The URL it listens on, from the banner (`http://127.0.0.1:PORT`).
+    pub fn url(&self) -> &str {
+        &self.url
+    }
+
+    /// Its process id.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+
+    /// What it printed on stdout so far (the banner, at least).
+    pub fn console(&self) -> String {
+        self.stdout
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clone()
+    }
+
+    /// What it printed on stderr (its console log) so far; all of it after
+    /// [`CliService::wait_exit`].
+    pub fn log(&self) -> String {
+        self.stderr
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clone()
+    }
+
+    /// Asks it to stop gracefully: SIGTERM on Unix (as systemd or `kill`
+    /// would), a plain kill elsewhere. Does not wait: see
+    /// [`CliService::wait_exit`].
+    pub fn terminate(&mut self) {
+        #[cfg(unix)]
+        {
+            let status = std::process::Command::new("kill")
+                .args(["-TERM", &self.pid().to_string()])
+                .status()
+                .expect("run kill");
+            assert!(status.success(), "kill -TERM {}: {status}", self.pid());
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = self.child.kill();
         }
     }
-    (url, console)
+
+    /// Waits (blocking this thread) until it has exited, at most `within`
+    /// (then it panics naming `why`); its exit status. After it, [`Self::console`]
+    /// and [`Self::log`] hold everything it printed.
+    pub fn wait_exit(&mut self, within: Duration, why: &str) -> std::process::ExitStatus {
+        let end = std::time::Instant::now() + within;
+        let status = loop {
+            if let Some(s) = self.child.try_wait().expect("wait for the service") {
+                break s;
+            }
+            assert!(
+                std::time::Instant::now() < end,
+                "the service did not exit within {within:?} {why}; its log:\n{}",
+                self.log()
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        // Its pipes are closed now: the readers end with everything read.
+        for reader in self.readers.drain(..) {
+            let _ = reader.join();
+        }
+        status
+    }
+
+    /// Kills it (SIGKILL) and waits for it.
+    pub fn kill(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Drop for CliService {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
+/// A thread that appends every line of `from` to `into`, then calls
+/// `on_line` with it and some state of its own.
+fn collect_lines<S: Default + Send + 'static>(
+    from: impl std::io::Read + Send + 'static,
+    into: std::sync::Arc<std::sync::Mutex<String>>,
+    mut on_line: impl FnMut(&str, &mut S) + Send + 'static,
+) -> std::thread::JoinHandle<()> {
+    std::thread::spawn(move || {
+        use std::io::BufRead;
+        let mut state = S::default();
+        for line in std::io::BufReader::new(from).lines() {
+            let Ok(line) = line else { break };
+            {
+                let mut text = into
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner);
+                text.push_str(&line);
+                text.push('\n');
+            }
+            on_line(&line, &mut state);
+        }
+    })
 }
 
 /// Helpers of the benchmark binaries (`tests/benches`).

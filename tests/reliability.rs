@@ -489,23 +489,25 @@ async fn duplicate_query_tokens_are_refused() {
 #[cfg(unix)]
 #[tokio::test]
 async fn sigterm_keeps_stop_working_until_the_motion_has_ended() {
-    use std::process::{Command, Stdio};
+    use kuka_bridge_tests::{CliService, WAIT, wait_for};
     let root = tempfile::tempdir().expect("tempdir");
     let channel = root.path().join("channel");
+    let data = root.path().join("data");
     let _sim = SimProcess::spawn(cli(), &channel, 1.0);
-    let mut child = Command::new(cli())
-        .args(["run", "--listen", "127.0.0.1:0", "--channel-dir"])
-        .arg(&channel)
-        .arg("--data-dir")
-        .arg(root.path().join("data"))
-        .env("KUKA_BRIDGE_LOG", "warn")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("spawn");
-    let stdout = child.stdout.take().expect("stdout");
-    let (url, console) = kuka_bridge_tests::read_banner(stdout);
-    assert!(url.starts_with("http://"), "{console}");
+    let mut service = CliService::spawn(
+        cli(),
+        "warn",
+        [
+            "--listen",
+            "127.0.0.1:0",
+            "--channel-dir",
+            channel.to_str().expect("a UTF-8 temporary path"),
+            "--data-dir",
+            data.to_str().expect("a UTF-8 temporary path"),
+        ],
+    );
+    let url = service.url().to_string();
+    assert!(url.starts_with("http://"), "{}", service.console());
     let http = reqwest::Client::new();
     let post = |path: &str, body: Value| {
         let req = http.post(format!("{url}{path}")).json(&body);
@@ -514,20 +516,23 @@ async fn sigterm_keeps_stop_working_until_the_motion_has_ended() {
             kuka_bridge_tests::decode(r).await
         }
     };
-    // Online first.
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        let r = http
-            .get(format!("{url}/health"))
-            .send()
-            .await
-            .expect("health");
-        let h: Value = r.json().await.expect("json");
-        if h["connection"] == "online" || Instant::now() > deadline {
-            break;
+    let get = |path: String| {
+        let req = http.get(format!("{url}{path}"));
+        async move {
+            let r = req.send().await.expect("request");
+            kuka_bridge_tests::decode(r).await.1
         }
-        tokio::time::sleep(Duration::from_millis(20)).await;
-    }
+    };
+    // Online first.
+    wait_for(WAIT, "the controller online", async || {
+        let h = get("/health".into()).await;
+        if h["connection"] == "online" {
+            Ok(())
+        } else {
+            Err(h.to_string())
+        }
+    })
+    .await;
     let (s, job) = post(
         "/api/v1/motions",
         json!({"motions": [slow_motion(60.0)], "wait": false}),
@@ -535,29 +540,16 @@ async fn sigterm_keeps_stop_working_until_the_motion_has_ended() {
     .await;
     assert_eq!(s, 202, "{job}");
     let id = job["id"].as_u64().expect("id");
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        let j: Value = http
-            .get(format!("{url}/api/v1/jobs/{id}"))
-            .send()
-            .await
-            .expect("job")
-            .json()
-            .await
-            .expect("json");
-        if j["state"] == "executing" || Instant::now() > deadline {
-            break;
+    wait_for(WAIT, "the motion executing", async || {
+        let j = get(format!("/api/v1/jobs/{id}")).await;
+        if j["state"] == "executing" {
+            Ok(())
+        } else {
+            Err(j.to_string())
         }
-        tokio::time::sleep(Duration::from_millis(10)).await;
-    }
-    let pid = child.id().to_string();
-    assert!(
-        Command::new("kill")
-            .args(["-TERM", &pid])
-            .status()
-            .expect("kill")
-            .success()
-    );
+    })
+    .await;
+    service.terminate();
     // Draining: a new job is refused, the health says why.
     let deadline = Instant::now() + Duration::from_secs(5);
     let refused = loop {
@@ -596,16 +588,6 @@ async fn sigterm_keeps_stop_working_until_the_motion_has_ended() {
         .expect("stop");
     let (s, v) = kuka_bridge_tests::decode(r).await;
     assert_eq!(s, 200, "stop during the drain: {v}");
-    let end = Instant::now() + Duration::from_secs(20);
-    let code = loop {
-        if let Some(s) = child.try_wait().expect("wait") {
-            break s;
-        }
-        assert!(
-            Instant::now() < end,
-            "the service did not exit after the stop"
-        );
-        tokio::time::sleep(Duration::from_millis(20)).await;
-    };
+    let code = service.wait_exit(Duration::from_secs(20), "after the stop");
     assert!(code.success(), "clean exit: {code:?}");
 }

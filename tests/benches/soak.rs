@@ -22,7 +22,6 @@
 //! [--minutes 10]`. Not part of CI (it takes the given minutes).
 
 use std::collections::{BTreeMap, BTreeSet, HashSet};
-use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
@@ -71,24 +70,22 @@ fn main() {
     let minutes = arg("--minutes", 10);
     let data = tempfile::tempdir().expect("tempdir");
     let data_dir = data.path().join("data");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_kuka-bridge-cli"))
-        .args([
-            "run",
+    let mut service = kuka_bridge_tests::CliService::spawn(
+        env!("CARGO_BIN_EXE_kuka-bridge-cli"),
+        "warn",
+        [
             "--simulate",
             "--require-auth",
             "--listen",
             "127.0.0.1:0",
-        ])
-        .args(["--time-scale", "0"])
-        .arg("--data-dir")
-        .arg(&data_dir)
-        .env("KUKA_BRIDGE_LOG", "warn")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("start the service");
-    let pid = child.id();
-    let (url, _) = kuka_bridge_tests::read_banner(child.stdout.take().expect("stdout"));
+            "--time-scale",
+            "0",
+            "--data-dir",
+            data_dir.to_str().expect("a UTF-8 temporary path"),
+        ],
+    );
+    let pid = service.pid();
+    let url = service.url().to_string();
     let admin = kuka_bridge_tests::initial_admin_secret(&data_dir);
     println!("soak: {clients} clients for {minutes} min against {url} (pid {pid})");
 
@@ -279,10 +276,8 @@ fn main() {
         );
         (rss, trace)
     });
-    let _ = Command::new("kill")
-        .args(["-TERM", &pid.to_string()])
-        .status();
-    let _ = child.wait();
+    service.terminate();
+    service.wait_exit(Duration::from_secs(60), "after SIGTERM");
 
     let seen = Arc::try_unwrap(seen)
         .map(Mutex::into_inner)
