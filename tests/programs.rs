@@ -405,9 +405,13 @@ async fn stop_ends_a_running_program_and_skips_the_rest() {
     let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
     assert_eq!(j["state"], "cancelled", "{j}");
     assert_eq!(j["error"]["code"], "cancelled", "{j}");
-    // The PTP after the dwell never ran.
-    tokio::time::sleep(std::time::Duration::from_millis(200)).await;
-    let (_, state) = t.get("/api/v1/state").await;
+    // The PTP after the dwell never ran: the controller is idle (a program
+    // still dwelling would be busy, and then run the PTP) with A1 at 0.
+    let state = t
+        .wait_state("the controller idle after the stop", |st| {
+            st["controller"]["status"] == "idle"
+        })
+        .await;
     let a1 = state["axes"]["a1"].as_f64().expect("a1");
     assert!(a1.abs() < 0.01, "A1 stayed at 0: {state}");
 }
