@@ -3,12 +3,14 @@
 //!
 //! Each [`Browser`] runs its own chromedriver with a fresh Chromium profile
 //! and ends both when dropped. Without Chromium or chromedriver,
-//! [`Browser::start`] skips the test (`None`), except when the `CI`
-//! environment variable is set: CI must never skip silently, so there a
-//! missing browser fails the test. On Linux the browser is Debian's
-//! `/usr/bin/chromium` (packages `chromium chromium-driver`); elsewhere
-//! chromedriver (`chromedriver.exe` on Windows) must be on `PATH` and finds
-//! Chrome itself.
+//! [`Browser::start`] fails the test at once with the command that installs
+//! them (see [`crate::missing_tool`]); a test skipped is never counted as
+//! passed unless asked for: only with `KUKA_BRIDGE_SKIP_BROWSER=1` (and `CI`
+//! not set) does it print a loud SKIPPED line and return `None`, and the
+//! test returns early. On Linux the browser is Debian's `/usr/bin/chromium`
+//! (`sudo apt-get install chromium chromium-driver`); elsewhere chromedriver
+//! (`chromedriver.exe` on Windows) must be on `PATH` and finds Chrome
+//! itself.
 //!
 //! The helpers panic with a message naming what failed: a panic is a
 //! failed test.
@@ -52,9 +54,18 @@ struct Installed {
     browser: Option<PathBuf>,
 }
 
-/// Whether the `CI` environment variable is set (to anything but "").
-fn in_ci() -> bool {
-    std::env::var_os("CI").is_some_and(|v| !v.is_empty())
+/// The variable that skips the browser tests on purpose.
+const SKIP_VAR: &str = "KUKA_BRIDGE_SKIP_BROWSER";
+
+/// How to install what the browser tests need, on this system.
+fn install_command() -> &'static str {
+    if cfg!(target_os = "linux") {
+        "sudo apt-get install chromium chromium-driver"
+    } else if cfg!(windows) {
+        "winget install Google.Chrome, and chromedriver.exe of the same version (https://googlechromelabs.github.io/chrome-for-testing/) on PATH"
+    } else {
+        "brew install --cask google-chrome chromedriver"
+    }
 }
 
 /// An executable named `name` on `PATH` (with `.exe` on Windows).
@@ -112,14 +123,18 @@ impl Browser {
     /// Starts chromedriver on a free port and opens a headless Chromium
     /// session with a fresh profile.
     ///
-    /// `None` (after printing why) when Chromium or chromedriver is missing
-    /// and `CI` is not set; with `CI` set that is a panic instead.
+    /// When Chromium or chromedriver is missing it panics with the command
+    /// that installs them, except with `KUKA_BRIDGE_SKIP_BROWSER=1` (and
+    /// `CI` not set): then `None`, after a loud SKIPPED line.
     pub async fn start() -> Option<Browser> {
         let installed = match find_installed() {
             Ok(i) => i,
-            Err(why) if in_ci() => panic!("CI is set but the browser test cannot run: {why}"),
             Err(why) => {
-                eprintln!("skipping browser test: {why}");
+                crate::missing_tool(
+                    &format!("the browser test cannot run: {why}"),
+                    install_command(),
+                    SKIP_VAR,
+                );
                 return None;
             }
         };
@@ -160,8 +175,12 @@ impl Browser {
                     .unwrap_or_default();
                 // Without a known browser binary (not Linux) the likely cause
                 // is that Chrome is not installed.
-                if installed.browser.is_none() && !in_ci() {
-                    eprintln!("skipping browser test: chromedriver cannot start Chrome: {why}");
+                if installed.browser.is_none() {
+                    crate::missing_tool(
+                        &format!("chromedriver cannot start Chrome: {why}\n{log}"),
+                        install_command(),
+                        SKIP_VAR,
+                    );
                     return None;
                 }
                 panic!("cannot open a Chromium session: {why}\n{log}");

@@ -1,9 +1,11 @@
 //! The dashboard page at `/` in headless Chromium, against the service
 //! with the simulated controller: the page's path and pose against the
-//! simulator's trace, Stop, jogging, and what a viewer may do. Skipped
-//! without Chromium and chromedriver unless `CI` is set (see
-//! `kuka_bridge_tests::browser`); screenshots go to
-//! `<target>/artifacts/dashboard/`.
+//! simulator's trace, Stop, jogging, and what a viewer may do. Without
+//! Chromium and chromedriver they fail at once with the command that
+//! installs them (`sudo apt-get install chromium chromium-driver` on
+//! Debian); they are skipped only with `KUKA_BRIDGE_SKIP_BROWSER=1` set (and
+//! `CI` not), with a loud SKIPPED line (see `kuka_bridge_tests::browser`);
+//! screenshots go to `<target>/artifacts/dashboard/`.
 
 use std::time::Duration;
 
