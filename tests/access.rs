@@ -10,8 +10,10 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
+#[cfg(unix)]
+use kuka_bridge_tests::CliService;
 use kuka_bridge_tests::{
-    CliService, Options, TestService, WAIT, example_plugins, initial_admin_secret, wait_for,
+    Options, TestService, WAIT, example_plugins, initial_admin_secret, wait_for,
 };
 use serde_json::{Value, json};
 
