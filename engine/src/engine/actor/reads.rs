@@ -1,0 +1,477 @@
+//! Reading the controller: state and result files, each result handled
+//! once by its command id, lost commands, restarts, junk files, and the
+//! folders' health.
+
+use super::*;
+
+impl Actor {
+    /// Reads the state and result files and reacts to what changed.
+    pub(super) fn refresh(&mut self, changed: Changed) {
+        let now = Instant::now();
+        let state = if changed.state {
+            self.channel.read_state()
+        } else {
+            ReadOutcome::Missing
+        };
+        match state {
+            ReadOutcome::Record(s) => {
+                self.oversize(kuka_protocol::STATE_FILE, None);
+                let old_seq = self.ctl.state.as_ref().map(|old| old.seq);
+                if old_seq != Some(s.seq) {
+                    // The first heartbeat seen may be a stale file: only a change proves life.
+                    if let Some(old) = old_seq {
+                        self.ctl.seq_changed_at = Some(now);
+                        // seq only grows (wrapping at the top): a smaller one
+                        // means a controller program that started afresh.
+                        if s.seq < old && old < i32::MAX - 1_000_000 {
+                            self.on_restart(old, s.seq, now);
+                        }
+                    }
+                    self.on_state(s, now);
+                }
+            }
+            ReadOutcome::Invalid(e) => {
+                tracing::trace!(error = %e, "state file not complete; reading again later")
+            }
+            ReadOutcome::TooLarge(len) => self.oversize(kuka_protocol::STATE_FILE, Some(len)),
+            ReadOutcome::Failed(e) => tracing::debug!(error = %e, "state file unreadable"),
+            ReadOutcome::Missing | ReadOutcome::Locked | ReadOutcome::Unchanged => {}
+        }
+        let results = if changed.results {
+            // A poll (or an event the watcher could not attribute) reads
+            // whatever the stamp says.
+            self.channel.read_results(changed == Changed::BOTH)
+        } else {
+            ReadOutcome::Missing
+        };
+        match results {
+            ReadOutcome::Record(r) => {
+                self.oversize(kuka_protocol::RESULT_FILE, None);
+                for rec in r.results {
+                    if !self.ledger.is_seen(rec.cid) {
+                        self.ledger.see(rec.cid);
+                        self.on_result(rec);
+                    }
+                }
+                // Read without the running command's result: lost if the
+                // controller has been idle with it long enough.
+                self.check_lost(now);
+            }
+            ReadOutcome::Invalid(e) => {
+                tracing::debug!(error = %e, "result file not complete; reading again later")
+            }
+            ReadOutcome::TooLarge(len) => self.oversize(kuka_protocol::RESULT_FILE, Some(len)),
+            ReadOutcome::Failed(e) => tracing::debug!(error = %e, "result file unreadable"),
+            ReadOutcome::Missing | ReadOutcome::Locked | ReadOutcome::Unchanged => {}
+        }
+        let online = self
+            .ctl
+            .seq_changed_at
+            .is_some_and(|t| now.duration_since(t) < self.cfg.offline_after());
+        if online != self.ctl.online {
+            self.ctl.online = online;
+            if online {
+                tracing::info!(event_id = events::CONTROLLER_ONLINE, "controller online");
+            } else {
+                tracing::warn!(
+                    event_id = events::CONTROLLER_OFFLINE,
+                    after_ms = self.cfg.offline_after_ms,
+                    "controller offline: heartbeat stopped"
+                );
+                self.on_offline();
+            }
+        }
+    }
+
+    pub(super) fn on_state(&mut self, s: StateFile, now: Instant) {
+        self.ctl.pose = Some((s.position, s.s, s.t));
+        self.ctl.axes = Some(s.axes);
+        self.ctl.tool = Some(s.tool);
+        self.ctl.base = Some(s.base);
+        let stamp = match &self.inflight {
+            Some(f) if f.idle_since.is_none() => Some(self.channel.results_stamp()),
+            _ => None,
+        };
+        if let Some(f) = &mut self.inflight {
+            // last_cid is f.cid or newer: accepted.
+            let accepted = s.last_cid > 0 && !kuka_protocol::cid_is_newer(f.cid, s.last_cid);
+            let picked = accepted || s.busy_cid == f.cid;
+            if picked && !f.acked {
+                f.acked = true;
+            }
+            let running = s.status == ControllerStatus::Busy && s.busy_cid == f.cid;
+            if accepted && !running {
+                if f.idle_since.is_none() {
+                    f.idle_since = Some(now);
+                    f.idle_stamp = stamp.flatten();
+                }
+            } else {
+                f.idle_since = None;
+                f.idle_stamp = None;
+            }
+            if s.status == ControllerStatus::Busy && s.busy_cid == f.cid {
+                let id = f.id;
+                let index = s.busy_index as usize;
+                let current = self.shared_job(id).ok();
+                if current.is_some_and(|j| j.state != JobState::Executing || j.completed != index) {
+                    self.shared.update(id, |j| {
+                        j.state = JobState::Executing;
+                        j.completed = index;
+                    });
+                }
+            }
+        }
+        self.ctl.state = Some(s);
+    }
+
+    pub(super) fn on_result(&mut self, r: ResultRecord) {
+        let is_frame_op = |op: &Operation| {
+            matches!(
+                op,
+                Operation::SetTool(_)
+                    | Operation::GetTool
+                    | Operation::SetBase(_)
+                    | Operation::GetBase
+            )
+        };
+        if let Some(stop) = &self.stop
+            && stop.cid == r.cid
+        {
+            if let Some(stop) = self.stop.take() {
+                for w in stop.waiters {
+                    let _ = w.send(Ok(()));
+                }
+            }
+            self.ctl.pose = Some((r.position, r.s, r.t));
+            self.ctl.axes = Some(r.axes);
+            // Results come in command-id order: a command older than the STOP
+            // without a result of its own was superseded before the controller
+            // read it, so it never ran — unless the controller had picked it
+            // up (then it lost the command, e.g. in a restart).
+            if let Some(f) = self
+                .inflight
+                .take_if(|f| kuka_protocol::cid_is_newer(r.cid, f.cid))
+            {
+                let why = if f.acked {
+                    let done = self.shared_job(f.id).map_or(0, |j| j.completed);
+                    tracing::warn!(
+                        job = f.id,
+                        cid = f.cid,
+                        completed = done,
+                        "stopped; the controller gave no result for the command it had picked up"
+                    );
+                    BridgeError::new(
+                        ErrorCode::Cancelled,
+                        format!(
+                            "stopped; the controller had picked up command {} but gave no result for it (was it restarted?); {done} motion(s) had completed by its last report",
+                            f.cid
+                        ),
+                    )
+                } else {
+                    tracing::info!(
+                        job = f.id,
+                        cid = f.cid,
+                        "command superseded by stop before it ran"
+                    );
+                    BridgeError::new(
+                        ErrorCode::Cancelled,
+                        "stopped before the controller started it; nothing moved",
+                    )
+                };
+                self.shared.finish(f.id, JobState::Cancelled, why);
+            }
+            return;
+        }
+        let Some(f) = self.inflight.take_if(|f| f.cid == r.cid) else {
+            self.on_other_result(r);
+            return;
+        };
+        self.answered_at = Some(Instant::now());
+        self.ctl.axes = Some(r.axes);
+        match &f.op {
+            Operation::SetTool(_) | Operation::GetTool if r.code == ResultCode::Ok => {
+                self.ctl.tool = Some(r.position)
+            }
+            Operation::SetBase(_) | Operation::GetBase if r.code == ResultCode::Ok => {
+                self.ctl.base = Some(r.position)
+            }
+            Operation::SetSpeed(s) if r.code == ResultCode::Ok => self.speeds = *s,
+            op if !is_frame_op(op) => self.ctl.pose = Some((r.position, r.s, r.t)),
+            _ => {}
+        }
+        let mut error = result_error(&r);
+        if !matches!(f.op, Operation::Move(_))
+            && let Some(e) = &mut error
+        {
+            e.motion = None;
+        }
+        if let Operation::RunProgram(p) = &f.op {
+            error = error.map(|e| program_result_error(e, &r, &p.info.name));
+        }
+        let elapsed_ms = f.sent_at.elapsed().as_secs_f64() * 1000.0;
+        match &error {
+            None => tracing::debug!(job = f.id, cid = r.cid, elapsed_ms, "job done"),
+            Some(e) if e.code == ErrorCode::Cancelled => {
+                tracing::info!(job = f.id, cid = r.cid, detail = %e.detail, "job cancelled")
+            }
+            Some(e) => {
+                tracing::warn!(event_id = events::JOB_FAILED, job = f.id, cid = r.cid, code = e.code.as_str(), detail = %e.detail, "job failed")
+            }
+        }
+        let frame_op = is_frame_op(&f.op);
+        // Publish what the result changed (pose, frames, speeds) before the
+        // job completes, so a client woken by the job reads the new state.
+        self.publish_state();
+        self.shared.update(f.id, |j| {
+            j.finished_ms = Some(now_ms());
+            j.completed = if matches!(f.op, Operation::Move(_))
+                || (matches!(f.op, Operation::RunProgram(_)) && r.code == ResultCode::Ok)
+            {
+                r.completed as usize
+            } else {
+                0
+            };
+            j.axes = Some(r.axes.into());
+            if frame_op {
+                j.frame = Some(r.position.into());
+            } else {
+                j.position = Some(Position::new(&r.position, r.s, r.t));
+            }
+            j.state = match r.code {
+                ResultCode::Ok => JobState::Done,
+                ResultCode::Cancelled => JobState::Cancelled,
+                _ => JobState::Failed,
+            };
+            j.error = error;
+        });
+    }
+
+    /// A result that is neither the running command's nor the STOP's: the
+    /// late answer of a command whose job has already ended (it then
+    /// takes the controller's outcome), or a foreign line (reported).
+    pub(super) fn on_other_result(&mut self, r: ResultRecord) {
+        match self.ledger.job_of(r.cid) {
+            Some(Some(id)) => {
+                let Ok(job) = self.shared_job(id) else { return };
+                let state = match r.code {
+                    ResultCode::Ok => JobState::Done,
+                    ResultCode::Cancelled => JobState::Cancelled,
+                    _ => JobState::Failed,
+                };
+                let mut error = result_error(&r);
+                if job.operation != "move"
+                    && let Some(e) = &mut error
+                {
+                    e.motion = None;
+                }
+                tracing::warn!(
+                    job = id,
+                    cid = r.cid,
+                    code = r.code.code(),
+                    was = job.state.as_str(),
+                    "late result: the job takes the controller's outcome"
+                );
+                self.shared.update(id, |j| {
+                    j.state = state;
+                    j.error = error;
+                    j.late_result = true;
+                    j.finished_ms = Some(now_ms());
+                    if j.operation == "move" || r.code == ResultCode::Ok {
+                        j.completed = r.completed as usize;
+                    }
+                    j.axes = Some(r.axes.into());
+                    if j.frame.is_none() {
+                        j.position = Some(Position::new(&r.position, r.s, r.t));
+                    }
+                });
+            }
+            Some(None) => {
+                tracing::debug!(cid = r.cid, "late result of a stop");
+            }
+            None => {
+                tracing::warn!(
+                    event_id = events::FOREIGN_RESULT,
+                    cid = r.cid,
+                    code = r.code.code(),
+                    "result for a command this service did not send; ignored"
+                );
+                self.shared.publish(Event::Alarm(BridgeError::new(
+                    ErrorCode::ProtocolError,
+                    format!(
+                        "the result file holds a result for command {}, which this run of the service did not send (an earlier run's command, or another writer); it is ignored",
+                        r.cid
+                    ),
+                )));
+            }
+        }
+    }
+
+    /// The running command was accepted by the controller, which has been
+    /// idle since without a result for it: it lost the command (a restart
+    /// of the controller program). The job ends now with what is known.
+    pub(super) fn check_lost(&mut self, now: Instant) {
+        let Some(f) = &self.inflight else { return };
+        let Some(since) = f.idle_since else { return };
+        let restarted = self.ctl.restarted_at.is_some_and(|t| t >= f.sent_at);
+        if !restarted
+            && (now.duration_since(since) < LOST_GRACE
+                || self.channel.results_stamp() == f.idle_stamp)
+        {
+            return;
+        }
+        let Some(f) = self.inflight.take() else {
+            return;
+        };
+        let job = self.shared_job(f.id).ok();
+        let done = job.as_ref().map_or(0, |j| j.completed);
+        let of = job
+            .as_ref()
+            .filter(|j| j.motions > 0)
+            .map_or(String::new(), |j| format!(" of {}", j.motions));
+        let why = if restarted {
+            "the controller program restarted"
+        } else {
+            "the controller is idle"
+        };
+        let e = BridgeError::new(
+            ErrorCode::CommandLost,
+            format!(
+                "the controller accepted command {} but {why} without a result for it; {done}{of} motion(s) had completed by its last report, the rest did not run",
+                f.cid
+            ),
+        );
+        tracing::warn!(
+            event_id = events::JOB_FAILED,
+            job = f.id,
+            cid = f.cid,
+            completed = done,
+            "command lost by the controller"
+        );
+        self.shared.finish(f.id, JobState::Failed, e);
+        self.answered_at = Some(now);
+    }
+
+    /// The heartbeat number went backwards.
+    pub(super) fn on_restart(&mut self, old: i32, new: i32, now: Instant) {
+        tracing::warn!(
+            event_id = events::CONTROLLER_RESTARTED,
+            old_seq = old,
+            new_seq = new,
+            "controller restarted (heartbeat number went back)"
+        );
+        self.ctl.restarted_at = Some(now);
+        self.shared.publish(Event::Alarm(BridgeError::new(
+            ErrorCode::ControllerOffline,
+            "the controller program restarted (its heartbeat number started again)",
+        )));
+    }
+
+    /// A result or state file over [`kuka_protocol::MAX_CONTROLLER_FILE_LEN`]
+    /// (`Some(size)`), or one of normal size again (`None`).
+    pub(super) fn oversize(&mut self, file: &str, len: Option<u64>) {
+        match len {
+            Some(len) => {
+                if self.faults.oversize.is_none() {
+                    tracing::error!(
+                        file,
+                        len,
+                        max = kuka_protocol::MAX_CONTROLLER_FILE_LEN,
+                        "controller file too large; not read"
+                    );
+                    let detail = format!(
+                        "{file} is {len} bytes, more than the {} a protocol file can be; it is not read until it is rewritten",
+                        kuka_protocol::MAX_CONTROLLER_FILE_LEN
+                    );
+                    self.shared.publish(Event::Alarm(BridgeError::new(
+                        ErrorCode::ProtocolError,
+                        detail.clone(),
+                    )));
+                    self.faults.oversize = Some(detail);
+                }
+            }
+            None => {
+                if self
+                    .faults
+                    .oversize
+                    .as_deref()
+                    .is_some_and(|d| d.starts_with(file))
+                {
+                    self.faults.oversize = None;
+                }
+            }
+        }
+    }
+
+    /// Checks now and then that the channel and data folders can be
+    /// written, so `degraded` shows before a command fails.
+    pub(super) fn probe_folders(&mut self, now: Instant) {
+        if self
+            .probed_at
+            .is_some_and(|t| now.duration_since(t) < PROBE_INTERVAL)
+        {
+            return;
+        }
+        self.probed_at = Some(now);
+        // A lock shows before a command meets it.
+        if !self.ctl.locked && self.pending.is_none() && self.channel.command_locked() {
+            tracing::warn!(event_id = events::CHANNEL_LOCKED, dir = %self.channel.dir().display(), "command file locked by another process");
+            self.ctl.locked = true;
+            self.shared.publish(Event::Alarm(BridgeError::new(
+                ErrorCode::ChannelLocked,
+                "the command file is locked by another process",
+            )));
+        }
+        match self.channel.probe_writable() {
+            Ok(()) => self.faults.channel = None,
+            Err(e) => {
+                if self.faults.channel.is_none() {
+                    tracing::error!(error = %crate::error::chain(&e), "channel folder not writable");
+                }
+                self.faults.channel = Some("the service cannot write into the channel folder: commands, stop included, cannot be sent. Check the disk and the folder's permissions".into());
+            }
+        }
+        self.probes += 1;
+        if self.probes < DATA_PROBE_EVERY && self.faults.data.is_none() {
+            return;
+        }
+        self.probes = 0;
+        match self.cids.probe_writable() {
+            Ok(()) => self.faults.data = None,
+            Err(e) => {
+                if self.faults.data.is_none() {
+                    tracing::error!(error = %crate::error::chain(&e), "data folder not writable");
+                }
+                self.faults.data = Some("the service cannot write its data folder (command id and job id counters): commands will fail once the ids reserved on disk are used (stop excepted). Check the disk and the folder's permissions".into());
+            }
+        }
+    }
+
+    pub(super) fn on_offline(&mut self) {
+        let secs = self.cfg.offline_after_ms as f64 / 1000.0;
+        if let Some(f) = &self.inflight {
+            let e = BridgeError::new(
+                ErrorCode::Timeout,
+                format!(
+                    "no heartbeat from the controller for {secs:.1} s while command {} was running; its outcome is unknown. A stop was left on the channel, so the controller brakes first if it comes back",
+                    f.cid
+                ),
+            );
+            self.fail_inflight(e);
+            // A controller that comes back reads the newest command first:
+            // the motion its client was told had failed must not run on.
+            self.request_stop(None);
+        }
+        let e = BridgeError::new(
+            ErrorCode::ControllerOffline,
+            format!("the controller went offline (no heartbeat for {secs:.1} s)"),
+        );
+        self.fail_queue(&e);
+        self.drop_pending_job(JobState::Failed, e.clone());
+        if let Some(stop) = &mut self.stop {
+            for w in stop.waiters.drain(..) {
+                let _ = w.send(Err(e.clone()));
+            }
+        }
+        self.shared.publish(Event::Alarm(e));
+    }
+}

@@ -1,0 +1,178 @@
+//! Writing commands: command ids, the atomic write of the command file,
+//! retries while it is locked, and what a write that fails means.
+
+use super::*;
+
+impl Actor {
+    /// The id the controller last accepted, as its state file says. Only
+    /// the state counts: result lines are not a floor for new ids (a
+    /// foreign line could otherwise push the counter anywhere).
+    pub(super) fn last_accepted(&self) -> Cid {
+        self.ctl.state.as_ref().map_or(0, |s| s.last_cid)
+    }
+
+    pub(super) fn next_cid(&mut self) -> Result<Cid> {
+        match self.cids.next(self.last_accepted()) {
+            Ok(cid) => {
+                self.faults.data = None;
+                Ok(cid)
+            }
+            Err(e) => {
+                tracing::error!(error = %crate::error::chain(&e), "command id counter not written");
+                let e = self.data_fault();
+                Err(e)
+            }
+        }
+    }
+
+    /// The data folder cannot be written: recorded for `degraded`, and the
+    /// client's error (the path and OS error go to the log only).
+    pub(super) fn data_fault(&mut self) -> BridgeError {
+        let detail = "the service cannot write its data folder (command id counter); nothing was sent. Check the disk and the folder's permissions".to_string();
+        self.faults.data = Some(detail.clone());
+        BridgeError::new(ErrorCode::StorageUnavailable, detail)
+    }
+
+    /// Writes a command now, or keeps it pending while the file is locked.
+    pub(super) fn write(&mut self, cmd: CommandFile, job: Option<(QueuedJob, Duration)>) {
+        let now = Instant::now();
+        self.pending = Some(PendingWrite {
+            cmd,
+            job,
+            give_up_at: now + self.cfg.lock_timeout(),
+            next_try: now,
+            backoff: Duration::from_micros(500),
+        });
+        self.retry_pending();
+    }
+
+    /// One attempt at the pending write (when due). Never sleeps: while the
+    /// file stays locked the actor keeps answering, and after `lock_timeout`
+    /// the command fails with `channel_locked`.
+    pub(super) fn retry_pending(&mut self) {
+        let now = Instant::now();
+        let Some(p) = self.pending.as_mut() else {
+            return;
+        };
+        if now < p.next_try {
+            return;
+        }
+        // The answer's file must differ from this one (see `next_msg`).
+        self.spin_stamp = self.channel.results_stamp();
+        match self.channel.write_command(&p.cmd) {
+            Ok(()) => {
+                self.faults.channel = None;
+                if self.ctl.locked {
+                    tracing::warn!(event_id = events::CHANNEL_UNLOCKED, dir = %self.channel.dir().display(), "channel unlocked");
+                    self.ctl.locked = false;
+                }
+                if let Some(p) = self.pending.take() {
+                    self.written(p.cmd, p.job, now);
+                }
+            }
+            Err(ChannelError::Write(kuka_protocol::files::WriteError::Locked { path })) => {
+                if now >= p.give_up_at {
+                    let e = BridgeError::new(
+                        ErrorCode::ChannelLocked,
+                        format!(
+                            "{path} stayed locked by another process for {} ms; nothing was sent. Close the program holding it (on a KRC: the KRL program's open file handle)",
+                            self.cfg.lock_timeout_ms
+                        ),
+                    );
+                    self.write_failed(e);
+                    return;
+                }
+                p.next_try = now + p.backoff;
+                p.backoff = (p.backoff * 2).min(Duration::from_millis(50));
+                if !self.ctl.locked {
+                    tracing::warn!(event_id = events::CHANNEL_LOCKED, %path, "command file locked by another process; retrying");
+                    self.ctl.locked = true;
+                    self.shared.publish(Event::Alarm(BridgeError::new(
+                        ErrorCode::ChannelLocked,
+                        format!("{path} is locked by another process"),
+                    )));
+                }
+            }
+            Err(ChannelError::Encode(e)) => {
+                self.write_failed(BridgeError::invalid(crate::error::chain(&e)))
+            }
+            Err(e) => {
+                tracing::error!(error = %crate::error::chain(&e), dir = %self.channel.dir().display(), "command file not written");
+                let detail = "the service cannot write the command file into the channel folder; nothing was sent. Check the disk and the folder's permissions";
+                self.faults.channel = Some(detail.into());
+                self.write_failed(BridgeError::new(ErrorCode::StorageUnavailable, detail))
+            }
+        }
+    }
+
+    /// The pending command could not be written: its job fails (and, for a
+    /// lock, so do the queued jobs: the lock would hold them too), or the
+    /// STOP's waiters hear why.
+    pub(super) fn write_failed(&mut self, e: BridgeError) {
+        let Some(p) = self.pending.take() else { return };
+        tracing::error!(cid = p.cmd.cid, code = e.code.as_str(), detail = %e.detail, "command not written");
+        match p.job {
+            Some((job, _)) => {
+                self.shared.finish(job.id, JobState::Failed, e.clone());
+                if e.code == ErrorCode::ChannelLocked {
+                    self.fail_queue(&e);
+                }
+            }
+            None => {
+                if let Some(stop) = self.stop.take() {
+                    for w in stop.waiters {
+                        let _ = w.send(Err(e.clone()));
+                    }
+                }
+            }
+        }
+    }
+
+    /// A command reached the channel.
+    pub(super) fn written(
+        &mut self,
+        cmd: CommandFile,
+        job: Option<(QueuedJob, Duration)>,
+        now: Instant,
+    ) {
+        self.ledger.sent(cmd.cid, job.as_ref().map(|(j, _)| j.id));
+        match job {
+            Some((job, timeout)) => {
+                tracing::debug!(
+                    job = job.id,
+                    cid = cmd.cid,
+                    op = job.op.name(),
+                    "command sent"
+                );
+                if let Command::Move(records) = &cmd.command {
+                    self.shared.publish(Event::Plan(Box::new(JobPlan {
+                        job: job.id,
+                        cid: cmd.cid,
+                        motions: records.iter().map(PlannedMotion::from).collect(),
+                    })));
+                }
+                self.shared.update(job.id, |j| {
+                    j.state = JobState::Sent;
+                    j.cid = Some(cmd.cid);
+                    j.sent_ms = Some(now_ms());
+                });
+                self.inflight = Some(InFlight {
+                    id: job.id,
+                    op: job.op,
+                    cid: cmd.cid,
+                    sent_at: now,
+                    deadline: now + timeout,
+                    acked: false,
+                    idle_since: None,
+                    idle_stamp: None,
+                });
+            }
+            None => {
+                tracing::warn!(cid = cmd.cid, "stop sent");
+                if let Some(stop) = &mut self.stop {
+                    stop.deadline = Some(now + self.cfg.ack_timeout());
+                }
+            }
+        }
+    }
+}
