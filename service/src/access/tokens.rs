@@ -96,22 +96,14 @@ pub struct TokenStore {
 
 /// The hex SHA-256 of a secret.
 fn hash(secret: &str) -> String {
-    hex(&Sha256::digest(secret.as_bytes()))
-}
-
-fn hex(bytes: &[u8]) -> String {
-    use std::fmt::Write;
-    bytes.iter().fold(String::new(), |mut s, b| {
-        let _ = write!(s, "{b:02x}");
-        s
-    })
+    hex::encode(Sha256::digest(secret.as_bytes()))
 }
 
 /// `n` random bytes from the OS, as hex.
 pub fn random_hex(n: usize) -> Result<String, TokenError> {
     let mut buf = vec![0u8; n];
     getrandom::fill(&mut buf).map_err(|e| TokenError::Random(e.to_string()))?;
-    Ok(hex(&buf))
+    Ok(hex::encode(&buf))
 }
 
 /// Unix ms as `YYYY-MM-DD hh:mm:ss UTC` (for listings).
