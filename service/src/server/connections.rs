@@ -22,6 +22,8 @@ pub(super) struct Connections {
     open: Mutex<HashMap<IpAddr, usize>>,
     total: AtomicUsize,
     live: Mutex<Vec<std::sync::Weak<Activity>>>,
+    /// Woken when the last connection closes (shutdown waits on it).
+    all_closed: tokio::sync::Notify,
 }
 
 /// One admitted connection; dropping it frees its place.
@@ -41,6 +43,18 @@ impl Connections {
             open: Mutex::new(HashMap::new()),
             total: AtomicUsize::new(0),
             live: Mutex::new(Vec::new()),
+            all_closed: tokio::sync::Notify::new(),
+        }
+    }
+
+    /// Returns once no connection is open (at once if none is).
+    pub(super) async fn all_closed(&self) {
+        loop {
+            let closed = self.all_closed.notified();
+            if self.open_count() == 0 {
+                return;
+            }
+            closed.await;
         }
     }
 
@@ -126,7 +140,9 @@ impl Drop for Admitted {
                 map.remove(&self.ip);
             }
         }
-        self.table.total.fetch_sub(1, Ordering::SeqCst);
+        if self.table.total.fetch_sub(1, Ordering::SeqCst) == 1 {
+            self.table.all_closed.notify_waiters();
+        }
     }
 }
 

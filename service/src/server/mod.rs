@@ -173,9 +173,9 @@ pub async fn serve(
     }
     drop(listener);
     let _ = closing.send(true);
-    while connections.open_count() > 0 {
-        tokio::time::sleep(Duration::from_millis(20)).await;
-    }
+    // Each connection closes gracefully (or is dropped `header_timeout`
+    // after it was asked to); the last one to go wakes this.
+    connections.all_closed().await;
     Ok(())
 }
 
