@@ -26,10 +26,9 @@
 //! planner will reach are not known in advance. Assigning `$TOOL`/`$BASE`
 //! re-expresses the programmed pose in the new frames.
 //!
-//! For tests, [`run_for_globals`] runs a routine without the subset check
+//! For tests, [`run_with_files`] runs a routine without the subset check
 //! and returns the global variables; it also executes `STRUC` and `ENUM`
-//! declarations (user-defined types). [`run_with_files`] adds a test
-//! harness: in-memory files behind `CWRITE($FCT_CALL, …)` and the
+//! declarations (user-defined types), and it is a test harness: in-memory files behind `CWRITE($FCT_CALL, …)` and the
 //! controller's system variables, so that the shipped KRL controller
 //! program's file protocol code runs against the Rust encoder and decoder
 //! (`tests/krl_protocol.rs`). The simulated controller uses neither.
@@ -1135,26 +1134,8 @@ pub fn run(program: &Program, entry: &str, start: &Start<'_>) -> Result<Vec<Step
     Ok(it.steps)
 }
 
-/// Runs `entry` like [`run`] but without the subset check (a statement
-/// outside it still fails when it is reached), and returns the global
-/// variables afterwards. For tests that execute KRL helper routines, such
-/// as the shipped controller program's protocol parser and formatter.
-pub fn run_for_globals(
-    program: &Program,
-    entry: &str,
-    start: &Start<'_>,
-) -> Result<Globals, RunError> {
-    let routine = entry_routine(program, entry)?;
-    let mut it = Interp::new(program, start);
-    it.run_entry(routine)?;
-    Ok(Globals {
-        vars: it.globals,
-        open_files: Vec::new(),
-    })
-}
-
-/// Runs `entry` in the **test harness**: like [`run_for_globals`] (no
-/// subset check), plus an in-memory file system and the controller
+/// Runs `entry` in the **test harness**: like [`run`] without the subset
+/// check (a statement outside it still fails when it is reached), plus an in-memory file system and the controller
 /// environment a Submit-side KRL program needs. For tests that execute the
 /// shipped controller program's file protocol code against the Rust
 /// encoder and decoder; the simulated controller never uses it.
@@ -1225,7 +1206,7 @@ fn entry_routine<'p>(program: &'p Program, entry: &str) -> Result<&'p Routine, R
     })
 }
 
-/// Global variables after [`run_for_globals`] or [`run_with_files`]
+/// Global variables after [`run_with_files`]
 /// (names are case-insensitive).
 #[derive(Debug, Clone)]
 pub struct Globals {
@@ -1319,8 +1300,7 @@ impl Globals {
         }
     }
 
-    /// Files that were still open when [`run_with_files`] ended (empty for
-    /// [`run_for_globals`]).
+    /// Files that were still open when [`run_with_files`] ended.
     pub fn open_files(&self) -> &[String] {
         &self.open_files
     }
