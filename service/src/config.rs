@@ -29,6 +29,9 @@ pub enum ConfigError {
         /// The parser's message (names the key and line).
         message: String,
     },
+    /// More than one value is wrong: each of them.
+    #[error("{}", several(.0))]
+    Several(Vec<ConfigError>),
     /// A value is out of range.
     #[error("config {source_name}: key `{key}`: {message}")]
     Invalid {
@@ -39,6 +42,16 @@ pub enum ConfigError {
         /// What is wrong.
         message: String,
     },
+}
+
+/// "N problems:" and one line per problem.
+fn several(errors: &[ConfigError]) -> String {
+    let mut out = format!("{} problems in the configuration:", errors.len());
+    for e in errors {
+        out.push_str("\n  - ");
+        out.push_str(&e.to_string());
+    }
+    out
 }
 
 /// Everything the service needs to run.
@@ -479,6 +492,24 @@ impl Config {
 
     /// Checks every value; the first problem names its key.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        let mut bad = Vec::new();
+        self.check_values(&mut bad);
+        self.check_edge(&mut bad);
+        if let Some(m) = &self.robot.custom {
+            self.check_custom_model(m, &mut bad);
+        }
+        if let Err(e) = self.robot_model() {
+            bad.push(e);
+        }
+        match bad.len() {
+            0 => Ok(()),
+            1 => Err(bad.remove(0)),
+            _ => Err(ConfigError::Several(bad)),
+        }
+    }
+
+    /// Every section's values, each problem pushed to `bad` (not only the first).
+    fn check_values(&self, bad: &mut Vec<ConfigError>) {
         let c = &self.channel;
         for (key, v, min) in [
             ("channel.poll_interval_ms", c.poll_interval_ms, 1),
@@ -512,7 +543,7 @@ impl Config {
             ),
         ] {
             if v < min {
-                return Err(self.invalid(key, format!("{v} is below the minimum {min}")));
+                bad.push(self.invalid(key, format!("{v} is below the minimum {min}")));
             }
         }
         for (key, v) in [
@@ -520,7 +551,7 @@ impl Config {
             ("channel.request_spin_us", c.request_spin_us.unwrap_or(0)),
         ] {
             if v > 10_000 {
-                return Err(self.invalid(
+                bad.push(self.invalid(
                     key,
                     format!(
                         "{v} is above the maximum 10000 (a busy loop longer than 10 ms wastes a core)"
@@ -530,11 +561,13 @@ impl Config {
         }
         for (name, l) in &self.plugins.limits {
             let key = "plugins.limits";
-            kuka_plugin_host::check_name(name).map_err(|e| self.invalid(key, e))?;
+            if let Err(e) = kuka_plugin_host::check_name(name) {
+                bad.push(self.invalid(key, e));
+            }
             if l.memory_mib
                 .is_some_and(|m| m == 0 || m > self.plugins.memory_mib)
             {
-                return Err(self.invalid(
+                bad.push(self.invalid(
                     key,
                     format!(
                         "{name}: memory_mib must be 1 to plugins.memory_mib ({})",
@@ -546,7 +579,7 @@ impl Config {
                 || l.request_timeout_ms.is_some_and(|v| v < 100)
                 || l.max_motions == Some(0);
             if too_small {
-                return Err(self.invalid(
+                bad.push(self.invalid(
                     key,
                     format!(
                         "{name}: cpu_time_ms >= 10, request_timeout_ms >= 100, max_motions >= 1"
@@ -555,7 +588,7 @@ impl Config {
             }
         }
         if self.plugins.memory_mib > 4096 {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "plugins.memory_mib",
                 format!(
                     "{} MiB is more than a 32-bit WebAssembly memory can hold (4096)",
@@ -566,7 +599,7 @@ impl Config {
         if self.simulator.enabled
             && self.channel.offline_after_ms <= self.simulator.heartbeat_ms * 2
         {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "channel.offline_after_ms",
                 format!(
                     "must be more than twice simulator.heartbeat_ms ({})",
@@ -582,23 +615,29 @@ impl Config {
                 Err(self.invalid(key, format!("{v} is not in (0, 100]")))
             }
         };
-        pct(
+        if let Err(e) = pct(
             "motion.default_ptp_velocity_pct",
             m.default_ptp_velocity_pct,
-        )?;
-        pct(
+        ) {
+            bad.push(e);
+        }
+        if let Err(e) = pct(
             "motion.default_acceleration_pct",
             m.default_acceleration_pct,
-        )?;
-        pct("motion.max_ptp_velocity_pct", m.max_ptp_velocity_pct)?;
+        ) {
+            bad.push(e);
+        }
+        if let Err(e) = pct("motion.max_ptp_velocity_pct", m.max_ptp_velocity_pct) {
+            bad.push(e);
+        }
         if !(m.max_cp_velocity.is_finite() && m.max_cp_velocity > 0.0 && m.max_cp_velocity <= 2.0) {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "motion.max_cp_velocity",
                 format!("{} m/s is not in (0, 2]", m.max_cp_velocity),
             ));
         }
         if !(m.default_cp_velocity > 0.0 && m.default_cp_velocity <= m.max_cp_velocity) {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "motion.default_cp_velocity",
                 format!(
                     "{} m/s is not in (0, max_cp_velocity]",
@@ -607,40 +646,40 @@ impl Config {
             ));
         }
         if m.default_ptp_velocity_pct > m.max_ptp_velocity_pct {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "motion.default_ptp_velocity_pct",
                 "exceeds motion.max_ptp_velocity_pct".into(),
             ));
         }
         if !(m.max_approx_mm.is_finite() && m.max_approx_mm >= 0.0 && m.max_approx_mm <= 1000.0) {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "motion.max_approx_mm",
                 format!("{} is not in [0, 1000]", m.max_approx_mm),
             ));
         }
         if !(m.default_batch_approx_mm >= 0.0 && m.default_batch_approx_mm <= m.max_approx_mm) {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "motion.default_batch_approx_mm",
                 "must be in [0, max_approx_mm]".into(),
             ));
         }
         if m.max_batch == 0 || m.max_batch > kuka_protocol::MAX_BATCH {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "motion.max_batch",
                 format!("{} is not in 1..={}", m.max_batch, kuka_protocol::MAX_BATCH),
             ));
         }
         if m.max_queue == 0 {
-            return Err(self.invalid("motion.max_queue", "must be at least 1".into()));
+            bad.push(self.invalid("motion.max_queue", "must be at least 1".into()));
         }
         if self.programs.max_bytes == 0 || self.programs.max_bytes > 4 * 1024 * 1024 {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "programs.max_bytes",
                 format!("{} is not in 1..=4194304", self.programs.max_bytes),
             ));
         }
         if self.log.retention_days == 0 {
-            return Err(self.invalid("log.retention_days", "must be at least 1".into()));
+            bad.push(self.invalid("log.retention_days", "must be at least 1".into()));
         }
         let level = self.log.level.trim();
         let plain_level = ["off", "error", "warn", "info", "debug", "trace"]
@@ -651,7 +690,7 @@ impl Config {
         let filter_ok = (plain_level || level.contains('=') || level.contains(','))
             && tracing_subscriber::EnvFilter::try_new(level).is_ok();
         if !filter_ok {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "log.level",
                 format!(
                     "{:?} is not a level (error, warn, info, debug, trace, off) or a filter such as \"info,kuka_bridge::engine=debug\"",
@@ -660,10 +699,10 @@ impl Config {
             ));
         }
         if self.programs.run_timeout_ms == 0 {
-            return Err(self.invalid("programs.run_timeout_ms", "must be positive".into()));
+            bad.push(self.invalid("programs.run_timeout_ms", "must be positive".into()));
         }
         if self.programs.keep_modules == 0 {
-            return Err(self.invalid("programs.keep_modules", "must be at least 1".into()));
+            bad.push(self.invalid("programs.keep_modules", "must be at least 1".into()));
         }
         if let Some(w) = &self.workspace {
             for (key, r) in [
@@ -672,20 +711,18 @@ impl Config {
                 ("workspace.z", w.z),
             ] {
                 if !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]) {
-                    return Err(
-                        self.invalid(key, format!("{r:?} is not [min, max] with min < max"))
-                    );
+                    bad.push(self.invalid(key, format!("{r:?} is not [min, max] with min < max")));
                 }
             }
         }
         if !(self.simulator.time_scale.is_finite() && self.simulator.time_scale >= 0.0) {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "simulator.time_scale",
                 format!("{} is not ≥ 0", self.simulator.time_scale),
             ));
         }
         if self.server.request_timeout_ms < 100 {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "server.request_timeout_ms",
                 format!(
                     "{} is below the minimum 100",
@@ -693,15 +730,9 @@ impl Config {
                 ),
             ));
         }
-        self.check_edge()?;
-        if let Some(m) = &self.robot.custom {
-            self.check_custom_model(m)?;
-        }
-        self.robot_model()?;
-        Ok(())
     }
 
-    fn check_edge(&self) -> Result<(), ConfigError> {
+    fn check_edge(&self, bad: &mut Vec<ConfigError>) {
         let s = &self.server;
         for (key, v, min) in [
             ("server.max_request_ms", s.max_request_ms, 1000),
@@ -724,7 +755,7 @@ impl Config {
             ("auth.failure_window_ms", self.auth.failure_window_ms, 1000),
         ] {
             if v < min {
-                return Err(self.invalid(key, format!("{v} is below the minimum {min}")));
+                bad.push(self.invalid(key, format!("{v} is below the minimum {min}")));
             }
         }
         for (key, v, max) in [
@@ -738,11 +769,11 @@ impl Config {
             ("server.header_timeout_ms", s.header_timeout_ms, 600_000),
         ] {
             if v > max {
-                return Err(self.invalid(key, format!("{v} is above the maximum {max}")));
+                bad.push(self.invalid(key, format!("{v} is above the maximum {max}")));
             }
         }
         if s.max_request_ms <= s.request_timeout_ms {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "server.max_request_ms",
                 format!(
                     "must be more than server.request_timeout_ms ({})",
@@ -755,7 +786,7 @@ impl Config {
                 && axum::http::HeaderValue::from_str(o).is_ok()
                 && !o.ends_with('/');
             if !ok {
-                return Err(self.invalid(
+                bad.push(self.invalid(
                     "server.cors_origins",
                     format!("{o:?} is not an origin such as \"https://host:port\" (no path, no trailing slash)"),
                 ));
@@ -764,14 +795,13 @@ impl Config {
         if let Some(t) = &s.tls {
             for (key, p) in [("server.tls.cert", &t.cert), ("server.tls.key", &t.key)] {
                 if !p.is_file() {
-                    return Err(self.invalid(key, format!("{} is not a file", p.display())));
+                    bad.push(self.invalid(key, format!("{} is not a file", p.display())));
                 }
             }
         }
-        Ok(())
     }
 
-    fn check_custom_model(&self, m: &RobotModel) -> Result<(), ConfigError> {
+    fn check_custom_model(&self, m: &RobotModel, bad: &mut Vec<ConfigError>) {
         // Plausible for a 6-axis industrial arm, and within what the file
         // protocol can carry (±9999.999 mm).
         let [_, _, _, c1, c2, c3, c4] = m.opw_mm;
@@ -779,14 +809,14 @@ impl Config {
             || [c1, c2, c3].iter().any(|v| *v < 1.0)
             || c4 < 0.0
         {
-            return Err(self.invalid(
+            bad.push(self.invalid(
                 "robot.custom.opw_mm",
                 "needs [a1, a2, b, c1, c2, c3, c4] in mm, each within ±3000, with c1, c2, c3 ≥ 1 and c4 ≥ 0".into(),
             ));
         }
         for (i, (lo, hi)) in m.limits_deg.iter().enumerate() {
             if !(lo.is_finite() && hi.is_finite() && lo < hi && *lo >= -720.0 && *hi <= 720.0) {
-                return Err(self.invalid(
+                bad.push(self.invalid(
                     "robot.custom.limits_deg",
                     format!(
                         "axis A{}: [{lo}, {hi}] is not [min, max] with -720 ≤ min < max ≤ 720",
@@ -796,13 +826,13 @@ impl Config {
             }
             let v = m.max_speed_deg_s[i];
             if !(v.is_finite() && v > 0.0 && v <= 3600.0) {
-                return Err(self.invalid(
+                bad.push(self.invalid(
                     "robot.custom.max_speed_deg_s",
                     format!("axis A{}: {v} is not a speed in (0, 3600] deg/s", i + 1),
                 ));
             }
             if !(*lo..=*hi).contains(&m.home[i]) {
-                return Err(self.invalid(
+                bad.push(self.invalid(
                     "robot.custom.home",
                     format!(
                         "A{} = {} lies outside its limits [{lo}, {hi}]",
@@ -812,7 +842,6 @@ impl Config {
                 ));
             }
         }
-        Ok(())
     }
 }
 
@@ -839,6 +868,19 @@ mod tests {
             text.contains("c.toml") && text.contains("channel.poll_interval_ms"),
             "{text}"
         );
+        // Every bad key at once, in every section, not only the first.
+        let text = invalid(
+            "[channel]\npoll_interval_ms = 0\n[motion]\nmax_queue = 0\n[server]\nmax_connections = 0\n[log]\nretention_days = 0\n",
+        );
+        for key in [
+            "channel.poll_interval_ms",
+            "motion.max_queue",
+            "server.max_connections",
+            "log.retention_days",
+        ] {
+            assert!(text.contains(key), "{key} missing in: {text}");
+        }
+        assert!(text.starts_with("4 problems"), "{text}");
         std::fs::write(&p, "[channel]\npol_interval_ms = 5\n").expect("write");
         let text = Config::load(&p).expect_err("unknown key").to_string();
         assert!(
