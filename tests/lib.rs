@@ -110,14 +110,22 @@ impl TestService {
 
     /// Waits until `/health` reports this connection state (10 s max).
     pub async fn wait_connection(&self, want: &str) {
-        for _ in 0..500 {
-            let (_, s) = self.get("/health").await;
-            if s["connection"] == want {
-                return;
+        self.wait_health(&format!("connection {want}"), |h| h["connection"] == want)
+            .await;
+    }
+
+    /// Polls `GET /health` until `ok` holds for it ([`WAIT`] at most, then
+    /// a panic naming `what`); that answer.
+    pub async fn wait_health(&self, what: &str, ok: impl Fn(&Value) -> bool) -> Value {
+        wait_for(WAIT, what, async || {
+            let (status, h) = self.get("/health").await;
+            if status == 200 && ok(&h) {
+                Ok(h)
+            } else {
+                Err(format!("{status} {h}"))
             }
-            tokio::time::sleep(Duration::from_millis(20)).await;
-        }
-        panic!("connection never became {want}");
+        })
+        .await
     }
 
     /// Polls `GET /api/v1/state` until `ok` holds for it ([`WAIT`] at

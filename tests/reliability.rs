@@ -33,37 +33,8 @@ fn slow_motion(a1: f64) -> Value {
     json!({"type": "ptp_axes", "axes": {"a1": a1}, "velocity_pct": 5})
 }
 
-/// Polls the job until `done` says so (or `within` passes); returns it.
-async fn wait_job(
-    t: &TestService,
-    id: u64,
-    within: Duration,
-    done: impl Fn(&Value) -> bool,
-) -> Value {
-    let deadline = Instant::now() + within;
-    loop {
-        let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
-        if done(&j) || Instant::now() > deadline {
-            return j;
-        }
-        tokio::time::sleep(Duration::from_millis(10)).await;
-    }
-}
-
 fn terminal(j: &Value) -> bool {
     ["done", "failed", "cancelled"].contains(&j["state"].as_str().unwrap_or(""))
-}
-
-/// Polls `/health` until `ok` says so (10 s at most); returns it.
-async fn wait_health(t: &TestService, ok: impl Fn(&Value) -> bool) -> Value {
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        let (_, h) = t.get("/health").await;
-        if ok(&h) || Instant::now() > deadline {
-            return h;
-        }
-        tokio::time::sleep(Duration::from_millis(20)).await;
-    }
 }
 
 fn degraded_with(h: &Value, code: &str) -> bool {
@@ -171,32 +142,19 @@ async fn poisoned_command_ids_never_block_commands_or_stop() {
     let text = state.encode().expect("encode");
     files::atomic_write_bytes(&channel, STATE_FILE, "test", text.as_bytes()).expect("write");
     let _sim = SimProcess::spawn(cli(), &channel, 0.0);
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        let (_, st) = t.get("/api/v1/state").await;
-        if (st["controller"]["last_cid"] == i32::MAX && st["connection"] == "online")
-            || Instant::now() > deadline
-        {
-            assert_eq!(st["controller"]["last_cid"], i32::MAX, "{st}");
-            break;
-        }
-        tokio::time::sleep(Duration::from_millis(20)).await;
-    }
+    t.wait_state(
+        "the restarted controller online with last_cid 2147483647",
+        |st| st["controller"]["last_cid"] == i32::MAX && st["connection"] == "online",
+    )
+    .await;
     motion_and_stop_work(&t, "after the controller accepted the largest id").await;
     // The state file follows the result: wait for it.
-    let deadline = Instant::now() + Duration::from_secs(5);
-    loop {
-        let (_, st) = t.get("/api/v1/state").await;
-        let last = st["controller"]["last_cid"].as_i64().expect("last_cid");
-        if last < 1 << 30 {
-            break;
-        }
-        assert!(
-            Instant::now() < deadline,
-            "the ids wrapped: last_cid {last}"
-        );
-        tokio::time::sleep(Duration::from_millis(10)).await;
-    }
+    t.wait_state("the ids to wrap (last_cid below 2^30)", |st| {
+        st["controller"]["last_cid"]
+            .as_i64()
+            .is_some_and(|last| last < 1 << 30)
+    })
+    .await;
     t.service.shutdown().await.expect("shutdown");
 }
 
@@ -217,13 +175,12 @@ async fn a_foreign_result_during_a_job_does_not_hide_its_own() {
         .await;
     assert_eq!(s, 202, "{job}");
     let id = job["id"].as_u64().expect("id");
-    let j = wait_job(&t, id, Duration::from_secs(5), |j| {
-        j["state"] == "executing"
-    })
-    .await;
+    let j = t
+        .wait_job(id, "the job", |j| j["state"] == "executing")
+        .await;
     let cid = j["cid"].as_i64().expect("cid") as i32;
     append_result(&channel, foreign_result(cid + 1000));
-    let j = wait_job(&t, id, Duration::from_secs(8), terminal).await;
+    let j = t.wait_job(id, "the job", terminal).await;
     assert_eq!(j["state"], "done", "{j}");
     assert!(j.get("late_result").is_none(), "{j}");
     t.service.shutdown().await.expect("shutdown");
@@ -248,16 +205,17 @@ async fn a_controller_restarted_mid_batch_resolves_the_job_at_once() {
         .await;
     assert_eq!(s, 202, "{job}");
     let id = job["id"].as_u64().expect("id");
-    let j = wait_job(&t, id, Duration::from_secs(10), |j| {
-        j["completed"].as_u64() >= Some(2) || terminal(j)
-    })
-    .await;
+    let j = t
+        .wait_job(id, "the job", |j| {
+            j["completed"].as_u64() >= Some(2) || terminal(j)
+        })
+        .await;
     assert_eq!(j["state"], "executing", "{j}");
     let completed = j["completed"].as_u64().expect("completed");
     sim.kill();
     let restarted = Instant::now();
     let _sim = SimProcess::spawn(cli(), &channel, 1.0);
-    let j = wait_job(&t, id, Duration::from_secs(10), terminal).await;
+    let j = t.wait_job(id, "the job", terminal).await;
     let took = restarted.elapsed();
     assert_eq!(j["state"], "failed", "{j}");
     assert_eq!(j["error"]["code"], "command_lost", "{j}");
@@ -298,7 +256,7 @@ async fn a_late_result_turns_a_timed_out_job_into_done() {
         .await;
     assert_eq!(s, 202, "{job}");
     let id = job["id"].as_u64().expect("id");
-    let j = wait_job(&t, id, Duration::from_secs(8), terminal).await;
+    let j = t.wait_job(id, "the job", terminal).await;
     assert_eq!(
         (j["state"].as_str(), j["error"]["code"].as_str()),
         (Some("failed"), Some("timeout")),
@@ -311,7 +269,7 @@ async fn a_late_result_turns_a_timed_out_job_into_done() {
         "{st}"
     );
     drop(holder);
-    let j = wait_job(&t, id, Duration::from_secs(5), |j| j["state"] == "done").await;
+    let j = t.wait_job(id, "the job", |j| j["state"] == "done").await;
     assert_eq!(j["state"], "done", "{j}");
     assert_eq!(j["late_result"], true, "{j}");
     assert!(j["error"].is_null(), "{j}");
@@ -393,7 +351,9 @@ async fn health_says_degraded_while_commands_cannot_be_sent() {
     let _ = std::fs::remove_file(&counter);
     std::fs::create_dir(&counter).expect("block the counter");
     std::fs::write(counter.join("x"), b"x").expect("non-empty");
-    let h = wait_health(&t, |h| degraded_with(h, "storage_unavailable")).await;
+    let h = t
+        .wait_health("the health", |h| degraded_with(h, "storage_unavailable"))
+        .await;
     assert!(degraded_with(&h, "storage_unavailable"), "{h}");
     let (_, st) = t.get("/api/v1/state").await;
     assert!(
@@ -405,18 +365,20 @@ async fn health_says_degraded_while_commands_cannot_be_sent() {
     let (s, v) = t.post("/api/v1/stop").await;
     assert_eq!(s, 200, "stop does not need the counter file: {v}");
     std::fs::remove_dir_all(&counter).expect("unblock");
-    let h = wait_health(&t, |h| h["status"] == "ok").await;
+    let h = t.wait_health("the health", |h| h["status"] == "ok").await;
     assert_eq!(h["status"], "ok", "{h}");
 
     // A junk result file far over any protocol file's size.
     let junk = vec![b'x'; 4 << 20];
     files::atomic_write_bytes(&channel, RESULT_FILE, "test", &junk).expect("junk");
-    let h = wait_health(&t, |h| degraded_with(h, "protocol_error")).await;
+    let h = t
+        .wait_health("the health", |h| degraded_with(h, "protocol_error"))
+        .await;
     assert!(degraded_with(&h, "protocol_error"), "{h}");
     // The controller's next result replaces it.
     let (s, v) = t.post("/krl/getpos").await;
     assert_eq!(s, 200, "{v}");
-    let h = wait_health(&t, |h| h["status"] == "ok").await;
+    let h = t.wait_health("the health", |h| h["status"] == "ok").await;
     assert_eq!(h["status"], "ok", "{h}");
 
     // The channel folder cannot take the atomic writes' temporary files.
@@ -424,10 +386,14 @@ async fn health_says_degraded_while_commands_cannot_be_sent() {
     let aside = channel.join("kb-tmp-aside");
     std::fs::rename(&tmp, &aside).expect("move aside");
     std::fs::write(&tmp, b"not a folder").expect("block");
-    let h = wait_health(&t, |h| degraded_with(h, "storage_unavailable")).await;
+    let h = t
+        .wait_health("the health", |h| degraded_with(h, "storage_unavailable"))
+        .await;
     assert!(degraded_with(&h, "storage_unavailable"), "{h}");
     // The simulator writes through the same folder: it is offline too.
-    let h = wait_health(&t, |h| degraded_with(h, "controller_offline")).await;
+    let h = t
+        .wait_health("the health", |h| degraded_with(h, "controller_offline"))
+        .await;
     assert!(degraded_with(&h, "controller_offline"), "{h}");
     let (s, v) = t.post("/api/v1/stop").await;
     assert_eq!(
@@ -436,7 +402,7 @@ async fn health_says_degraded_while_commands_cannot_be_sent() {
         "a stop that cannot be written says so: {v}"
     );
     std::fs::remove_file(&tmp).expect("unblock");
-    let h = wait_health(&t, |h| h["status"] == "ok").await;
+    let h = t.wait_health("the health", |h| h["status"] == "ok").await;
     assert_eq!(h["status"], "ok", "{h}");
     let (s, _) = t.post("/krl/getpos").await;
     assert_eq!(s, 200);
@@ -552,26 +518,22 @@ async fn sigterm_keeps_stop_working_until_the_motion_has_ended() {
     .await;
     service.terminate();
     // Draining: a new job is refused, the health says why.
-    let deadline = Instant::now() + Duration::from_secs(5);
-    let refused = loop {
+    // Until the signal arrives a job queues behind the motion (and is
+    // cancelled when the drain starts).
+    let refused = wait_for(WAIT, "a new job refused while draining", async || {
         let (s, v) = post(
             "/api/v1/motions",
             json!({"motions": [{"type": "ptp", "target": {"x": 300}}], "wait": false}),
         )
         .await;
-        if s == 503 || Instant::now() > deadline {
-            break (s, v);
+        if s == 503 {
+            Ok(v)
+        } else {
+            Err(format!("{s} {v}"))
         }
-        // The signal has not arrived yet: this job queues behind the motion
-        // and is cancelled when the drain starts.
-        tokio::time::sleep(Duration::from_millis(10)).await;
-    };
-    assert_eq!(
-        (refused.0, refused.1["code"].as_str()),
-        (503, Some("shutting_down")),
-        "{}",
-        refused.1
-    );
+    })
+    .await;
+    assert_eq!(refused["code"].as_str(), Some("shutting_down"), "{refused}");
     let h: Value = http
         .get(format!("{url}/health"))
         .send()
