@@ -33,16 +33,6 @@ impl SimProcess {
     }
 }
 
-async fn service_without_sim(root: &tempfile::TempDir) -> TestService {
-    let mut c = test_config(root.path());
-    c.simulator.enabled = false;
-    let dirs = tempfile::tempdir_in(root.path()).expect("tempdir");
-    // Share the channel and data directories of `root`.
-    c.channel.dir = Some(root.path().join("channel"));
-    c.data_dir = root.path().join("data");
-    TestService::start_with(c, dirs).await
-}
-
 fn slow_motion() -> Value {
     json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 160}, "velocity_pct": 5}], "wait": false})
 }
@@ -84,7 +74,7 @@ async fn wait_job_state(
 async fn killed_controller_gives_timeout_and_service_recovers() {
     let root = tempfile::tempdir().expect("tempdir");
     let mut sim = SimProcess::spawn(&root.path().join("channel"), 1.0);
-    let t = service_without_sim(&root).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     let (s, job) = t.post_json("/api/v1/motions", &slow_motion()).await;
     assert_eq!(s, 202, "{job}");
@@ -126,7 +116,7 @@ async fn killed_controller_gives_timeout_and_service_recovers() {
 async fn hung_controller_process_gives_timeout() {
     let root = tempfile::tempdir().expect("tempdir");
     let sim = SimProcess::spawn(&root.path().join("channel"), 1.0);
-    let t = service_without_sim(&root).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     let (_, job) = t.post_json("/api/v1/motions", &slow_motion()).await;
     let id = job["id"].as_u64().expect("id");
@@ -341,7 +331,7 @@ async fn half_written_result_is_never_misparsed() {
     let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     let (d, s) = (dir.clone(), stop.clone());
     let fake = std::thread::spawn(move || scripted_controller(&d, s, true, ResultCode::Ok));
-    let t = service_without_sim(&root).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     let started = Instant::now();
     let (status, v) = t.post("/krl/getpos").await;
@@ -365,7 +355,7 @@ async fn command_never_picked_up_times_out_and_is_superseded() {
     let (d, s) = (dir.clone(), stop.clone());
     // Heartbeats, but never reads commands (a KRL program stuck elsewhere).
     let fake = std::thread::spawn(move || scripted_controller(&d, s, false, ResultCode::Ok));
-    let t = service_without_sim(&root).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     let started = Instant::now();
     let (s, v) = t
@@ -414,7 +404,7 @@ async fn command_never_picked_up_times_out_and_is_superseded() {
 #[tokio::test]
 async fn offline_controller_rejects_at_once() {
     let root = tempfile::tempdir().expect("tempdir");
-    let t = service_without_sim(&root).await;
+    let t = TestService::start_without_sim(root.path()).await;
     let started = Instant::now();
     let (s, v) = t.post("/krl/ptp?x=300").await;
     assert_eq!(
@@ -455,7 +445,7 @@ async fn restarted_service_never_reuses_a_command_id() {
     .expect("sim");
     let mut last = 0;
     for round in 0..3 {
-        let t = service_without_sim(&root).await;
+        let t = TestService::start_without_sim(root.path()).await;
         t.wait_connection("online").await;
         for _ in 0..3 {
             let (s, v) = t
@@ -470,7 +460,7 @@ async fn restarted_service_never_reuses_a_command_id() {
     }
     // Losing the counter file is survivable: the controller's ids are the floor.
     std::fs::remove_file(root.path().join("data").join("next_cid")).expect("counter exists");
-    let t = service_without_sim(&root).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     let (s, v) = t.post("/krl/getpos").await;
     assert_eq!(s, 200, "{v}");
@@ -510,7 +500,7 @@ async fn unexpected_controller_answers_are_reported() {
         let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let (d, s) = (dir.clone(), stop.clone());
         let fake = std::thread::spawn(move || scripted_controller(&d, s, true, code));
-        let t = service_without_sim(&root).await;
+        let t = TestService::start_without_sim(root.path()).await;
         t.wait_connection("online").await;
         let (s, v) = t.post("/api/v1/home").await;
         assert_eq!((s, v["code"].as_str()), (http, Some(api)), "{code:?}: {v}");

@@ -78,33 +78,12 @@ fn assert_refused(what: &str, status: u16, v: &Value, line: u64, limit: &str) {
     );
 }
 
-async fn post_text(t: &TestService, path: &str, body: String) -> (u16, Value) {
-    let r = reqwest::Client::new()
-        .post(t.url(path))
-        .header("content-type", "text/plain")
-        .body(body)
-        .send()
-        .await
-        .expect("request");
-    kuka_bridge_tests::decode(r).await
-}
-
 async fn post_form(t: &TestService, src: &str) -> (u16, Value) {
     let boundary = "kbLimitsBoundary";
     let body = format!(
         "--{boundary}\r\nContent-Disposition: form-data; name=\"file\"; filename=\"deep.src\"\r\nContent-Type: application/octet-stream\r\n\r\n{src}\r\n--{boundary}--\r\n"
     );
-    let r = reqwest::Client::new()
-        .post(t.url("/krl/uploadfile"))
-        .header(
-            "content-type",
-            format!("multipart/form-data; boundary={boundary}"),
-        )
-        .body(body)
-        .send()
-        .await
-        .expect("request");
-    kuka_bridge_tests::decode(r).await
+    t.post_form(boundary, body).await
 }
 
 async fn assert_alive(t: &TestService) {
@@ -118,7 +97,7 @@ async fn uploads_are_refused(t: &TestService) {
             .post_json("/api/v1/programs", &json!({"name": "deep", "src": src}))
             .await;
         assert_refused(what, status, &v, line, limit);
-        let (status, v) = post_text(t, "/krl/uploadfile", src.clone()).await;
+        let (status, v) = t.post_text("/krl/uploadfile", src.clone()).await;
         assert_refused(what, status, &v, line, limit);
         let (status, v) = post_form(t, &src).await;
         assert_refused(what, status, &v, line, limit);
@@ -195,7 +174,7 @@ async fn a_program_too_deep_to_run_is_refused_by_the_dry_run() {
     );
     assert_alive(&t).await;
     // The same through the thesis endpoint (upload and run in one).
-    let (status, v) = post_text(&t, "/krl/uploadfile", too_deep_to_run()).await;
+    let (status, v) = t.post_text("/krl/uploadfile", too_deep_to_run()).await;
     assert_eq!(status, 422, "{v}");
     assert_eq!(v["code"], "invalid_program", "{v}");
     assert_alive(&t).await;

@@ -71,6 +71,17 @@ impl TestService {
         Self::start_with(c, dirs).await
     }
 
+    /// Starts the service without an embedded simulator on `root/channel`,
+    /// with its data in `root/data`: a simulator in its own process
+    /// ([`SimProcess`]) drives the channel, and a restarted service finds
+    /// both folders again.
+    pub async fn start_without_sim(root: &Path) -> TestService {
+        let mut c = test_config(root);
+        c.simulator.enabled = false;
+        let dirs = tempfile::tempdir_in(root).expect("tempdir");
+        TestService::start_with(c, dirs).await
+    }
+
     /// Starts the service with a prepared config.
     pub async fn start_with(config: Config, dirs: tempfile::TempDir) -> TestService {
         let service = kuka_bridge::app::start(config.clone())
@@ -254,6 +265,36 @@ impl TestService {
             .put(self.url(path))
             .timeout(Duration::from_secs(300))
             .header("content-type", "application/wasm")
+            .body(body)
+            .send()
+            .await
+            .expect("request");
+        decode(r).await
+    }
+
+    /// POST a `text/plain` body (a KRL program for `/krl/uploadfile`).
+    pub async fn post_text(&self, path: &str, body: String) -> (u16, Value) {
+        // No client timeout: an upload to /krl/uploadfile runs the program.
+        let r = reqwest::Client::new()
+            .post(self.url(path))
+            .header("content-type", "text/plain")
+            .body(body)
+            .send()
+            .await
+            .expect("request");
+        decode(r).await
+    }
+
+    /// POST a hand-made `multipart/form-data` body with this boundary to
+    /// `/krl/uploadfile`.
+    pub async fn post_form(&self, boundary: &str, body: String) -> (u16, Value) {
+        // No client timeout: an upload to /krl/uploadfile runs the program.
+        let r = reqwest::Client::new()
+            .post(self.url("/krl/uploadfile"))
+            .header(
+                "content-type",
+                format!("multipart/form-data; boundary={boundary}"),
+            )
             .body(body)
             .send()
             .await

@@ -3,7 +3,7 @@
 //! (a fresh module per run), and the thesis's `/krl/uploadfile`.
 
 use kuka_bridge_tests::{Options, TestService, assert_close, thesis_position};
-use serde_json::{Value, json};
+use serde_json::json;
 
 /// The thesis's upload example (listing 4.11) with the middle point's Y
 /// and the end point's Z as parameters. Its points are in the base frame;
@@ -29,32 +29,6 @@ async fn thesis_base(t: &TestService) {
     let base = json!({"x": 150.0, "y": 0.0, "z": 0.0, "a": 0.0, "b": 0.0, "c": 0.0});
     let (status, v) = t.put_json("/api/v1/base", &base).await;
     assert_eq!(status, 200, "{v}");
-}
-
-/// POSTs a hand-made `multipart/form-data` body to `/krl/uploadfile`.
-async fn post_form(t: &TestService, boundary: &str, body: String) -> (u16, Value) {
-    let r = reqwest::Client::new()
-        .post(t.url("/krl/uploadfile"))
-        .header(
-            "content-type",
-            format!("multipart/form-data; boundary={boundary}"),
-        )
-        .body(body)
-        .send()
-        .await
-        .expect("request");
-    kuka_bridge_tests::decode(r).await
-}
-
-async fn post_text(t: &TestService, path: &str, body: String) -> (u16, Value) {
-    let r = reqwest::Client::new()
-        .post(t.url(path))
-        .header("content-type", "text/plain")
-        .body(body)
-        .send()
-        .await
-        .expect("request");
-    kuka_bridge_tests::decode(r).await
 }
 
 fn cmd_file(t: &TestService) -> Option<String> {
@@ -98,7 +72,9 @@ async fn the_thesis_upload_runs_every_time_with_the_new_code() {
     let mut ends = Vec::new();
     for (y_mid, z_end) in [(-50.0, 100.0), (60.0, 120.0)] {
         sim.clear_trace();
-        let (status, v) = post_text(&t, "/krl/uploadfile", thesis_spline(y_mid, z_end)).await;
+        let (status, v) = t
+            .post_text("/krl/uploadfile", thesis_spline(y_mid, z_end))
+            .await;
         assert_eq!(status, 200, "{v}");
         assert_eq!(v["statuscode"], 1, "{v}");
         let p = thesis_position(&v);
@@ -144,7 +120,7 @@ async fn the_thesis_upload_accepts_a_multipart_form() {
         "--{boundary}\r\nContent-Disposition: form-data; name=\"file\"; filename=\"up.src\"\r\nContent-Type: application/octet-stream\r\n\r\n{}\r\n--{boundary}--\r\n",
         thesis_spline(-20.0, 100.0)
     );
-    let (status, v) = post_form(&t, boundary, body).await;
+    let (status, v) = t.post_form(boundary, body).await;
     assert_eq!(status, 200, "{v}");
     assert_eq!(v["statuscode"], 1);
 }
@@ -181,12 +157,12 @@ async fn bad_programs_are_refused_with_their_line_before_reaching_the_controller
     );
 
     // The thesis endpoint answers in its format, with the line.
-    let (status, v) = post_text(
-        &t,
-        "/krl/uploadfile",
-        "DEFFCT INT fuploaded()\n  x = = 1\nENDFCT\n".into(),
-    )
-    .await;
+    let (status, v) = t
+        .post_text(
+            "/krl/uploadfile",
+            "DEFFCT INT fuploaded()\n  x = = 1\nENDFCT\n".into(),
+        )
+        .await;
     assert_eq!(status, 422, "{v}");
     assert_ne!(v["statuscode"], 1);
     assert_eq!(v["line"], 2, "{v}");
@@ -426,7 +402,7 @@ async fn uploads_as_old_clients_and_editors_make_them_are_handled() {
         "--{boundary}\r\nContent-Disposition: form-data; name=\"robot\"\r\n\r\nkr3\r\n--{boundary}\r\nContent-Disposition: form-data; name=\"upload\"; filename=\"up.src\"\r\n\r\n{}\r\n--{boundary}--\r\n",
         thesis_spline(-20.0, 100.0)
     );
-    let (status, v) = post_form(&t, boundary, body).await;
+    let (status, v) = t.post_form(boundary, body).await;
     assert_eq!((status, &v["statuscode"]), (200, &json!(1)), "{v}");
 
     // A byte-order mark, CR LF line ends and a Windows-1252 comment (ü = 0xFC).

@@ -9,7 +9,7 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use kuka_bridge_tests::{Options, SimProcess, TestService, initial_admin_secret, test_config};
+use kuka_bridge_tests::{Options, SimProcess, TestService, initial_admin_secret};
 use kuka_protocol::{
     RESULT_FILE, ResultCode, ResultFile, ResultRecord, STATE_FILE, StateFile, files,
 };
@@ -17,15 +17,6 @@ use serde_json::{Value, json};
 
 fn cli() -> &'static str {
     env!("CARGO_BIN_EXE_kuka-bridge-cli")
-}
-
-/// A service without an embedded simulator on `root/channel`, with its
-/// data in `root/data` (so a restarted service finds both again).
-async fn service_on(root: &Path) -> TestService {
-    let mut c = test_config(root);
-    c.simulator.enabled = false;
-    let dirs = tempfile::tempdir_in(root).expect("tempdir");
-    TestService::start_with(c, dirs).await
 }
 
 /// A motion that takes about a second at 100 % override.
@@ -89,7 +80,7 @@ async fn poisoned_command_ids_never_block_commands_or_stop() {
     let root = tempfile::tempdir().expect("tempdir");
     let channel = root.path().join("channel");
     let mut sim = SimProcess::spawn(cli(), &channel, 0.0);
-    let t = service_on(root.path()).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     motion_and_stop_work(&t, "before").await;
 
@@ -119,7 +110,7 @@ async fn poisoned_command_ids_never_block_commands_or_stop() {
 
     // A restarted service (same data folder) reads the line as old.
     t.service.shutdown().await.expect("shutdown");
-    let t = service_on(root.path()).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     motion_and_stop_work(&t, "after a service restart").await;
 
@@ -165,7 +156,7 @@ async fn a_foreign_result_during_a_job_does_not_hide_its_own() {
     let root = tempfile::tempdir().expect("tempdir");
     let channel = root.path().join("channel");
     let _sim = SimProcess::spawn(cli(), &channel, 1.0);
-    let t = service_on(root.path()).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     let (s, job) = t
         .post_json(
@@ -194,7 +185,7 @@ async fn a_controller_restarted_mid_batch_resolves_the_job_at_once() {
     let root = tempfile::tempdir().expect("tempdir");
     let channel = root.path().join("channel");
     let mut sim = SimProcess::spawn(cli(), &channel, 1.0);
-    let t = service_on(root.path()).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     let batch: Vec<Value> = [20.0, 0.0, 20.0, 0.0]
         .iter()
@@ -242,7 +233,7 @@ async fn a_late_result_turns_a_timed_out_job_into_done() {
     let root = tempfile::tempdir().expect("tempdir");
     let channel = root.path().join("channel");
     let _sim = SimProcess::spawn(cli(), &channel, 1.0);
-    let t = service_on(root.path()).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     let (s, _) = t.post("/krl/getpos").await;
     assert_eq!(s, 200);
@@ -289,7 +280,7 @@ async fn job_ids_are_unique_across_service_restarts() {
     let root = tempfile::tempdir().expect("tempdir");
     let channel = root.path().join("channel");
     let _sim = SimProcess::spawn(cli(), &channel, 1.0);
-    let t = service_on(root.path()).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     let mut ids = Vec::new();
     for a1 in [10.0, 0.0] {
@@ -307,7 +298,7 @@ async fn job_ids_are_unique_across_service_restarts() {
     // The running motion ends during the drain; the queued one never runs.
     t.service.shutdown().await.expect("shutdown");
 
-    let t = service_on(root.path()).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     for id in &ids {
         let (s, v) = t.get(&format!("/api/v1/jobs/{id}")).await;
@@ -340,7 +331,7 @@ async fn health_says_degraded_while_commands_cannot_be_sent() {
     let root = tempfile::tempdir().expect("tempdir");
     let channel = root.path().join("channel");
     let _sim = SimProcess::spawn(cli(), &channel, 0.0);
-    let t = service_on(root.path()).await;
+    let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
     let (_, h) = t.get("/health").await;
     assert_eq!(h["status"], "ok", "{h}");
