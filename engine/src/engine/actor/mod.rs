@@ -116,8 +116,9 @@ struct Faults {
     channel: Option<String>,
     /// The data folder (command id counter) cannot be written.
     data: Option<String>,
-    /// The result or state file is larger than any protocol file.
-    oversize: Option<String>,
+    /// The result or state file (its name, and the sentence) is larger
+    /// than any protocol file.
+    oversize: Option<(&'static str, String)>,
 }
 
 struct StopInFlight {
@@ -729,7 +730,7 @@ impl Actor {
         {
             add(ErrorCode::StorageUnavailable, fault);
         }
-        if let Some(fault) = &self.faults.oversize {
+        if let Some((_, fault)) = &self.faults.oversize {
             add(ErrorCode::ProtocolError, fault);
         }
         if let Some(e) = self.ctl.state.as_ref().and_then(state_error) {

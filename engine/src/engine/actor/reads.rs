@@ -88,22 +88,25 @@ impl Actor {
         self.ctl.axes = Some(s.axes);
         self.ctl.tool = Some(s.tool);
         self.ctl.base = Some(s.base);
+        // last_cid is the command's id or newer: the controller accepted it.
+        let accepted = |cid: Cid| s.last_cid > 0 && !kuka_protocol::cid_is_newer(cid, s.last_cid);
+        let running = |cid: Cid| s.status == ControllerStatus::Busy && s.busy_cid == cid;
+        // The result file's stamp only when the command has just gone idle
+        // (a stat, not on every heartbeat of a running job).
         let stamp = match &self.inflight {
-            Some(f) if f.idle_since.is_none() => Some(self.channel.results_stamp()),
+            Some(f) if f.idle_since.is_none() && accepted(f.cid) && !running(f.cid) => {
+                self.channel.results_stamp()
+            }
             _ => None,
         };
         if let Some(f) = &mut self.inflight {
-            // last_cid is f.cid or newer: accepted.
-            let accepted = s.last_cid > 0 && !kuka_protocol::cid_is_newer(f.cid, s.last_cid);
-            let picked = accepted || s.busy_cid == f.cid;
-            if picked && !f.acked {
+            if (accepted(f.cid) || s.busy_cid == f.cid) && !f.acked {
                 f.acked = true;
             }
-            let running = s.status == ControllerStatus::Busy && s.busy_cid == f.cid;
-            if accepted && !running {
+            if accepted(f.cid) && !running(f.cid) {
                 if f.idle_since.is_none() {
                     f.idle_since = Some(now);
-                    f.idle_stamp = stamp.flatten();
+                    f.idle_stamp = stamp;
                 }
             } else {
                 f.idle_since = None;
@@ -368,7 +371,7 @@ impl Actor {
 
     /// A result or state file over [`kuka_protocol::MAX_CONTROLLER_FILE_LEN`]
     /// (`Some(size)`), or one of normal size again (`None`).
-    pub(super) fn oversize(&mut self, file: &str, len: Option<u64>) {
+    pub(super) fn oversize(&mut self, file: &'static str, len: Option<u64>) {
         match len {
             Some(len) => {
                 if self.faults.oversize.is_none() {
@@ -386,15 +389,15 @@ impl Actor {
                         ErrorCode::ProtocolError,
                         detail.clone(),
                     )));
-                    self.faults.oversize = Some(detail);
+                    self.faults.oversize = Some((file, detail));
                 }
             }
             None => {
                 if self
                     .faults
                     .oversize
-                    .as_deref()
-                    .is_some_and(|d| d.starts_with(file))
+                    .as_ref()
+                    .is_some_and(|(f, _)| *f == file)
                 {
                     self.faults.oversize = None;
                 }
