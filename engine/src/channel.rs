@@ -253,8 +253,14 @@ pub struct ServiceLock {
 }
 
 impl ServiceLock {
-    /// Takes the lock or fails with [`ChannelError::InUse`].
+    /// Takes the lock (creating the channel directory if needed) or fails
+    /// with [`ChannelError::InUse`].
     pub fn acquire(dir: &Path) -> Result<Self, ChannelError> {
+        std::fs::create_dir_all(dir).map_err(|source| ChannelError::Io {
+            what: "cannot create channel directory",
+            path: dir.display().to_string(),
+            source,
+        })?;
         let path = dir.join("kb_service.lock");
         let file = std::fs::OpenOptions::new()
             .create(true)

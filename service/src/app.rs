@@ -103,11 +103,6 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
     };
     let model = config.robot_model()?;
     let dir = config.channel_dir();
-    std::fs::create_dir_all(&dir).map_err(|source| ChannelError::Io {
-        what: "cannot create channel directory",
-        path: dir.display().to_string(),
-        source,
-    })?;
     let lock = ServiceLock::acquire(&dir)?;
     let sim = if config.simulator.enabled {
         let mut sc = SimConfig::new(&dir);
