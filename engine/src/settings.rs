@@ -14,7 +14,7 @@ pub struct EngineSettings {
     /// The channel directory shared with the controller.
     pub channel_dir: PathBuf,
     /// Channel timing.
-    pub channel: ChannelConfig,
+    pub channel: ChannelTiming,
     /// Default speeds and caps.
     pub motion: MotionConfig,
     /// The data folder (command id and job id counters).
@@ -55,10 +55,6 @@ pub struct ChannelConfig {
     /// wake-up. 0 turns it off. Unset: 250 with the embedded simulator, 0
     /// otherwise.
     pub request_spin_us: Option<u64>,
-    /// Set by the service from `simulator.enabled` (not a config key): the
-    /// defaults of the two busy loops above depend on it.
-    #[serde(skip)]
-    pub simulated: bool,
 }
 
 /// Default speeds and the caps no request may exceed.
@@ -117,7 +113,6 @@ impl Default for ChannelConfig {
             lock_timeout_ms: 2000,
             answer_spin_us: None,
             request_spin_us: None,
-            simulated: false,
         }
     }
 }
@@ -138,39 +133,202 @@ impl Default for MotionConfig {
     }
 }
 
-fn ms(v: u64) -> Duration {
-    Duration::from_millis(v)
+/// One problem with a configuration value: the key within its section
+/// and a sentence. The binary prefixes the section's name and the file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Problem {
+    /// The key within the section (e.g. `poll_interval_ms`).
+    pub key: &'static str,
+    /// What is wrong, as a sentence fragment (e.g. "0 is below the minimum 1").
+    pub message: String,
 }
 
+impl Problem {
+    /// A problem with `key`.
+    pub fn new(key: &'static str, message: impl Into<String>) -> Self {
+        Problem {
+            key,
+            message: message.into(),
+        }
+    }
+}
+
+/// Pushes a problem for each `(key, value, min)` whose value is below its minimum.
+pub fn check_minimums(problems: &mut Vec<Problem>, checks: &[(&'static str, u64, u64)]) {
+    for &(key, v, min) in checks {
+        if v < min {
+            problems.push(Problem::new(key, format!("{v} is below the minimum {min}")));
+        }
+    }
+}
+
+/// Pushes a problem for each `(key, value, max)` whose value is above its maximum.
+pub fn check_maximums(problems: &mut Vec<Problem>, checks: &[(&'static str, u64, u64)]) {
+    for &(key, v, max) in checks {
+        if v > max {
+            problems.push(Problem::new(key, format!("{v} is above the maximum {max}")));
+        }
+    }
+}
+
+/// The channel's timing as durations: what the engine uses, built from a
+/// checked [`ChannelConfig`] by [`ChannelConfig::timing`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChannelTiming {
+    /// Poll period for the result and state files.
+    pub poll_interval: Duration,
+    /// The controller counts as offline when its heartbeat is older.
+    pub offline_after: Duration,
+    /// The controller must pick a command up within this time.
+    pub ack_timeout: Duration,
+    /// A command must finish within this time unless a request says otherwise.
+    pub command_timeout: Duration,
+    /// Retry budget for a locked command file.
+    pub lock_timeout: Duration,
+    /// Busy-wait for a quick answer after a command was written (zero: off).
+    pub answer_spin: Duration,
+    /// Busy-wait for the next request after an answer (zero: off).
+    pub request_spin: Duration,
+}
+
+impl Default for ChannelTiming {
+    fn default() -> Self {
+        ChannelConfig::default().timing(false)
+    }
+}
+
+/// The largest busy loop accepted (µs): a longer one wastes a core.
+pub const MAX_SPIN_US: u64 = 10_000;
+
 impl ChannelConfig {
-    /// Busy-wait for a quick answer.
-    pub fn answer_spin(&self) -> Duration {
-        let default = if self.simulated { 300 } else { 0 };
-        Duration::from_micros(self.answer_spin_us.unwrap_or(default))
+    /// The timing in effect; `simulated` (the embedded simulator answers
+    /// within microseconds) switches the two busy loops on by default.
+    pub fn timing(&self, simulated: bool) -> ChannelTiming {
+        let ms = Duration::from_millis;
+        let spin = |set: Option<u64>, sim_default: u64| {
+            Duration::from_micros(set.unwrap_or(if simulated { sim_default } else { 0 }))
+        };
+        ChannelTiming {
+            poll_interval: ms(self.poll_interval_ms),
+            offline_after: ms(self.offline_after_ms),
+            ack_timeout: ms(self.ack_timeout_ms),
+            command_timeout: ms(self.command_timeout_ms),
+            lock_timeout: ms(self.lock_timeout_ms),
+            answer_spin: spin(self.answer_spin_us, 300),
+            request_spin: spin(self.request_spin_us, 250),
+        }
     }
-    /// Busy-wait for the next request after an answer.
-    pub fn request_spin(&self) -> Duration {
-        let default = if self.simulated { 250 } else { 0 };
-        Duration::from_micros(self.request_spin_us.unwrap_or(default))
+
+    /// Every problem of this section (keys without the `channel.` prefix).
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        check_minimums(
+            &mut bad,
+            &[
+                ("poll_interval_ms", self.poll_interval_ms, 1),
+                ("offline_after_ms", self.offline_after_ms, 10),
+                ("ack_timeout_ms", self.ack_timeout_ms, 10),
+                ("command_timeout_ms", self.command_timeout_ms, 10),
+            ],
+        );
+        for (key, v) in [
+            ("answer_spin_us", self.answer_spin_us.unwrap_or(0)),
+            ("request_spin_us", self.request_spin_us.unwrap_or(0)),
+        ] {
+            if v > MAX_SPIN_US {
+                bad.push(Problem::new(
+                    key,
+                    format!("{v} is above the maximum {MAX_SPIN_US} (a busy loop longer than 10 ms wastes a core)"),
+                ));
+            }
+        }
+        bad
     }
-    /// Poll period.
-    pub fn poll_interval(&self) -> Duration {
-        ms(self.poll_interval_ms)
+}
+
+impl MotionConfig {
+    /// Every problem of this section (keys without the `motion.` prefix).
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        for (key, v) in [
+            ("default_ptp_velocity_pct", self.default_ptp_velocity_pct),
+            ("default_acceleration_pct", self.default_acceleration_pct),
+            ("max_ptp_velocity_pct", self.max_ptp_velocity_pct),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v <= 100.0) {
+                bad.push(Problem::new(key, format!("{v} is not in (0, 100]")));
+            }
+        }
+        if !(self.max_cp_velocity.is_finite()
+            && self.max_cp_velocity > 0.0
+            && self.max_cp_velocity <= 2.0)
+        {
+            bad.push(Problem::new(
+                "max_cp_velocity",
+                format!("{} m/s is not in (0, 2]", self.max_cp_velocity),
+            ));
+        }
+        if !(self.default_cp_velocity > 0.0 && self.default_cp_velocity <= self.max_cp_velocity) {
+            bad.push(Problem::new(
+                "default_cp_velocity",
+                format!(
+                    "{} m/s is not in (0, max_cp_velocity]",
+                    self.default_cp_velocity
+                ),
+            ));
+        }
+        if self.default_ptp_velocity_pct > self.max_ptp_velocity_pct {
+            bad.push(Problem::new(
+                "default_ptp_velocity_pct",
+                "exceeds motion.max_ptp_velocity_pct",
+            ));
+        }
+        if !(self.max_approx_mm.is_finite()
+            && self.max_approx_mm >= 0.0
+            && self.max_approx_mm <= 1000.0)
+        {
+            bad.push(Problem::new(
+                "max_approx_mm",
+                format!("{} is not in [0, 1000]", self.max_approx_mm),
+            ));
+        }
+        if !(self.default_batch_approx_mm >= 0.0
+            && self.default_batch_approx_mm <= self.max_approx_mm)
+        {
+            bad.push(Problem::new(
+                "default_batch_approx_mm",
+                "must be in [0, max_approx_mm]",
+            ));
+        }
+        if self.max_batch == 0 || self.max_batch > kuka_protocol::MAX_BATCH {
+            bad.push(Problem::new(
+                "max_batch",
+                format!(
+                    "{} is not in 1..={}",
+                    self.max_batch,
+                    kuka_protocol::MAX_BATCH
+                ),
+            ));
+        }
+        if self.max_queue == 0 {
+            bad.push(Problem::new("max_queue", "must be at least 1"));
+        }
+        bad
     }
-    /// Offline threshold.
-    pub fn offline_after(&self) -> Duration {
-        ms(self.offline_after_ms)
-    }
-    /// Acknowledge timeout.
-    pub fn ack_timeout(&self) -> Duration {
-        ms(self.ack_timeout_ms)
-    }
-    /// Default command timeout.
-    pub fn command_timeout(&self) -> Duration {
-        ms(self.command_timeout_ms)
-    }
-    /// Lock retry budget.
-    pub fn lock_timeout(&self) -> Duration {
-        ms(self.lock_timeout_ms)
+}
+
+impl WorkspaceBox {
+    /// Every problem of this section (keys without the `workspace.` prefix).
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        for (key, r) in [("x", self.x), ("y", self.y), ("z", self.z)] {
+            if !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]) {
+                bad.push(Problem::new(
+                    key,
+                    format!("{r:?} is not [min, max] with min < max"),
+                ));
+            }
+        }
+        bad
     }
 }

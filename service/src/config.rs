@@ -6,6 +6,7 @@ use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 
 pub use kuka_engine::settings::{ChannelConfig, EngineSettings, MotionConfig, WorkspaceBox};
+use kuka_engine::settings::{Problem, check_maximums, check_minimums};
 use kuka_kinematics::RobotModel;
 use serde::{Deserialize, Serialize};
 
@@ -38,7 +39,7 @@ pub enum ConfigError {
         /// The file (or "command line").
         source_name: String,
         /// Dotted key.
-        key: &'static str,
+        key: String,
         /// What is wrong.
         message: String,
     },
@@ -381,10 +382,7 @@ impl Config {
     pub fn engine_settings(&self) -> EngineSettings {
         EngineSettings {
             channel_dir: self.channel_dir(),
-            channel: ChannelConfig {
-                simulated: self.simulator.enabled,
-                ..self.channel.clone()
-            },
+            channel: self.channel.timing(self.simulator.enabled),
             motion: self.motion.clone(),
             data_dir: self.data_dir.clone(),
             program_dir: self.program_dir(),
@@ -462,139 +460,41 @@ impl Config {
 
     /// The robot model in effect (None: no kinematic checks).
     pub fn robot_model(&self) -> Result<Option<RobotModel>, ConfigError> {
-        if let Some(custom) = &self.robot.custom {
-            return Ok(Some(custom.clone()));
-        }
-        if self.robot.model == "none" {
-            return Ok(None);
-        }
-        RobotModel::by_name(&self.robot.model)
-            .map(Some)
-            .ok_or_else(|| {
-                self.invalid(
-                    "robot.model",
-                    format!(
-                        "unknown model {:?}; built-in models: {}, or \"none\"",
-                        self.robot.model,
-                        RobotModel::builtin_names().join(", ")
-                    ),
-                )
-            })
+        self.robot
+            .model()
+            .map_err(|p| self.invalid(format!("robot.{}", p.key), p.message))
     }
 
-    fn invalid(&self, key: &'static str, message: String) -> ConfigError {
+    fn invalid(&self, key: impl Into<String>, message: String) -> ConfigError {
         ConfigError::Invalid {
             source_name: self.source_name.clone(),
-            key,
+            key: key.into(),
             message,
         }
     }
 
-    /// Checks every value; the first problem names its key.
+    /// Checks every value: each section reports its own problems, then the
+    /// checks that span sections run. Every bad key is reported, not only
+    /// the first.
     pub fn validate(&self) -> Result<(), ConfigError> {
         let mut bad = Vec::new();
-        self.check_values(&mut bad);
-        self.check_edge(&mut bad);
-        if let Some(m) = &self.robot.custom {
-            self.check_custom_model(m, &mut bad);
-        }
-        if let Err(e) = self.robot_model() {
-            bad.push(e);
-        }
-        match bad.len() {
-            0 => Ok(()),
-            1 => Err(bad.remove(0)),
-            _ => Err(ConfigError::Several(bad)),
-        }
-    }
-
-    /// Every section's values, each problem pushed to `bad` (not only the first).
-    fn check_values(&self, bad: &mut Vec<ConfigError>) {
-        let c = &self.channel;
-        for (key, v, min) in [
-            ("channel.poll_interval_ms", c.poll_interval_ms, 1),
-            ("channel.offline_after_ms", c.offline_after_ms, 10),
-            ("channel.ack_timeout_ms", c.ack_timeout_ms, 10),
-            ("channel.command_timeout_ms", c.command_timeout_ms, 10),
-            ("channel.lock_timeout_ms", c.lock_timeout_ms, 0),
-            ("simulator.heartbeat_ms", self.simulator.heartbeat_ms, 1),
-            (
-                "plugins.poll_interval_ms",
-                self.plugins.poll_interval_ms,
-                10,
-            ),
-            ("plugins.cpu_time_ms", self.plugins.cpu_time_ms, 10),
-            (
-                "plugins.request_timeout_ms",
-                self.plugins.request_timeout_ms,
-                100,
-            ),
-            ("plugins.memory_mib", self.plugins.memory_mib as u64, 1),
-            ("plugins.max_motions", self.plugins.max_motions as u64, 1),
-            (
-                "plugins.max_body_bytes",
-                self.plugins.max_body_bytes as u64,
-                1024,
-            ),
-            (
-                "plugins.max_wasm_bytes",
-                self.plugins.max_wasm_bytes as u64,
-                1024,
-            ),
-        ] {
-            if v < min {
-                bad.push(self.invalid(key, format!("{v} is below the minimum {min}")));
+        let workspace = self.workspace.as_ref().map(WorkspaceBox::problems);
+        let sections = [
+            ("server", self.server.problems()),
+            ("channel", self.channel.problems()),
+            ("robot", self.robot.problems()),
+            ("motion", self.motion.problems()),
+            ("workspace", workspace.unwrap_or_default()),
+            ("simulator", self.simulator.problems()),
+            ("programs", self.programs.problems()),
+            ("plugins", self.plugins.problems()),
+            ("auth", self.auth.problems()),
+            ("log", self.log.problems()),
+        ];
+        for (section, problems) in sections {
+            for p in problems {
+                bad.push(self.invalid(format!("{section}.{}", p.key), p.message));
             }
-        }
-        for (key, v) in [
-            ("channel.answer_spin_us", c.answer_spin_us.unwrap_or(0)),
-            ("channel.request_spin_us", c.request_spin_us.unwrap_or(0)),
-        ] {
-            if v > 10_000 {
-                bad.push(self.invalid(
-                    key,
-                    format!(
-                        "{v} is above the maximum 10000 (a busy loop longer than 10 ms wastes a core)"
-                    ),
-                ));
-            }
-        }
-        for (name, l) in &self.plugins.limits {
-            let key = "plugins.limits";
-            if let Err(e) = kuka_plugin_host::check_name(name) {
-                bad.push(self.invalid(key, e));
-            }
-            if l.memory_mib
-                .is_some_and(|m| m == 0 || m > self.plugins.memory_mib)
-            {
-                bad.push(self.invalid(
-                    key,
-                    format!(
-                        "{name}: memory_mib must be 1 to plugins.memory_mib ({})",
-                        self.plugins.memory_mib
-                    ),
-                ));
-            }
-            let too_small = l.cpu_time_ms.is_some_and(|v| v < 10)
-                || l.request_timeout_ms.is_some_and(|v| v < 100)
-                || l.max_motions == Some(0);
-            if too_small {
-                bad.push(self.invalid(
-                    key,
-                    format!(
-                        "{name}: cpu_time_ms >= 10, request_timeout_ms >= 100, max_motions >= 1"
-                    ),
-                ));
-            }
-        }
-        if self.plugins.memory_mib > 4096 {
-            bad.push(self.invalid(
-                "plugins.memory_mib",
-                format!(
-                    "{} MiB is more than a 32-bit WebAssembly memory can hold (4096)",
-                    self.plugins.memory_mib
-                ),
-            ));
         }
         if self.simulator.enabled
             && self.channel.offline_after_ms <= self.simulator.heartbeat_ms * 2
@@ -607,81 +507,161 @@ impl Config {
                 ),
             ));
         }
-        let m = &self.motion;
-        let pct = |key, v: f64| {
-            if v.is_finite() && v > 0.0 && v <= 100.0 {
-                Ok(())
-            } else {
-                Err(self.invalid(key, format!("{v} is not in (0, 100]")))
-            }
-        };
-        if let Err(e) = pct(
-            "motion.default_ptp_velocity_pct",
-            m.default_ptp_velocity_pct,
-        ) {
-            bad.push(e);
+        match bad.len() {
+            0 => Ok(()),
+            1 => Err(bad.remove(0)),
+            _ => Err(ConfigError::Several(bad)),
         }
-        if let Err(e) = pct(
-            "motion.default_acceleration_pct",
-            m.default_acceleration_pct,
-        ) {
-            bad.push(e);
-        }
-        if let Err(e) = pct("motion.max_ptp_velocity_pct", m.max_ptp_velocity_pct) {
-            bad.push(e);
-        }
-        if !(m.max_cp_velocity.is_finite() && m.max_cp_velocity > 0.0 && m.max_cp_velocity <= 2.0) {
-            bad.push(self.invalid(
-                "motion.max_cp_velocity",
-                format!("{} m/s is not in (0, 2]", m.max_cp_velocity),
-            ));
-        }
-        if !(m.default_cp_velocity > 0.0 && m.default_cp_velocity <= m.max_cp_velocity) {
-            bad.push(self.invalid(
-                "motion.default_cp_velocity",
+    }
+}
+
+impl ServerConfig {
+    /// Every problem of this section (keys without the `server.` prefix).
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        check_minimums(
+            &mut bad,
+            &[
+                ("request_timeout_ms", self.request_timeout_ms, 100),
+                ("max_request_ms", self.max_request_ms, 1000),
+                (
+                    "max_concurrent_requests",
+                    self.max_concurrent_requests as u64,
+                    1,
+                ),
+                ("max_body_bytes", self.max_body_bytes as u64, 64 * 1024),
+                ("max_header_bytes", self.max_header_bytes as u64, 8192),
+                ("header_timeout_ms", self.header_timeout_ms, 100),
+                ("max_connections", self.max_connections as u64, 1),
+                (
+                    "max_connections_per_client",
+                    self.max_connections_per_client as u64,
+                    1,
+                ),
+            ],
+        );
+        check_maximums(
+            &mut bad,
+            &[
+                (
+                    "max_concurrent_requests",
+                    self.max_concurrent_requests as u64,
+                    100_000,
+                ),
+                ("max_connections", self.max_connections as u64, 100_000),
+                ("header_timeout_ms", self.header_timeout_ms, 600_000),
+            ],
+        );
+        if self.max_request_ms <= self.request_timeout_ms {
+            bad.push(Problem::new(
+                "max_request_ms",
                 format!(
-                    "{} m/s is not in (0, max_cp_velocity]",
-                    m.default_cp_velocity
+                    "must be more than server.request_timeout_ms ({})",
+                    self.request_timeout_ms
                 ),
             ));
         }
-        if m.default_ptp_velocity_pct > m.max_ptp_velocity_pct {
-            bad.push(self.invalid(
-                "motion.default_ptp_velocity_pct",
-                "exceeds motion.max_ptp_velocity_pct".into(),
+        for o in &self.cors_origins {
+            let ok = (o.starts_with("http://") || o.starts_with("https://"))
+                && axum::http::HeaderValue::from_str(o).is_ok()
+                && !o.ends_with('/');
+            if !ok {
+                bad.push(Problem::new(
+                    "cors_origins",
+                    format!("{o:?} is not an origin such as \"https://host:port\" (no path, no trailing slash)"),
+                ));
+            }
+        }
+        if let Some(t) = &self.tls {
+            for (key, p) in [("tls.cert", &t.cert), ("tls.key", &t.key)] {
+                if !p.is_file() {
+                    bad.push(Problem::new(key, format!("{} is not a file", p.display())));
+                }
+            }
+        }
+        bad
+    }
+}
+
+impl AuthConfig {
+    /// Every problem of this section (keys without the `auth.` prefix).
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        check_minimums(
+            &mut bad,
+            &[
+                ("lease_ms", self.lease_ms, 1000),
+                ("max_failures", u64::from(self.max_failures), 1),
+                ("failure_window_ms", self.failure_window_ms, 1000),
+            ],
+        );
+        check_maximums(&mut bad, &[("lease_ms", self.lease_ms, 3_600_000)]);
+        bad
+    }
+}
+
+impl PluginsConfig {
+    /// Every problem of this section (keys without the `plugins.` prefix).
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        check_minimums(
+            &mut bad,
+            &[
+                ("poll_interval_ms", self.poll_interval_ms, 10),
+                ("cpu_time_ms", self.cpu_time_ms, 10),
+                ("request_timeout_ms", self.request_timeout_ms, 100),
+                ("memory_mib", self.memory_mib as u64, 1),
+                ("max_motions", self.max_motions as u64, 1),
+                ("max_body_bytes", self.max_body_bytes as u64, 1024),
+                ("max_wasm_bytes", self.max_wasm_bytes as u64, 1024),
+            ],
+        );
+        if self.memory_mib > 4096 {
+            bad.push(Problem::new(
+                "memory_mib",
+                format!(
+                    "{} MiB is more than a 32-bit WebAssembly memory can hold (4096)",
+                    self.memory_mib
+                ),
             ));
         }
-        if !(m.max_approx_mm.is_finite() && m.max_approx_mm >= 0.0 && m.max_approx_mm <= 1000.0) {
-            bad.push(self.invalid(
-                "motion.max_approx_mm",
-                format!("{} is not in [0, 1000]", m.max_approx_mm),
-            ));
+        for (name, l) in &self.limits {
+            if let Err(e) = kuka_plugin_host::check_name(name) {
+                bad.push(Problem::new("limits", e));
+            }
+            if l.memory_mib.is_some_and(|m| m == 0 || m > self.memory_mib) {
+                bad.push(Problem::new(
+                    "limits",
+                    format!(
+                        "{name}: memory_mib must be 1 to plugins.memory_mib ({})",
+                        self.memory_mib
+                    ),
+                ));
+            }
+            let too_small = l.cpu_time_ms.is_some_and(|v| v < 10)
+                || l.request_timeout_ms.is_some_and(|v| v < 100)
+                || l.max_motions == Some(0);
+            if too_small {
+                bad.push(Problem::new(
+                    "limits",
+                    format!(
+                        "{name}: cpu_time_ms >= 10, request_timeout_ms >= 100, max_motions >= 1"
+                    ),
+                ));
+            }
         }
-        if !(m.default_batch_approx_mm >= 0.0 && m.default_batch_approx_mm <= m.max_approx_mm) {
-            bad.push(self.invalid(
-                "motion.default_batch_approx_mm",
-                "must be in [0, max_approx_mm]".into(),
-            ));
+        bad
+    }
+}
+
+impl LogConfig {
+    /// Every problem of this section (keys without the `log.` prefix).
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        if self.retention_days == 0 {
+            bad.push(Problem::new("retention_days", "must be at least 1"));
         }
-        if m.max_batch == 0 || m.max_batch > kuka_protocol::MAX_BATCH {
-            bad.push(self.invalid(
-                "motion.max_batch",
-                format!("{} is not in 1..={}", m.max_batch, kuka_protocol::MAX_BATCH),
-            ));
-        }
-        if m.max_queue == 0 {
-            bad.push(self.invalid("motion.max_queue", "must be at least 1".into()));
-        }
-        if self.programs.max_bytes == 0 || self.programs.max_bytes > 4 * 1024 * 1024 {
-            bad.push(self.invalid(
-                "programs.max_bytes",
-                format!("{} is not in 1..=4194304", self.programs.max_bytes),
-            ));
-        }
-        if self.log.retention_days == 0 {
-            bad.push(self.invalid("log.retention_days", "must be at least 1".into()));
-        }
-        let level = self.log.level.trim();
+        let level = self.level.trim();
         let plain_level = ["off", "error", "warn", "info", "debug", "trace"]
             .iter()
             .any(|l| l.eq_ignore_ascii_case(level));
@@ -690,118 +670,84 @@ impl Config {
         let filter_ok = (plain_level || level.contains('=') || level.contains(','))
             && tracing_subscriber::EnvFilter::try_new(level).is_ok();
         if !filter_ok {
-            bad.push(self.invalid(
-                "log.level",
+            bad.push(Problem::new(
+                "level",
                 format!(
                     "{:?} is not a level (error, warn, info, debug, trace, off) or a filter such as \"info,kuka_bridge::engine=debug\"",
-                    self.log.level
+                    self.level
                 ),
             ));
         }
-        if self.programs.run_timeout_ms == 0 {
-            bad.push(self.invalid("programs.run_timeout_ms", "must be positive".into()));
-        }
-        if self.programs.keep_modules == 0 {
-            bad.push(self.invalid("programs.keep_modules", "must be at least 1".into()));
-        }
-        if let Some(w) = &self.workspace {
-            for (key, r) in [
-                ("workspace.x", w.x),
-                ("workspace.y", w.y),
-                ("workspace.z", w.z),
-            ] {
-                if !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]) {
-                    bad.push(self.invalid(key, format!("{r:?} is not [min, max] with min < max")));
-                }
-            }
-        }
-        if !(self.simulator.time_scale.is_finite() && self.simulator.time_scale >= 0.0) {
-            bad.push(self.invalid(
-                "simulator.time_scale",
-                format!("{} is not ≥ 0", self.simulator.time_scale),
+        bad
+    }
+}
+
+impl ProgramsConfig {
+    /// Every problem of this section (keys without the `programs.` prefix).
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        if self.max_bytes == 0 || self.max_bytes > 4 * 1024 * 1024 {
+            bad.push(Problem::new(
+                "max_bytes",
+                format!("{} is not in 1..=4194304", self.max_bytes),
             ));
         }
-        if self.server.request_timeout_ms < 100 {
-            bad.push(self.invalid(
-                "server.request_timeout_ms",
+        if self.run_timeout_ms == 0 {
+            bad.push(Problem::new("run_timeout_ms", "must be positive"));
+        }
+        if self.keep_modules == 0 {
+            bad.push(Problem::new("keep_modules", "must be at least 1"));
+        }
+        bad
+    }
+}
+
+impl SimulatorConfig {
+    /// Every problem of this section (keys without the `simulator.` prefix).
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        check_minimums(&mut bad, &[("heartbeat_ms", self.heartbeat_ms, 1)]);
+        if !(self.time_scale.is_finite() && self.time_scale >= 0.0) {
+            bad.push(Problem::new(
+                "time_scale",
+                format!("{} is not ≥ 0", self.time_scale),
+            ));
+        }
+        bad
+    }
+}
+
+impl RobotConfig {
+    /// The model this section names (None: no kinematic checks), or why
+    /// there is none.
+    fn model(&self) -> Result<Option<RobotModel>, Problem> {
+        if let Some(custom) = &self.custom {
+            return Ok(Some(custom.clone()));
+        }
+        if self.model == "none" {
+            return Ok(None);
+        }
+        RobotModel::by_name(&self.model).map(Some).ok_or_else(|| {
+            Problem::new(
+                "model",
                 format!(
-                    "{} is below the minimum 100",
-                    self.server.request_timeout_ms
+                    "unknown model {:?}; built-in models: {}, or \"none\"",
+                    self.model,
+                    RobotModel::builtin_names().join(", ")
                 ),
-            ));
-        }
+            )
+        })
     }
 
-    fn check_edge(&self, bad: &mut Vec<ConfigError>) {
-        let s = &self.server;
-        for (key, v, min) in [
-            ("server.max_request_ms", s.max_request_ms, 1000),
-            (
-                "server.max_concurrent_requests",
-                s.max_concurrent_requests as u64,
-                1,
-            ),
-            ("server.max_body_bytes", s.max_body_bytes as u64, 64 * 1024),
-            ("server.max_header_bytes", s.max_header_bytes as u64, 8192),
-            ("server.header_timeout_ms", s.header_timeout_ms, 100),
-            ("server.max_connections", s.max_connections as u64, 1),
-            (
-                "server.max_connections_per_client",
-                s.max_connections_per_client as u64,
-                1,
-            ),
-            ("auth.lease_ms", self.auth.lease_ms, 1000),
-            ("auth.max_failures", u64::from(self.auth.max_failures), 1),
-            ("auth.failure_window_ms", self.auth.failure_window_ms, 1000),
-        ] {
-            if v < min {
-                bad.push(self.invalid(key, format!("{v} is below the minimum {min}")));
-            }
+    /// Every problem of this section (keys without the `robot.` prefix).
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        if let Err(p) = self.model() {
+            bad.push(p);
         }
-        for (key, v, max) in [
-            (
-                "server.max_concurrent_requests",
-                s.max_concurrent_requests as u64,
-                100_000,
-            ),
-            ("server.max_connections", s.max_connections as u64, 100_000),
-            ("auth.lease_ms", self.auth.lease_ms, 3_600_000),
-            ("server.header_timeout_ms", s.header_timeout_ms, 600_000),
-        ] {
-            if v > max {
-                bad.push(self.invalid(key, format!("{v} is above the maximum {max}")));
-            }
-        }
-        if s.max_request_ms <= s.request_timeout_ms {
-            bad.push(self.invalid(
-                "server.max_request_ms",
-                format!(
-                    "must be more than server.request_timeout_ms ({})",
-                    s.request_timeout_ms
-                ),
-            ));
-        }
-        for o in &s.cors_origins {
-            let ok = (o.starts_with("http://") || o.starts_with("https://"))
-                && axum::http::HeaderValue::from_str(o).is_ok()
-                && !o.ends_with('/');
-            if !ok {
-                bad.push(self.invalid(
-                    "server.cors_origins",
-                    format!("{o:?} is not an origin such as \"https://host:port\" (no path, no trailing slash)"),
-                ));
-            }
-        }
-        if let Some(t) = &s.tls {
-            for (key, p) in [("server.tls.cert", &t.cert), ("server.tls.key", &t.key)] {
-                if !p.is_file() {
-                    bad.push(self.invalid(key, format!("{} is not a file", p.display())));
-                }
-            }
-        }
-    }
-
-    fn check_custom_model(&self, m: &RobotModel, bad: &mut Vec<ConfigError>) {
+        let Some(m) = &self.custom else {
+            return bad;
+        };
         // Plausible for a 6-axis industrial arm, and within what the file
         // protocol can carry (±9999.999 mm).
         let [_, _, _, c1, c2, c3, c4] = m.opw_mm;
@@ -809,15 +755,15 @@ impl Config {
             || [c1, c2, c3].iter().any(|v| *v < 1.0)
             || c4 < 0.0
         {
-            bad.push(self.invalid(
-                "robot.custom.opw_mm",
-                "needs [a1, a2, b, c1, c2, c3, c4] in mm, each within ±3000, with c1, c2, c3 ≥ 1 and c4 ≥ 0".into(),
+            bad.push(Problem::new(
+                "custom.opw_mm",
+                "needs [a1, a2, b, c1, c2, c3, c4] in mm, each within ±3000, with c1, c2, c3 ≥ 1 and c4 ≥ 0",
             ));
         }
         for (i, (lo, hi)) in m.limits_deg.iter().enumerate() {
             if !(lo.is_finite() && hi.is_finite() && lo < hi && *lo >= -720.0 && *hi <= 720.0) {
-                bad.push(self.invalid(
-                    "robot.custom.limits_deg",
+                bad.push(Problem::new(
+                    "custom.limits_deg",
                     format!(
                         "axis A{}: [{lo}, {hi}] is not [min, max] with -720 ≤ min < max ≤ 720",
                         i + 1
@@ -826,14 +772,14 @@ impl Config {
             }
             let v = m.max_speed_deg_s[i];
             if !(v.is_finite() && v > 0.0 && v <= 3600.0) {
-                bad.push(self.invalid(
-                    "robot.custom.max_speed_deg_s",
+                bad.push(Problem::new(
+                    "custom.max_speed_deg_s",
                     format!("axis A{}: {v} is not a speed in (0, 3600] deg/s", i + 1),
                 ));
             }
             if !(*lo..=*hi).contains(&m.home[i]) {
-                bad.push(self.invalid(
-                    "robot.custom.home",
+                bad.push(Problem::new(
+                    "custom.home",
                     format!(
                         "A{} = {} lies outside its limits [{lo}, {hi}]",
                         i + 1,
@@ -842,6 +788,7 @@ impl Config {
                 ));
             }
         }
+        bad
     }
 }
 
@@ -893,22 +840,23 @@ mod tests {
             "{text}"
         );
         // Busy loops only where answers can come within them.
-        let c = ChannelConfig::default();
+        let c = ChannelConfig::default().timing(false);
         assert_eq!(
-            (c.answer_spin(), c.request_spin()),
+            (c.answer_spin, c.request_spin),
             (Duration::ZERO, Duration::ZERO)
         );
-        let sim = ChannelConfig {
-            simulated: true,
-            ..ChannelConfig::default()
-        };
-        assert_eq!(sim.answer_spin(), Duration::from_micros(300));
-        assert_eq!(sim.request_spin(), Duration::from_micros(250));
+        let sim = ChannelConfig::default().timing(true);
+        assert_eq!(sim.answer_spin, Duration::from_micros(300));
+        assert_eq!(sim.request_spin, Duration::from_micros(250));
         let set = ChannelConfig {
             answer_spin_us: Some(50),
             ..ChannelConfig::default()
         };
-        assert_eq!(set.answer_spin(), Duration::from_micros(50));
+        assert_eq!(set.timing(true).answer_spin, Duration::from_micros(50));
+        // The engine gets durations, built from the section's milliseconds.
+        let t = Config::default().engine_settings().channel;
+        assert_eq!(t.poll_interval, Duration::from_millis(50));
+        assert_eq!(t.command_timeout, Duration::from_secs(60));
         for key in ["answer_spin_us", "request_spin_us"] {
             let text = invalid(&format!("[channel]\n{key} = 20000\n"));
             assert!(

@@ -33,7 +33,7 @@ use crate::channel::{Changed, Channel, ChannelError, CidStore, FileStamp, ReadOu
 use crate::engine::types::*;
 use crate::error::{BridgeError, ErrorCode, Result};
 use crate::motion::{SpeedSettings, StartPoint, resolve};
-use crate::settings::{ChannelConfig, EngineSettings};
+use crate::settings::{ChannelTiming, EngineSettings};
 use outcome::*;
 
 /// A job waiting in the queue.
@@ -158,7 +158,7 @@ pub(crate) struct Actor {
     shared: Arc<Shared>,
     channel: Channel,
     cids: CidStore,
-    cfg: ChannelConfig,
+    cfg: ChannelTiming,
     default_approx_mm: f64,
     rx: mpsc::Receiver<Msg>,
     queue: VecDeque<QueuedJob>,
@@ -209,7 +209,7 @@ impl Actor {
             shared,
             channel,
             cids,
-            cfg: config.channel.clone(),
+            cfg: config.channel,
             program_dir: config.program_dir.clone(),
             keep_modules: config.keep_modules,
             checking: None,
@@ -246,7 +246,7 @@ impl Actor {
             }
         }
         tracing::info!(dir = %self.channel.dir().display(), "engine running");
-        let poll = self.cfg.poll_interval();
+        let poll = self.cfg.poll_interval;
         let mut next_poll = Instant::now();
         loop {
             let mut wake_at = next_poll;
@@ -299,7 +299,7 @@ impl Actor {
     ///   command is taken without waking this thread.
     fn next_msg(&mut self, wake_at: Instant) -> Result<Msg, RecvTimeoutError> {
         if let Some(f) = &self.inflight {
-            let spin_until = (f.sent_at + self.cfg.answer_spin()).min(wake_at);
+            let spin_until = (f.sent_at + self.cfg.answer_spin).min(wake_at);
             let seen = self.spin_stamp;
             while Instant::now() < spin_until {
                 if let Some(msg) = self.try_msg() {
@@ -316,7 +316,7 @@ impl Actor {
                 std::hint::spin_loop();
             }
         } else if let Some(at) = self.answered_at {
-            let spin_until = (at + self.cfg.request_spin()).min(wake_at);
+            let spin_until = (at + self.cfg.request_spin).min(wake_at);
             while Instant::now() < spin_until {
                 if let Some(msg) = self.try_msg() {
                     return msg;
@@ -518,12 +518,13 @@ impl Actor {
         let now = Instant::now();
         let mut supersede = false;
         if let Some(f) = &self.inflight {
-            if !f.acked && now.duration_since(f.sent_at) > self.cfg.ack_timeout() {
+            if !f.acked && now.duration_since(f.sent_at) > self.cfg.ack_timeout {
                 let e = BridgeError::new(
                     ErrorCode::Timeout,
                     format!(
                         "the controller did not pick up command {} within {} ms",
-                        f.cid, self.cfg.ack_timeout_ms
+                        f.cid,
+                        self.cfg.ack_timeout.as_millis()
                     ),
                 );
                 self.fail_inflight(e);
@@ -549,7 +550,7 @@ impl Actor {
         }
         // Queued jobs wait at most their own timeout (e.g. behind a command
         // the controller keeps running after its job failed).
-        let default_timeout = self.cfg.command_timeout();
+        let default_timeout = self.cfg.command_timeout;
         let expired: Vec<JobId> = self
             .queue
             .iter()
@@ -697,7 +698,7 @@ impl Actor {
             }
         };
         let cid = self.next_cid()?;
-        let timeout = job.timeout.unwrap_or(self.cfg.command_timeout());
+        let timeout = job.timeout.unwrap_or(self.cfg.command_timeout);
         self.write(CommandFile { cid, command }, Some((job, timeout)));
         Ok(())
     }

@@ -47,7 +47,7 @@ impl Actor {
             let program = program.clone();
             let cid = self.next_cid()?;
             self.write_module(&dir, cid, &program)?;
-            let timeout = job.timeout.unwrap_or(self.cfg.command_timeout());
+            let timeout = job.timeout.unwrap_or(self.cfg.command_timeout);
             self.write(
                 CommandFile {
                     cid,

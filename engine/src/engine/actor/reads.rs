@@ -67,7 +67,7 @@ impl Actor {
         let online = self
             .ctl
             .seq_changed_at
-            .is_some_and(|t| now.duration_since(t) < self.cfg.offline_after());
+            .is_some_and(|t| now.duration_since(t) < self.cfg.offline_after);
         if online != self.ctl.online {
             self.ctl.online = online;
             if online {
@@ -75,7 +75,7 @@ impl Actor {
             } else {
                 tracing::warn!(
                     event_id = events::CONTROLLER_OFFLINE,
-                    after_ms = self.cfg.offline_after_ms,
+                    after_ms = self.cfg.offline_after.as_millis(),
                     "controller offline: heartbeat stopped"
                 );
                 self.on_offline();
@@ -450,7 +450,7 @@ impl Actor {
     }
 
     pub(super) fn on_offline(&mut self) {
-        let secs = self.cfg.offline_after_ms as f64 / 1000.0;
+        let secs = self.cfg.offline_after.as_secs_f64();
         if let Some(f) = &self.inflight {
             let e = BridgeError::new(
                 ErrorCode::Timeout,

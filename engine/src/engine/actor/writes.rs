@@ -39,7 +39,7 @@ impl Actor {
         self.pending = Some(PendingWrite {
             cmd,
             job,
-            give_up_at: now + self.cfg.lock_timeout(),
+            give_up_at: now + self.cfg.lock_timeout,
             next_try: now,
             backoff: Duration::from_micros(500),
         });
@@ -76,7 +76,7 @@ impl Actor {
                         ErrorCode::ChannelLocked,
                         format!(
                             "{path} stayed locked by another process for {} ms; nothing was sent. Close the program holding it (on a KRC: the KRL program's open file handle)",
-                            self.cfg.lock_timeout_ms
+                            self.cfg.lock_timeout.as_millis()
                         ),
                     );
                     self.write_failed(e);
@@ -170,7 +170,7 @@ impl Actor {
             None => {
                 tracing::warn!(cid = cmd.cid, "stop sent");
                 if let Some(stop) = &mut self.stop {
-                    stop.deadline = Some(now + self.cfg.ack_timeout());
+                    stop.deadline = Some(now + self.cfg.ack_timeout);
                 }
             }
         }
