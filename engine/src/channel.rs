@@ -385,20 +385,23 @@ impl CidStore {
     }
 
     fn persist(&self, value: i64) -> Result<(), ChannelError> {
-        use std::io::Write;
-        let tmp = self.path.with_extension("tmp");
         let io = |source| ChannelError::Io {
             what: "cannot persist command id counter",
             path: self.path.display().to_string(),
             source,
         };
-        let mut f = File::create(&tmp).map_err(io)?;
-        f.write_all(value.to_string().as_bytes()).map_err(io)?;
-        f.sync_all().map_err(io)?;
-        drop(f);
-        std::fs::rename(&tmp, &self.path).map_err(io)?;
-        Ok(())
+        write_replacing(&self.path, value.to_string().as_bytes()).map_err(io)
     }
+}
+
+/// Replaces a data file (a counter) atomically and durably: a crash leaves
+/// the old or the new value, never a mix (the `atomic-write-file` crate:
+/// temporary file, sync, rename).
+pub(crate) fn write_replacing(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let mut file = atomic_write_file::AtomicWriteFile::open(path)?;
+    file.write_all(bytes)?;
+    file.commit()
 }
 
 #[cfg(test)]

@@ -549,13 +549,7 @@ impl JobIdStore {
             return;
         }
         let until = id + JOB_ID_BLOCK;
-        let dir = self.path.parent().unwrap_or(std::path::Path::new("."));
-        match kuka_protocol::files::atomic_write_bytes(
-            dir,
-            "next_job",
-            "svc",
-            until.to_string().as_bytes(),
-        ) {
+        match crate::channel::write_replacing(&self.path, until.to_string().as_bytes()) {
             Ok(()) => self.reserved_until = until,
             Err(e) => {
                 // Ids stay unique within this run; only a restart could

@@ -4,6 +4,13 @@
 //! (so the Users group of `%ProgramData%` cannot read or replace them).
 //! Written to a temporary file that gets the permissions first, then
 //! renamed over the target, so no reader ever sees a partial or open file.
+//!
+//! This is one of the two hand-written atomic writers (the other is the
+//! channel's `ReplacedFile` in kuka-protocol, which must check the
+//! controller's locks); other data files use the `atomic-write-file`
+//! crate. It stays hand-written because the permissions must be on the
+//! temporary file before its first byte, and on Windows they are set by
+//! path, which that crate does not expose.
 
 use std::io::Write;
 use std::path::Path;
