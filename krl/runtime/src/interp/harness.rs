@@ -1,0 +1,407 @@
+//! The test harness of [`run_with_files`](super::run_with_files): the
+//! in-memory files behind `CWRITE($FCT_CALL, …)`, the controller's types
+//! and system variables, and the [`Globals`] a run leaves.
+
+use std::collections::{BTreeMap, HashMap};
+
+use kuka_krl::Expr;
+
+use super::values::{PathElem, Scalar, Value, axis_value, flat_index, step_into};
+use super::vars::{Place, Root};
+use super::{Interp, RunError, Unsupported, describe};
+
+/// Most statements in the test harness ([`run_with_files`](super::run_with_files)), which runs
+/// the controller program's character-by-character parser over whole files.
+const HARNESS_MAX_STATEMENTS: u64 = 50_000_000;
+/// Most expression evaluations in the test harness.
+const HARNESS_MAX_EVALUATIONS: u64 = 1_000_000_000;
+/// `MSG_NO` of the harness's `CWRITE($FCT_CALL, …)`: the file is missing
+/// (`"r"`) or the mode is unknown.
+const MSG_NO_OPEN: i64 = -2;
+/// `MSG_NO`: no open file has this handle (or it is open the other way).
+const MSG_NO_HANDLE: i64 = -3;
+/// `MSG_NO` of `krl_fgets` at the end of the file (PROTOCOL.md 12).
+const MSG_NO_EOF: i64 = -4;
+
+/// Global variables after [`run_with_files`](super::run_with_files)
+/// (names are case-insensitive).
+#[derive(Debug, Clone)]
+pub struct Globals {
+    pub(super) vars: HashMap<String, Value>,
+    pub(super) open_files: Vec<String>,
+}
+
+impl Globals {
+    fn element(&self, name: &str, index: &[i64]) -> Option<&Value> {
+        let v = self.vars.get(&name.to_ascii_uppercase())?;
+        if index.is_empty() {
+            return Some(v);
+        }
+        match v {
+            Value::Array(dims, items) => items.get(flat_index(dims, index).ok()?),
+            _ => None,
+        }
+    }
+
+    /// An INT (or CHAR code) variable or array element (1-based indices).
+    pub fn int(&self, name: &str, index: &[i64]) -> Option<i64> {
+        self.element(name, index)?.int().ok()
+    }
+
+    /// A BOOL variable or array element.
+    pub fn bool(&self, name: &str, index: &[i64]) -> Option<bool> {
+        self.element(name, index)?.bool().ok()
+    }
+
+    /// A REAL (or INT) variable or array element.
+    pub fn real(&self, name: &str, index: &[i64]) -> Option<f64> {
+        self.element(name, index)?.num().ok()
+    }
+
+    /// The first `len` characters of a CHAR array.
+    pub fn chars(&self, name: &str, len: usize) -> Option<String> {
+        (1..=len as i64)
+            .map(|i| match self.element(name, &[i])? {
+                Value::Char(c) => Some(char::from(*c)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// The value at a KRL path such as `kb_mot[3].X`, `kb_hv[2,5]` or
+    /// `$POS_ACT.S` (1-based indices, components by name).
+    fn at(&self, path: &str) -> Option<&Value> {
+        let path = path.trim();
+        let end = path.find(['[', '.']).unwrap_or(path.len());
+        let mut v = self.vars.get(&path[..end].to_ascii_uppercase())?;
+        let mut rest = &path[end..];
+        while !rest.is_empty() {
+            if let Some(r) = rest.strip_prefix('[') {
+                let close = r.find(']')?;
+                let idx = r[..close]
+                    .split(',')
+                    .map(|x| x.trim().parse().ok())
+                    .collect::<Option<Vec<i64>>>()?;
+                v = step_into(v, &PathElem::Index(idx)).ok()?;
+                rest = &r[close + 1..];
+            } else {
+                let r = rest.strip_prefix('.')?;
+                let end = r.find(['[', '.']).unwrap_or(r.len());
+                v = step_into(v, &PathElem::Field(r[..end].to_ascii_uppercase())).ok()?;
+                rest = &r[end..];
+            }
+        }
+        Some(v)
+    }
+
+    /// An INT (or CHAR code) at a path (see [`Globals::real_at`]).
+    pub fn int_at(&self, path: &str) -> Option<i64> {
+        self.at(path)?.int().ok()
+    }
+
+    /// A REAL (or INT) at a KRL path such as `kb_mot[3].X` or `kb_hv[2,5]`.
+    pub fn real_at(&self, path: &str) -> Option<f64> {
+        self.at(path)?.num().ok()
+    }
+
+    /// A BOOL at a path.
+    pub fn bool_at(&self, path: &str) -> Option<bool> {
+        self.at(path)?.bool().ok()
+    }
+
+    /// An ENUM value at a path, without `#`, upper case (`"P_ACTIVE"`).
+    pub fn enum_at(&self, path: &str) -> Option<&str> {
+        match self.at(path)? {
+            Value::Enum(e) => Some(e),
+            _ => None,
+        }
+    }
+
+    /// Files that were still open when [`run_with_files`](super::run_with_files) ended.
+    pub fn open_files(&self) -> &[String] {
+        &self.open_files
+    }
+}
+
+/// The in-memory file system of [`run_with_files`](super::run_with_files).
+#[derive(Debug)]
+pub(super) struct Harness {
+    pub(super) files: BTreeMap<String, String>,
+    pub(super) open: BTreeMap<i64, OpenFile>,
+    next_handle: i64,
+}
+
+#[derive(Debug)]
+pub(super) struct OpenFile {
+    pub(super) name: String,
+    write: bool,
+    /// Read position (bytes).
+    pos: usize,
+}
+
+/// `$ERR` of the harness.
+pub(super) fn err_value(number: i64, line: u32) -> Value {
+    Value::Struct(
+        "ERR_INFO".into(),
+        vec![
+            ("NUMBER".into(), Value::Int(number)),
+            ("LINE".into(), Value::Int(line.into())),
+        ],
+    )
+}
+
+/// The text of a string or of a CHAR array up to its first 0 (or unset
+/// element).
+fn text_of(v: &Value) -> Result<String, String> {
+    match v {
+        Value::Str(s) => Ok(s.clone()),
+        Value::Array(dims, elems) if dims.len() == 1 => Ok(elems
+            .iter()
+            .map_while(|e| match e {
+                Value::Char(c) if *c != 0 => Some(char::from(*c)),
+                _ => None,
+            })
+            .collect()),
+        v => Err(format!("expected a string, found {}", v.type_name())),
+    }
+}
+
+impl<'a> Interp<'a> {
+    /// Turns on the test harness (see [`run_with_files`](super::run_with_files)).
+    pub(super) fn enable_harness(&mut self, files: BTreeMap<String, String>) {
+        self.harness = Some(Harness {
+            files,
+            open: BTreeMap::new(),
+            next_handle: 1,
+        });
+        self.max_statements = HARNESS_MAX_STATEMENTS;
+        self.max_evaluations = HARNESS_MAX_EVALUATIONS;
+        let e = Value::Unset(Scalar::Enum);
+        for t in ["MODUS_T", "CMD_STAT", "MODE_OP", "PRO_STATE"] {
+            self.types.insert(t.into(), e.clone());
+        }
+        let int = Value::Unset(Scalar::Int);
+        self.types.insert(
+            "STATE_T".into(),
+            Value::Struct(
+                "STATE_T".into(),
+                vec![
+                    ("RET1".into(), e),
+                    ("HITS".into(), int.clone()),
+                    ("LENGTH".into(), int.clone()),
+                    ("MSG_NO".into(), int),
+                ],
+            ),
+        );
+        let pos = self.pos_act();
+        let g = &mut self.globals;
+        g.insert("$POS_ACT".into(), pos);
+        if let Some(a) = self.axes {
+            g.insert("$AXIS_ACT".into(), axis_value(&a));
+        }
+        g.insert("$MODE_OP".into(), Value::Enum("T1".into()));
+        g.insert("$OV_PRO".into(), Value::Int(100));
+        g.insert("$PRO_STATE1".into(), Value::Enum("P_FREE".into()));
+        g.insert(
+            "$PRO_NAME1".into(),
+            Value::Array(vec![24], vec![Value::Char(b' '); 24]),
+        );
+        g.insert("$STOPMESS".into(), Value::Bool(false));
+        g.insert("$PERI_RDY".into(), Value::Bool(true));
+        g.insert("$ROB_TIMER".into(), Value::Int(0));
+        g.insert("$ERR".into(), err_value(0, 0));
+    }
+
+    fn harness_mut(&mut self) -> Result<&mut Harness, RunError> {
+        let line = self.line;
+        self.harness.as_mut().ok_or(RunError::Runtime {
+            line,
+            message: "internal: file access outside the test harness".into(),
+        })
+    }
+
+    /// A variable argument that CWRITE writes (`OUT`).
+    fn out_place(&mut self, e: &Expr, what: &str) -> Result<Place, RunError> {
+        match self.place_of(e)? {
+            Some(p) if !matches!(p.root, Root::Computed(_)) => Ok(p),
+            _ => Err(self.err(format!("CWRITE: {what} must be a variable"))),
+        }
+    }
+
+    fn eval_text(&mut self, e: &Expr) -> Result<String, RunError> {
+        let v = self.eval(e)?;
+        text_of(&v).map_err(|m| self.err(format!("CWRITE: {m}")))
+    }
+
+    pub(super) fn cwrite(&mut self, args: &[Expr]) -> Result<(), RunError> {
+        let [channel, st, md, func, rest @ ..] = args else {
+            return Err(self.err(
+                "CWRITE takes a channel, a STATE_T, a MODUS_T and a command with its arguments",
+            ));
+        };
+        if !matches!(channel, Expr::Var(n) if n.eq_ignore_ascii_case("$FCT_CALL")) {
+            return Err(Unsupported {
+                line: self.line,
+                what: format!(
+                    "CWRITE({}) (the test harness has only $FCT_CALL)",
+                    describe(channel)
+                ),
+            }
+            .into());
+        }
+        let st = self.out_place(st, "the state (STATE_T)")?;
+        match self.eval(md)? {
+            Value::Enum(_) => {}
+            v => {
+                return Err(self.err(format!(
+                    "CWRITE: the mode must be a MODUS_T, found {}",
+                    v.type_name()
+                )));
+            }
+        }
+        let func = self.eval_text(func)?;
+        let msg_no = match func.to_ascii_lowercase().as_str() {
+            "krl_fopen" => self.krl_fopen(rest)?,
+            "krl_fgets" => self.krl_fgets(rest)?,
+            "krl_fwriteln" => self.krl_fwrite(rest, true)?,
+            "krl_fputs" => self.krl_fwrite(rest, false)?,
+            "krl_fclose" => {
+                let [h] = rest else {
+                    return Err(self.err("krl_fclose takes a handle"));
+                };
+                let h = self.eval_int(h)?;
+                match self.harness_mut()?.open.remove(&h) {
+                    Some(_) => 0,
+                    None => MSG_NO_HANDLE,
+                }
+            }
+            "krl_fclose_all" => {
+                if !rest.is_empty() {
+                    return Err(self.err("krl_fclose_all takes no arguments"));
+                }
+                self.harness_mut()?.open.clear();
+                0
+            }
+            other => {
+                return Err(Unsupported {
+                    line: self.line,
+                    what: format!("CWRITE($FCT_CALL, …, \"{other}\") in the test harness"),
+                }
+                .into());
+            }
+        };
+        let ret1 = if msg_no == 0 { "DATA_OK" } else { "CMD_ABORT" };
+        let status = Value::Struct(
+            "STATE_T".into(),
+            vec![
+                ("RET1".into(), Value::Enum(ret1.into())),
+                ("HITS".into(), Value::Int(0)),
+                ("LENGTH".into(), Value::Int(0)),
+                ("MSG_NO".into(), Value::Int(msg_no)),
+            ],
+        );
+        self.write_place(&st, status)
+    }
+
+    /// `"krl_fopen", name, mode, handle [, size]`; the `MSG_NO` (0 = done).
+    fn krl_fopen(&mut self, args: &[Expr]) -> Result<i64, RunError> {
+        let (name, mode, handle) = match args {
+            [n, m, h] | [n, m, h, _] => (n, m, h),
+            _ => return Err(self.err("krl_fopen takes a name, a mode and a handle")),
+        };
+        let name = self.eval_text(name)?;
+        let mode = self.eval_text(mode)?.to_ascii_lowercase();
+        let handle = self.out_place(handle, "the handle")?;
+        let hs = self.harness_mut()?;
+        match mode.as_str() {
+            "r" if !hs.files.contains_key(&name) => return Ok(MSG_NO_OPEN),
+            "r" => {}
+            "w" => {
+                hs.files.insert(name.clone(), String::new());
+            }
+            "a" => {
+                hs.files.entry(name.clone()).or_default();
+            }
+            _ => return Ok(MSG_NO_OPEN),
+        }
+        let h = hs.next_handle;
+        hs.next_handle += 1;
+        hs.open.insert(
+            h,
+            OpenFile {
+                name,
+                write: mode != "r",
+                pos: 0,
+            },
+        );
+        self.write_place(&handle, Value::Int(h))?;
+        Ok(0)
+    }
+
+    /// `"krl_fgets", handle, buf[], size, count`.
+    fn krl_fgets(&mut self, args: &[Expr]) -> Result<i64, RunError> {
+        let [h, buf, size, count] = args else {
+            return Err(self.err("krl_fgets takes a handle, a CHAR array, a size and a count"));
+        };
+        let h = self.eval_int(h)?;
+        let size = usize::try_from(self.eval_int(size)?).unwrap_or(0);
+        let buf = self.out_place(buf, "the buffer")?;
+        let count = self.out_place(count, "the count")?;
+        let mut chars = self.read_place(&buf)?;
+        let Value::Array(dims, elems) = &mut chars else {
+            return Err(self.err("krl_fgets: the buffer must be a CHAR array"));
+        };
+        if dims.len() != 1 || elems.first().and_then(Value::scalar_kind) != Some(Scalar::Char) {
+            return Err(self.err("krl_fgets: the buffer must be a CHAR array"));
+        }
+        let room = size.min(elems.len());
+        let hs = self.harness_mut()?;
+        let Some(f) = hs.open.get_mut(&h).filter(|f| !f.write) else {
+            return Ok(MSG_NO_HANDLE);
+        };
+        let text = hs.files.get(&f.name).map_or(&[][..], |t| t.as_bytes());
+        let Some(rest) = text.get(f.pos..).filter(|r| !r.is_empty()) else {
+            return Ok(MSG_NO_EOF);
+        };
+        let (mut line, mut used) = match rest.iter().position(|&b| b == b'\n') {
+            Some(i) => (&rest[..i], i + 1),
+            None => (rest, rest.len()),
+        };
+        if let Some(l) = line.strip_suffix(b"\r") {
+            line = l;
+        }
+        if line.len() > room {
+            line = &line[..room];
+            used = room;
+        }
+        f.pos += used;
+        let n = line.len();
+        for (e, &b) in elems.iter_mut().zip(line) {
+            *e = Value::Char(b);
+        }
+        if let Some(e) = elems.get_mut(n) {
+            *e = Value::Char(0);
+        }
+        self.write_place(&buf, chars)?;
+        self.write_place(&count, Value::Int(n as i64))?;
+        Ok(0)
+    }
+
+    /// `"krl_fwriteln", handle, buf[]` (`newline`) or `"krl_fputs"`.
+    fn krl_fwrite(&mut self, args: &[Expr], newline: bool) -> Result<i64, RunError> {
+        let [h, buf] = args else {
+            return Err(self.err("krl_fwriteln/krl_fputs take a handle and a CHAR array"));
+        };
+        let h = self.eval_int(h)?;
+        let mut text = self.eval_text(buf)?;
+        if newline {
+            text.push('\n');
+        }
+        let hs = self.harness_mut()?;
+        let Some(f) = hs.open.get(&h).filter(|f| f.write) else {
+            return Ok(MSG_NO_HANDLE);
+        };
+        hs.files.entry(f.name.clone()).or_default().push_str(&text);
+        Ok(0)
+    }
+}

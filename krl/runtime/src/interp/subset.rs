@@ -1,0 +1,377 @@
+//! The check of which KRL the simulator accepts: [`check_subset`] walks
+//! the whole program before anything runs; the subset is listed in the
+//! [module documentation](super).
+
+use kuka_krl::{BinOp, Expr, Program, RoutineKind, SplinePointKind, Stmt, StmtKind};
+
+use super::operators::BUILTINS;
+use super::values::template;
+use super::{SYS_READ_ONLY, SYS_WRITE, Unsupported, describe};
+
+/// Refuses, before anything runs, every statement outside the subset.
+///
+/// Walks every routine of the `.src` (called or not) and every item of the
+/// `.dat`; see the [module documentation](super) for the subset.
+pub fn check_subset(program: &Program) -> Result<(), Unsupported> {
+    let mut prios = Vec::new();
+    for r in &program.src.routines {
+        stopm_prios(&r.body, &mut prios);
+    }
+    let routines: std::collections::HashSet<String> = program
+        .src
+        .routines
+        .iter()
+        .map(|r| r.name.to_ascii_uppercase())
+        .collect();
+    if let Some(dat) = &program.dat {
+        let c = Checker {
+            routines: routines.clone(),
+            in_dat: true,
+            stopm_prios: Vec::new(),
+        };
+        c.block(&dat.items)?;
+    }
+    let c = Checker {
+        routines,
+        in_dat: false,
+        stopm_prios: prios,
+    };
+    for r in &program.src.routines {
+        if let RoutineKind::DefFct(ty) = &r.kind
+            && template(ty).is_none()
+        {
+            return c.refuse(r.line, format!("a function returning {ty}"));
+        }
+        c.block(&r.body)?;
+    }
+    Ok(())
+}
+
+struct Checker {
+    /// Upper-case names of the `.src` routines (a set: a file of many
+    /// routines and calls must not cost quadratic time).
+    routines: std::collections::HashSet<String>,
+    in_dat: bool,
+    /// Priorities of the standard stop-message interrupt (INI fold).
+    stopm_prios: Vec<i64>,
+}
+
+/// `INTERRUPT DECL n WHEN $STOPMESS == TRUE DO IR_STOPM()`, the standard
+/// stop-message interrupt of the INI fold: accepted and ignored (the
+/// simulated controller handles its own stops).
+fn is_stopm_decl(k: &StmtKind) -> bool {
+    let StmtKind::InterruptDecl { prio, when, action } = k else {
+        return false;
+    };
+    matches!(prio, Expr::Int(_))
+        && matches!(&action.kind, StmtKind::Call { name, args } if name.eq_ignore_ascii_case("IR_STOPM") && args.is_empty())
+        && matches!(when, Expr::Binary(BinOp::Eq, a, b)
+            if matches!(&**a, Expr::Var(v) if v.eq_ignore_ascii_case("$STOPMESS"))
+                && **b == Expr::Bool(true))
+}
+
+/// Priorities of the stop-message interrupts declared anywhere in `body`.
+fn stopm_prios(body: &[Stmt], out: &mut Vec<i64>) {
+    for s in body {
+        match &s.kind {
+            StmtKind::InterruptDecl {
+                prio: Expr::Int(p), ..
+            } if is_stopm_decl(&s.kind) => out.push(*p),
+            StmtKind::If {
+                then_body,
+                else_body,
+                ..
+            } => {
+                stopm_prios(then_body, out);
+                stopm_prios(else_body, out);
+            }
+            StmtKind::While { body, .. }
+            | StmtKind::For { body, .. }
+            | StmtKind::Loop { body }
+            | StmtKind::Repeat { body, .. } => stopm_prios(body, out),
+            StmtKind::Switch { cases, default, .. } => {
+                for (_, b) in cases {
+                    stopm_prios(b, out);
+                }
+                if let Some(d) = default {
+                    stopm_prios(d, out);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+fn root_name(e: &Expr) -> Option<&str> {
+    match e {
+        Expr::Var(n) => Some(n),
+        Expr::Index(b, _) | Expr::Field(b, _) => root_name(b),
+        _ => None,
+    }
+}
+
+fn mentions_system(e: &Expr) -> bool {
+    match e {
+        Expr::Var(n) => n.starts_with('$'),
+        Expr::Index(b, i) => mentions_system(b) || i.iter().any(mentions_system),
+        Expr::Field(b, _) | Expr::Unary(_, b) => mentions_system(b),
+        Expr::Call(_, a) => a.iter().any(mentions_system),
+        Expr::Struct { fields, .. } => fields.iter().any(|(_, v)| mentions_system(v)),
+        Expr::Binary(_, a, b) => mentions_system(a) || mentions_system(b),
+        _ => false,
+    }
+}
+
+impl Checker {
+    fn is_routine(&self, name: &str) -> bool {
+        self.routines.contains(&name.to_ascii_uppercase())
+    }
+
+    fn refuse(&self, line: u32, what: impl Into<String>) -> Result<(), Unsupported> {
+        let mut what = what.into();
+        if self.in_dat {
+            what.push_str(" (in the .dat file)");
+        }
+        Err(Unsupported { line, what })
+    }
+
+    fn block(&self, b: &[Stmt]) -> Result<(), Unsupported> {
+        b.iter().try_for_each(|s| self.stmt(s))
+    }
+
+    fn exprs<'e>(&self, es: impl IntoIterator<Item = &'e Expr>, l: u32) -> Result<(), Unsupported> {
+        es.into_iter().try_for_each(|e| self.expr(e, l))
+    }
+
+    fn stmt(&self, s: &Stmt) -> Result<(), Unsupported> {
+        let l = s.line;
+        match &s.kind {
+            StmtKind::Decl { ty, vars, .. } => {
+                let known = template(ty).is_some();
+                if !known && !self.in_dat {
+                    return self.refuse(l, format!("the type {ty}"));
+                }
+                for v in vars {
+                    if v.dims.len() > 2 {
+                        return self.refuse(l, "an array with more than 2 dimensions");
+                    }
+                    if known {
+                        self.exprs(&v.dims, l)?;
+                        self.exprs(&v.init, l)?;
+                    }
+                }
+                Ok(())
+            }
+            StmtKind::Struc { .. } => self.refuse(l, "STRUC (user-defined structure types)"),
+            StmtKind::Enum { .. } => self.refuse(l, "ENUM (user-defined enumeration types)"),
+            StmtKind::Signal { .. } => self.refuse(l, "SIGNAL (I/O signals)"),
+            StmtKind::Ext { name } if name.eq_ignore_ascii_case("BAS") => Ok(()),
+            StmtKind::Ext { name } => self.refuse(
+                l,
+                format!("EXT {name} (a routine of another module; the call {name})"),
+            ),
+            StmtKind::Assign { target, value } => {
+                self.lvalue(target, l)?;
+                self.expr(value, l)
+            }
+            StmtKind::Call { name, args } => {
+                if name.eq_ignore_ascii_case("BAS") {
+                    return match args.first() {
+                        Some(Expr::Enum(c)) if c.eq_ignore_ascii_case("INITMOV") => {
+                            self.exprs(args, l)
+                        }
+                        Some(Expr::Enum(c)) => self
+                            .refuse(l, format!("BAS(#{c}) (only BAS(#INITMOV, …) is supported)")),
+                        _ => self.refuse(l, "BAS without a #command"),
+                    };
+                }
+                if !self.is_routine(name) {
+                    return self.refuse(l, format!("the call {name}"));
+                }
+                self.exprs(args, l)
+            }
+            StmtKind::If {
+                cond,
+                then_body,
+                else_body,
+            } => {
+                self.expr(cond, l)?;
+                self.block(then_body)?;
+                self.block(else_body)
+            }
+            StmtKind::While { cond, body } => {
+                self.expr(cond, l)?;
+                self.block(body)
+            }
+            StmtKind::For {
+                from,
+                to,
+                step,
+                body,
+                ..
+            } => {
+                self.exprs([from, to], l)?;
+                self.exprs(step, l)?;
+                self.block(body)
+            }
+            StmtKind::Loop { body } => self.block(body),
+            StmtKind::Repeat { body, until } => {
+                self.block(body)?;
+                self.expr(until, l)
+            }
+            StmtKind::Switch {
+                selector,
+                cases,
+                default,
+            } => {
+                self.expr(selector, l)?;
+                for (vals, body) in cases {
+                    self.exprs(vals, l)?;
+                    self.block(body)?;
+                }
+                if let Some(d) = default {
+                    self.block(d)?;
+                }
+                Ok(())
+            }
+            StmtKind::Return(e) => self.exprs(e, l),
+            StmtKind::Exit | StmtKind::Continue => Ok(()),
+            StmtKind::Halt => self.refuse(l, "HALT"),
+            StmtKind::Brake => self.refuse(l, "BRAKE"),
+            StmtKind::Resume => self.refuse(l, "RESUME"),
+            StmtKind::OnErrorProceed => self.refuse(l, "ON_ERROR_PROCEED"),
+            StmtKind::WaitSec(e) => self.expr(e, l),
+            StmtKind::WaitFor(e) => {
+                if mentions_system(e) {
+                    return self
+                        .refuse(l, "WAIT FOR with a condition that depends on the robot/IO");
+                }
+                self.expr(e, l)
+            }
+            StmtKind::Motion {
+                aux,
+                target,
+                ca,
+                rel_frame,
+                ..
+            } => {
+                if ca.is_some() {
+                    return self.refuse(l, "CIRC with CA (circular angle)");
+                }
+                if rel_frame.as_deref() == Some("TOOL") {
+                    return self.refuse(l, "a relative motion in #TOOL coordinates");
+                }
+                self.exprs(aux, l)?;
+                self.expr(target, l)
+            }
+            StmtKind::Spline {
+                ptp, points, with, ..
+            } => {
+                if !with.is_empty() {
+                    return self.refuse(l, "WITH after SPLINE (put WITH on the points)");
+                }
+                for p in points {
+                    let pl = p.line;
+                    if p.ca.is_some() {
+                        return self.refuse(pl, "SCIRC with CA (circular angle)");
+                    }
+                    let is_sptp = p.kind == SplinePointKind::Sptp;
+                    if *ptp && !is_sptp {
+                        return self.refuse(
+                            pl,
+                            format!(
+                                "{} inside PTP_SPLINE",
+                                format!("{:?}", p.kind).to_uppercase()
+                            ),
+                        );
+                    }
+                    if !*ptp && is_sptp {
+                        return self.refuse(pl, "SPTP inside a SPLINE block");
+                    }
+                    for (t, v) in &p.with {
+                        let root = root_name(t).unwrap_or("").to_ascii_uppercase();
+                        if !(root == "$VEL" || root == "$ACC") {
+                            return self.refuse(
+                                pl,
+                                format!(
+                                    "WITH {} (only $VEL and $ACC are supported in WITH)",
+                                    describe(t)
+                                ),
+                            );
+                        }
+                        self.lvalue(t, pl)?;
+                        self.expr(v, pl)?;
+                    }
+                    self.exprs(&p.aux, pl)?;
+                    self.expr(&p.target, pl)?;
+                }
+                Ok(())
+            }
+            StmtKind::InterruptDecl { prio, .. } if is_stopm_decl(&s.kind) => self.expr(prio, l),
+            StmtKind::InterruptSwitch {
+                prio: Some(Expr::Int(p)),
+                ..
+            } if self.stopm_prios.contains(p) => Ok(()),
+            StmtKind::InterruptDecl { .. } | StmtKind::InterruptSwitch { .. } => {
+                self.refuse(l, "INTERRUPT")
+            }
+            StmtKind::Trigger { .. } => self.refuse(l, "TRIGGER"),
+        }
+    }
+
+    fn lvalue(&self, e: &Expr, l: u32) -> Result<(), Unsupported> {
+        if let Some(root) = root_name(e) {
+            let up = root.to_ascii_uppercase();
+            if up.starts_with('$') {
+                if SYS_READ_ONLY.contains(&up.as_str()) {
+                    return self.refuse(l, format!("assigning {up}"));
+                }
+                if !SYS_WRITE.contains(&up.as_str()) {
+                    return self.refuse(l, format!("the system variable {up}"));
+                }
+            }
+        }
+        match e {
+            Expr::Var(_) => Ok(()),
+            Expr::Index(b, i) => {
+                self.lvalue(b, l)?;
+                self.exprs(i, l)
+            }
+            Expr::Field(b, _) => self.lvalue(b, l),
+            _ => self.expr(e, l),
+        }
+    }
+
+    fn expr(&self, e: &Expr, l: u32) -> Result<(), Unsupported> {
+        match e {
+            Expr::Var(n) => {
+                let up = n.to_ascii_uppercase();
+                if up.starts_with('$')
+                    && !SYS_WRITE.contains(&up.as_str())
+                    && !SYS_READ_ONLY.contains(&up.as_str())
+                {
+                    return self.refuse(l, format!("the system variable {up}"));
+                }
+                Ok(())
+            }
+            Expr::Index(b, i) => {
+                self.expr(b, l)?;
+                self.exprs(i, l)
+            }
+            Expr::Field(b, _) | Expr::Unary(_, b) => self.expr(b, l),
+            Expr::Call(n, args) => {
+                let up = n.to_ascii_uppercase();
+                if !BUILTINS.contains(&up.as_str()) && !self.routines.contains(&up) {
+                    return self.refuse(l, format!("the call {n}"));
+                }
+                self.exprs(args, l)
+            }
+            Expr::Struct { fields, .. } => self.exprs(fields.iter().map(|(_, v)| v), l),
+            Expr::Binary(_, a, b) => {
+                self.expr(a, l)?;
+                self.expr(b, l)
+            }
+            Expr::Int(_) | Expr::Real(_) | Expr::Bool(_) | Expr::Str(_) | Expr::Enum(_) => Ok(()),
+        }
+    }
+}
