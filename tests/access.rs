@@ -395,6 +395,16 @@ async fn control_lease_conflicts_expiry_and_audit() {
             .unwrap_or_default()
             .starts_with("plugin:draw-circle")
     );
+    // The plugin's batch is on the audit record of the HTTP call that ran it.
+    let (_, records, _) = call(
+        &t,
+        "GET",
+        "/api/v1/audit?who=op-one&path=/api/v1/plugins/draw-circle/circle&failed=false",
+        Some(&admin),
+        None,
+    )
+    .await;
+    assert_eq!(records[0]["jobs"], json!([jobs[0]["id"]]), "{records}");
 
     // An admin takes over; the former holder is now refused.
     let (s, v, _) = call(

@@ -101,12 +101,12 @@ fn main() {
             body: r#"{"x": 300, "y": 20, "z": 100, "radius": 40}"#.into(),
         };
         for _ in 0..500 {
-            host.call(&plugin, request()).await.expect("call");
+            host.call(&plugin, request(), None).await.expect("call");
         }
         let mut samples = vec![Duration::ZERO; n];
         for s in samples.iter_mut() {
             let start = Instant::now();
-            let r = host.call(&plugin, request()).await.expect("call");
+            let r = host.call(&plugin, request(), None).await.expect("call");
             *s = start.elapsed();
             assert!(r.status < 500, "{}", r.body);
         }

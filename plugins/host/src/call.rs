@@ -9,7 +9,7 @@ use wasmtime::{Store, UpdateDeadline};
 
 use crate::bindings::{BridgePluginPre, Description, Request, Response};
 use crate::error::{PluginError, Symptoms, classify};
-use crate::imports::{BridgeApi, CallContext, RequestState};
+use crate::imports::{BridgeApi, CallContext, Caller, RequestState};
 use crate::runtime::Runtime;
 use crate::{LoadedPlugin, PluginLimits};
 
@@ -66,6 +66,7 @@ pub(crate) async fn describe(
         plugin: name.into(),
         version: "".into(),
         request_time: DESCRIBE_CPU * 2,
+        caller: None,
     };
     let mut store = new_store(runtime, limits, DESCRIBE_CPU, None, ctx);
     let wall = DESCRIBE_CPU * 2;
@@ -100,12 +101,14 @@ pub(crate) async fn handle(
     request: Request,
     limits: &PluginLimits,
     api: Arc<dyn BridgeApi>,
+    caller: Option<Caller>,
 ) -> Result<Response, PluginError> {
     let _running = runtime.admit()?;
     let ctx = CallContext {
         plugin: plugin.name.clone(),
         version: plugin.version.clone(),
         request_time: limits.request_time,
+        caller,
     };
     let mut store = new_store(runtime, limits, limits.cpu_time, Some(api), ctx);
     let result = tokio::time::timeout(limits.request_time, async {

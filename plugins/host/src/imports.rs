@@ -29,7 +29,16 @@ pub struct CallContext {
     pub version: Arc<str>,
     /// How long the plugin's request may take (a batch may run as long).
     pub request_time: std::time::Duration,
+    /// Who made the request, as the embedder passed it to
+    /// [`crate::PluginHost::call`]: opaque to the host, handed back
+    /// untouched (the service puts its request context here, so a
+    /// plugin's motions run as the HTTP caller's).
+    pub caller: Option<Caller>,
 }
+
+/// The embedder's identity of a plugin request's caller (see
+/// [`CallContext::caller`]).
+pub type Caller = Arc<dyn std::any::Any + Send + Sync>;
 
 /// The bridge as a plugin sees it. The service implements it with the same
 /// code path as its REST API, so a plugin cannot do what a client could not.

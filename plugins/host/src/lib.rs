@@ -36,7 +36,7 @@ pub use bindings::{
 pub use cache::sha256_hex;
 pub use describe::{METHODS, RouteSpec, check_name};
 pub use error::PluginError;
-pub use imports::{BoxFuture, BridgeApi, CallContext, host_error};
+pub use imports::{BoxFuture, BridgeApi, CallContext, Caller, host_error};
 
 /// The WIT package version this host implements.
 pub const WIT_VERSION: &str = "kuka-bridge:plugin@0.1.0";
@@ -189,11 +189,13 @@ impl PluginHost {
         Ok(plugin)
     }
 
-    /// Runs one request in a fresh store with the configured limits.
+    /// Runs one request in a fresh store with the configured limits;
+    /// `caller` comes back to [`BridgeApi`] in [`CallContext::caller`].
     pub async fn call(
         &self,
         plugin: &LoadedPlugin,
         request: Request,
+        caller: Option<Caller>,
     ) -> Result<Response, PluginError> {
         call::handle(
             &self.runtime,
@@ -201,6 +203,7 @@ impl PluginHost {
             request,
             self.limits(&plugin.name),
             self.api.clone(),
+            caller,
         )
         .await
     }

@@ -57,10 +57,6 @@ pub struct RequestContext {
     jobs: Mutex<Vec<JobId>>,
 }
 
-tokio::task_local! {
-    static REQUEST: Arc<RequestContext>;
-}
-
 impl RequestContext {
     /// A context for `principal`.
     pub fn new(principal: Principal) -> Arc<RequestContext> {
@@ -78,34 +74,24 @@ impl RequestContext {
             .clone()
     }
 
-    /// Runs `f` as this request.
-    pub async fn scope<F: Future>(self: Arc<Self>, f: F) -> F::Output {
-        REQUEST.scope(self, f).await
-    }
-}
-
-/// The caller of the request this task serves, if any.
-pub fn current_principal() -> Option<Principal> {
-    REQUEST.try_with(|r| r.principal.clone()).ok()
-}
-
-/// The engine's [`crate::engine::Caller`] for the request being served:
-/// its principal's name, and [`note_job`] to record the jobs it creates.
-pub fn caller() -> crate::engine::Caller {
-    crate::engine::Caller {
-        name: current_principal().map(|p| p.name),
-        on_job: Some(Arc::new(note_job)),
-    }
-}
-
-/// Records that the current request created job `id` (for the audit).
-pub fn note_job(id: JobId) {
-    let _ = REQUEST.try_with(|r| {
-        r.jobs
+    /// Records that this request created job `id` (for the audit).
+    pub fn note_job(&self, id: JobId) {
+        self.jobs
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)
             .push(id);
-    });
+    }
+
+    /// The engine's [`crate::engine::Caller`] for this request: the
+    /// principal's name, and [`RequestContext::note_job`] to record the
+    /// jobs it creates.
+    pub fn caller(self: &Arc<Self>) -> crate::engine::Caller {
+        let ctx = self.clone();
+        crate::engine::Caller {
+            name: Some(self.principal.name.clone()),
+            on_job: Some(Arc::new(move |id| ctx.note_job(id))),
+        }
+    }
 }
 
 /// Counts failed authentication attempts per client address and refuses

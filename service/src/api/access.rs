@@ -9,10 +9,11 @@ use utoipa::ToSchema;
 use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
+use super::auth::Who;
 use super::problem::{JsonBody, PROBLEM_JSON, Problem, ProblemDetails, QueryParams, json_response};
 use super::{AppState, ok_json};
 use crate::access::audit::{AuditQuery, AuditRecord};
-use crate::access::{Lease, Principal, Role, TokenError, TokenInfo, current_principal};
+use crate::access::{Lease, Principal, Role, TokenError, TokenInfo};
 use crate::error::{BridgeError, ErrorCode};
 
 /// Who holds control.
@@ -62,22 +63,18 @@ pub struct CreatedToken {
     pub secret: String,
 }
 
-fn caller() -> Principal {
-    current_principal().unwrap_or_else(Principal::anonymous)
-}
-
-fn control_state(app: &AppState) -> ControlState {
+fn control_state(app: &AppState, who: &Who) -> ControlState {
     ControlState {
         lease: app.access.control.current(),
         auth: app.access.enabled,
-        you: caller(),
+        you: who.principal().clone(),
     }
 }
 
 /// Who holds control of the robot, and who you are (token name and role).
 #[utoipa::path(get, path = "/api/v1/control", tag = "access", responses((status = 200, body = ControlState)))]
-async fn get_control(State(app): State<AppState>) -> Response {
-    ok_json(&control_state(&app))
+async fn get_control(State(app): State<AppState>, who: Who) -> Response {
+    ok_json(&control_state(&app, &who))
 }
 
 /// Take (or renew) control of the robot.
@@ -90,6 +87,7 @@ async fn get_control(State(app): State<AppState>) -> Response {
         (status = 409, description = "Another client holds control", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn take_control(
     State(app): State<AppState>,
+    who: Who,
     body: axum::body::Bytes,
 ) -> Result<Response, Problem> {
     let req: ControlRequest = if body.iter().all(u8::is_ascii_whitespace) {
@@ -98,17 +96,17 @@ async fn take_control(
         serde_json::from_slice(&body)
             .map_err(|e| BridgeError::invalid(format!("request body: {e}")))?
     };
-    app.access.control.acquire(&caller(), req.take_over)?;
-    Ok(ok_json(&control_state(&app)))
+    app.access.control.acquire(who.principal(), req.take_over)?;
+    Ok(ok_json(&control_state(&app, &who)))
 }
 
 /// Release control (your own; an admin may release anyone's).
 #[utoipa::path(delete, path = "/api/v1/control", tag = "access",
     responses((status = 200, body = ControlState),
         (status = 409, description = "Another client holds control", body = ProblemDetails, content_type = PROBLEM_JSON)))]
-async fn release_control(State(app): State<AppState>) -> Result<Response, Problem> {
-    app.access.control.release(&caller())?;
-    Ok(ok_json(&control_state(&app)))
+async fn release_control(State(app): State<AppState>, who: Who) -> Result<Response, Problem> {
+    app.access.control.release(who.principal())?;
+    Ok(ok_json(&control_state(&app, &who)))
 }
 
 fn token_problem(e: TokenError) -> Problem {
@@ -132,6 +130,7 @@ async fn list_tokens(State(app): State<AppState>) -> Response {
         (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn create_token(
     State(app): State<AppState>,
+    who: Who,
     JsonBody(req): JsonBody<NewToken>,
 ) -> Result<Response, Problem> {
     let tokens = app.access.tokens.clone();
@@ -139,7 +138,7 @@ async fn create_token(
         .await
         .map_err(|e| BridgeError::new(ErrorCode::Internal, e.to_string()))?
         .map_err(token_problem)?;
-    tracing::info!(name = %info.name, role = %info.role, by = %caller().name, "token created");
+    tracing::info!(name = %info.name, role = %info.role, by = %who.principal().name, "token created");
     Ok(json_response(
         201,
         "application/json",
@@ -154,6 +153,7 @@ async fn create_token(
         (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn revoke_token(
     State(app): State<AppState>,
+    who: Who,
     Path(name): Path<String>,
 ) -> Result<Response, Problem> {
     let tokens = app.access.tokens.clone();
@@ -162,7 +162,7 @@ async fn revoke_token(
         .map_err(|e| BridgeError::new(ErrorCode::Internal, e.to_string()))?
         .map_err(token_problem)?;
     app.access.forget_revoked();
-    tracing::info!(name = %info.name, by = %caller().name, "token revoked");
+    tracing::info!(name = %info.name, by = %who.principal().name, "token revoked");
     Ok(ok_json(&info))
 }
 

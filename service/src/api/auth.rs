@@ -18,6 +18,44 @@ use super::AppState;
 use crate::access::{self, Principal, QUERY_TOKEN, RequestContext, Role, audit};
 use crate::error::{BridgeError, ErrorCode};
 
+/// The caller of the request being served, as this middleware put it in
+/// the request's extensions: handlers pass it with every submission (its
+/// [`RequestContext::caller`]), and the audit record reads the jobs it
+/// created from the same context, also when the client went away first.
+#[derive(Clone)]
+pub(super) struct Who(pub Arc<RequestContext>);
+
+impl Who {
+    /// The engine's caller for this request.
+    pub(super) fn caller(&self) -> crate::engine::Caller {
+        self.0.caller()
+    }
+
+    /// The principal.
+    pub(super) fn principal(&self) -> &Principal {
+        &self.0.principal
+    }
+}
+
+impl<S: Send + Sync> axum::extract::FromRequestParts<S> for Who {
+    type Rejection = super::problem::Problem;
+
+    async fn from_request_parts(
+        parts: &mut axum::http::request::Parts,
+        _: &S,
+    ) -> Result<Self, Self::Rejection> {
+        parts
+            .extensions
+            .get::<Arc<RequestContext>>()
+            .cloned()
+            .map(Who)
+            .ok_or_else(|| {
+                tracing::error!(path = %parts.uri.path(), "request without an identity: the access layer did not run");
+                BridgeError::new(ErrorCode::Internal, "the request has no identity").into()
+            })
+    }
+}
+
 /// Largest JSON body read for the audit record (bigger ones are refused
 /// here as they would be by the handler).
 const MAX_AUDITED_JSON: usize = 2 << 20;
@@ -124,8 +162,9 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
         None
     };
     let ctx = RequestContext::new(principal);
+    req.extensions_mut().insert(ctx.clone());
     if !rule.audited {
-        return ctx.scope(next.run(req)).await;
+        return next.run(req).await;
     }
     let body_time = Duration::from_millis(app.server.header_timeout_ms);
     let (req, params) = match audit_params(req, body_time).await {
@@ -152,7 +191,7 @@ pub async fn guard(State(app): State<AppState>, req: Request, next: Next) -> Res
         ctx: ctx.clone(),
         params: Some(params),
     };
-    let response = ctx.scope(next.run(req)).await;
+    let response = next.run(req).await;
     let (response, code) = problem_code(response).await;
     unanswered.write(response.status().as_u16(), code);
     response

@@ -15,6 +15,7 @@ use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
 use super::AppState;
+use super::auth::Who;
 use super::problem::{Problem, QueryParams};
 use crate::engine::Event;
 use crate::error::BridgeError;
@@ -41,6 +42,7 @@ pub struct EventsQuery {
     responses((status = 200, description = "text/event-stream of job, state, alarm and plan events", content_type = "text/event-stream", body = String), (status = 422, description = "Unknown event type", body = super::problem::ProblemDetails, content_type = super::problem::PROBLEM_JSON)))]
 async fn events(
     State(app): State<AppState>,
+    who: Who,
     QueryParams(q): QueryParams<EventsQuery>,
 ) -> Result<Sse<impl Stream<Item = Result<SseEvent, Infallible>>>, Problem> {
     let wanted: Option<Vec<String>> = q
@@ -84,7 +86,7 @@ async fn events(
             std::future::ready(out)
         });
     let mut closing = app.closing.clone();
-    let revoked = token_revoked(&app);
+    let revoked = token_revoked(&app, who.principal());
     let stream = stream.take_until(async move {
         tokio::select! {
             _ = closing.wait_for(|c| *c) => {}
@@ -97,9 +99,12 @@ async fn events(
 /// Resolves when the caller's token is revoked (or replaced by a new one
 /// with the same name), so a stream never outlives its token; never when
 /// access control is off.
-fn token_revoked(app: &AppState) -> impl std::future::Future<Output = ()> + use<> {
+fn token_revoked(
+    app: &AppState,
+    who: &crate::access::Principal,
+) -> impl std::future::Future<Output = ()> + use<> {
     let access = app.access.clone();
-    let token = crate::access::current_principal()
+    let token = Some(who)
         .filter(|_| access.enabled)
         .and_then(|p| access.tokens.get(&p.name));
     async move {

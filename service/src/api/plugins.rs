@@ -15,6 +15,7 @@ use serde_json::{Value, json};
 use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
+use super::auth::Who;
 use super::problem::{PROBLEM_JSON, Problem, ProblemDetails, json_response};
 use super::{AppState, ok_json};
 use crate::error::{BridgeError, ErrorCode};
@@ -123,6 +124,7 @@ async fn remove(
 /// and runs the request in the plugin's sandbox.
 pub(super) async fn call(
     State(app): State<AppState>,
+    who: Who,
     Path((name, path)): Path<(String, String)>,
     method: Method,
     RawQuery(query): RawQuery,
@@ -187,7 +189,7 @@ pub(super) async fn call(
     };
     let response = registry
         .host()
-        .call(&plugin, request)
+        .call(&plugin, request, Some(who.0))
         .await
         .map_err(|e| plugin_error(&e))?;
     Ok(plugin_response(&name, response.status, response.body))

@@ -14,6 +14,7 @@ use serde::Deserialize;
 use utoipa::ToSchema;
 use utoipa_axum::{router::OpenApiRouter, routes};
 
+use super::auth::Who;
 use super::problem::{JsonBody, PROBLEM_JSON, Problem, ProblemDetails, json_response};
 use super::{AppState, ok_json};
 use crate::engine::{Job, Operation};
@@ -96,6 +97,7 @@ async fn delete_one(
         (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn run(
     State(app): State<AppState>,
+    who: Who,
     Path(name): Path<String>,
     body: axum::body::Bytes,
 ) -> Result<Response, Problem> {
@@ -113,11 +115,7 @@ async fn run(
     let timeout = Some(timeout.unwrap_or(app.programs.run_timeout()));
     let job = app
         .engine
-        .submit(
-            Operation::RunProgram(program),
-            timeout,
-            crate::access::caller(),
-        )
+        .submit(Operation::RunProgram(program), timeout, who.caller())
         .await?;
     if req.wait == Some(false) {
         let mut r = json_response(202, "application/json", &job);

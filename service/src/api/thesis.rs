@@ -14,6 +14,7 @@ use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
 use super::AppState;
+use super::auth::Who;
 use super::problem::{PROBLEM_JSON, ProblemDetails, json_response, query_rejection};
 use crate::engine::{CartesianFrame, Job, Operation};
 use crate::error::{BridgeError, ErrorCode};
@@ -235,25 +236,21 @@ fn done(position: [f64; 6]) -> Response {
     )
 }
 
-async fn run(app: &AppState, op: Operation, frame_result: bool) -> Response {
-    run_with(app, op, frame_result, None).await
+async fn run(app: &AppState, who: &Who, op: Operation, frame_result: bool) -> Response {
+    run_with(app, who, op, frame_result, None).await
 }
 
 /// [`run`] with a job timeout of its own (and a wait to match).
 async fn run_with(
     app: &AppState,
+    who: &Who,
     op: Operation,
     frame_result: bool,
     timeout: Option<std::time::Duration>,
 ) -> Response {
     match app
         .engine
-        .execute(
-            op,
-            timeout,
-            app.wait_budget(timeout),
-            crate::access::caller(),
-        )
+        .execute(op, timeout, app.wait_budget(timeout), who.caller())
         .await
     {
         Ok(job) => done(job_position(&job, frame_result)),
@@ -293,7 +290,11 @@ impl<T: serde::de::DeserializeOwned> FromRequestParts<AppState> for ThesisQuery<
 /// (`/krl/ptp?x=30` moves only X). Waits until the motion is done.
 #[utoipa::path(post, path = "/krl/ptp", tag = "thesis", params(PointQuery),
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn ptp(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<PointQuery>) -> Response {
+async fn ptp(
+    State(app): State<AppState>,
+    who: Who,
+    ThesisQuery(q): ThesisQuery<PointQuery>,
+) -> Response {
     let m = MotionRequest::Ptp {
         target: q.target(),
         relative: false,
@@ -301,13 +302,17 @@ async fn ptp(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<PointQuery
         acceleration_pct: None,
         approx_mm: None,
     };
-    run(&app, Operation::Move(vec![m]), false).await
+    run(&app, &who, Operation::Move(vec![m]), false).await
 }
 
 /// Straight line to a Cartesian target (thesis method 2).
 #[utoipa::path(post, path = "/krl/linmov", tag = "thesis", params(PointQuery),
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn linmov(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<PointQuery>) -> Response {
+async fn linmov(
+    State(app): State<AppState>,
+    who: Who,
+    ThesisQuery(q): ThesisQuery<PointQuery>,
+) -> Response {
     let m = MotionRequest::Lin {
         target: q.target(),
         relative: false,
@@ -315,13 +320,17 @@ async fn linmov(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<PointQu
         acceleration_pct: None,
         approx_mm: None,
     };
-    run(&app, Operation::Move(vec![m]), false).await
+    run(&app, &who, Operation::Move(vec![m]), false).await
 }
 
 /// Circular motion through `ax ay az` to `x y z a b c` (thesis method 7).
 #[utoipa::path(post, path = "/krl/circ", tag = "thesis", params(CircQuery),
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn circ(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<CircQuery>) -> Response {
+async fn circ(
+    State(app): State<AppState>,
+    who: Who,
+    ThesisQuery(q): ThesisQuery<CircQuery>,
+) -> Response {
     let m = MotionRequest::Circ {
         aux: AuxPoint {
             x: q.ax,
@@ -343,27 +352,31 @@ async fn circ(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<CircQuery
         acceleration_pct: None,
         approx_mm: None,
     };
-    run(&app, Operation::Move(vec![m]), false).await
+    run(&app, &who, Operation::Move(vec![m]), false).await
 }
 
 /// Current position (thesis method 3), read through the controller program.
 #[utoipa::path(post, path = "/krl/getpos", tag = "thesis",
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn getpos(State(app): State<AppState>, _: ThesisQuery<NoParams>) -> Response {
-    run(&app, Operation::GetPosition, false).await
+async fn getpos(State(app): State<AppState>, who: Who, _: ThesisQuery<NoParams>) -> Response {
+    run(&app, &who, Operation::GetPosition, false).await
 }
 
 /// Move to the home position (thesis method 6, "base").
 #[utoipa::path(post, path = "/krl/base", tag = "thesis",
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn base(State(app): State<AppState>, _: ThesisQuery<NoParams>) -> Response {
-    run(&app, Operation::Home, false).await
+async fn base(State(app): State<AppState>, who: Who, _: ThesisQuery<NoParams>) -> Response {
+    run(&app, &who, Operation::Home, false).await
 }
 
 /// Set the tool (TCP) frame (thesis method 8); omitted values keep the current tool's.
 #[utoipa::path(post, path = "/krl/tcp", tag = "thesis", params(FrameQuery),
     responses((status = 200, description = "`position` is the new tool frame", body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn tcp(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<FrameQuery>) -> Response {
+async fn tcp(
+    State(app): State<AppState>,
+    who: Who,
+    ThesisQuery(q): ThesisQuery<FrameQuery>,
+) -> Response {
     let cur = app.engine.state().tool.unwrap_or_default();
     let frame = CartesianFrame {
         x: q.x.unwrap_or(cur.x),
@@ -376,14 +389,14 @@ async fn tcp(State(app): State<AppState>, ThesisQuery(q): ThesisQuery<FrameQuery
     if let Err(e) = super::v1::check_frame(&frame) {
         return fail(&app, &e);
     }
-    run(&app, Operation::SetTool(frame), true).await
+    run(&app, &who, Operation::SetTool(frame), true).await
 }
 
 /// Current tool (TCP) frame (thesis method 9).
 #[utoipa::path(post, path = "/krl/gettcp", tag = "thesis",
     responses((status = 200, description = "`position` is the tool frame", body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
-async fn gettcp(State(app): State<AppState>, _: ThesisQuery<NoParams>) -> Response {
-    run(&app, Operation::GetTool, true).await
+async fn gettcp(State(app): State<AppState>, who: Who, _: ThesisQuery<NoParams>) -> Response {
+    run(&app, &who, Operation::GetTool, true).await
 }
 
 /// The form a thesis client posts to `/krl/uploadfile`.
@@ -413,6 +426,7 @@ const THESIS_PROGRAM: &str = "uploaded";
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
 async fn uploadfile(
     State(app): State<AppState>,
+    who: Who,
     _: ThesisQuery<NoParams>,
     req: axum::extract::Request,
 ) -> Response {
@@ -432,7 +446,14 @@ async fn uploadfile(
     };
     // Programs run longer than single motions: their own timeout.
     let timeout = app.programs.run_timeout();
-    run_with(&app, Operation::RunProgram(program), false, Some(timeout)).await
+    run_with(
+        &app,
+        &who,
+        Operation::RunProgram(program),
+        false,
+        Some(timeout),
+    )
+    .await
 }
 
 /// The uploaded text from a multipart form (first field) or the raw body.

@@ -12,6 +12,7 @@ use utoipa::{IntoParams, ToSchema};
 use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
+use super::auth::Who;
 use super::problem::{JsonBody, PROBLEM_JSON, Problem, ProblemDetails, QueryParams, json_response};
 use super::{AppState, ok_json};
 use crate::engine::{
@@ -177,10 +178,10 @@ pub(crate) fn check_frame(f: &CartesianFrame) -> Result<(), BridgeError> {
     Ok(())
 }
 
-async fn execute(app: &AppState, op: Operation) -> Result<Job, Problem> {
+async fn execute(app: &AppState, who: &Who, op: Operation) -> Result<Job, Problem> {
     Ok(app
         .engine
-        .execute(op, None, app.request_timeout, crate::access::caller())
+        .execute(op, None, app.request_timeout, who.caller())
         .await?)
 }
 
@@ -212,8 +213,8 @@ async fn get_model(State(app): State<AppState>) -> Result<Response, Problem> {
 /// Current position, read through the controller program (a round trip).
 #[utoipa::path(get, path = "/api/v1/position", tag = "robot",
     responses((status = 200, body = PositionReport), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
-async fn get_position(State(app): State<AppState>) -> Result<Response, Problem> {
-    let job = execute(&app, Operation::GetPosition).await?;
+async fn get_position(State(app): State<AppState>, who: Who) -> Result<Response, Problem> {
+    let job = execute(&app, &who, Operation::GetPosition).await?;
     let position = job
         .position
         .ok_or_else(|| BridgeError::new(ErrorCode::ProtocolError, "no position in the result"))?;
@@ -239,6 +240,7 @@ async fn get_position(State(app): State<AppState>) -> Result<Response, Problem> 
         (status = "5XX", description = "Controller offline, channel locked or timeout", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn post_motions(
     State(app): State<AppState>,
+    who: Who,
     JsonBody(batch): JsonBody<MotionBatch>,
 ) -> Result<Response, Problem> {
     let timeout = batch.timeout_ms.map(Duration::from_millis);
@@ -247,11 +249,7 @@ async fn post_motions(
     }
     let job = app
         .engine
-        .submit(
-            Operation::Move(batch.motions),
-            timeout,
-            crate::access::caller(),
-        )
+        .submit(Operation::Move(batch.motions), timeout, who.caller())
         .await?;
     if batch.wait == Some(false) {
         let mut r = json_response(202, "application/json", &job);
@@ -329,15 +327,15 @@ async fn stop(State(app): State<AppState>) -> Result<Response, Problem> {
 /// PTP to the home position (the BCO run), with the default PTP speed.
 #[utoipa::path(post, path = "/api/v1/home", tag = "motion",
     responses((status = 200, body = Job), (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
-async fn home(State(app): State<AppState>) -> Result<Response, Problem> {
-    Ok(ok_json(&execute(&app, Operation::Home).await?))
+async fn home(State(app): State<AppState>, who: Who) -> Result<Response, Problem> {
+    Ok(ok_json(&execute(&app, &who, Operation::Home).await?))
 }
 
 /// Acknowledge a controller error state.
 #[utoipa::path(post, path = "/api/v1/reset", tag = "robot",
     responses((status = 200, body = Job), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
-async fn reset(State(app): State<AppState>) -> Result<Response, Problem> {
-    Ok(ok_json(&execute(&app, Operation::Reset).await?))
+async fn reset(State(app): State<AppState>, who: Who) -> Result<Response, Problem> {
+    Ok(ok_json(&execute(&app, &who, Operation::Reset).await?))
 }
 
 fn frame_of(job: &Job) -> Result<CartesianFrame, Problem> {
@@ -349,9 +347,9 @@ fn frame_of(job: &Job) -> Result<CartesianFrame, Problem> {
 /// The tool frame ($TOOL), read from the controller.
 #[utoipa::path(get, path = "/api/v1/tool", tag = "robot",
     responses((status = 200, body = CartesianFrame), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
-async fn get_tool(State(app): State<AppState>) -> Result<Response, Problem> {
+async fn get_tool(State(app): State<AppState>, who: Who) -> Result<Response, Problem> {
     Ok(ok_json(&frame_of(
-        &execute(&app, Operation::GetTool).await?,
+        &execute(&app, &who, Operation::GetTool).await?,
     )?))
 }
 
@@ -360,20 +358,21 @@ async fn get_tool(State(app): State<AppState>) -> Result<Response, Problem> {
     responses((status = 200, body = CartesianFrame), (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn put_tool(
     State(app): State<AppState>,
+    who: Who,
     JsonBody(frame): JsonBody<CartesianFrame>,
 ) -> Result<Response, Problem> {
     check_frame(&frame)?;
     Ok(ok_json(&frame_of(
-        &execute(&app, Operation::SetTool(frame)).await?,
+        &execute(&app, &who, Operation::SetTool(frame)).await?,
     )?))
 }
 
 /// The base frame ($BASE), read from the controller.
 #[utoipa::path(get, path = "/api/v1/base", tag = "robot",
     responses((status = 200, body = CartesianFrame), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
-async fn get_base(State(app): State<AppState>) -> Result<Response, Problem> {
+async fn get_base(State(app): State<AppState>, who: Who) -> Result<Response, Problem> {
     Ok(ok_json(&frame_of(
-        &execute(&app, Operation::GetBase).await?,
+        &execute(&app, &who, Operation::GetBase).await?,
     )?))
 }
 
@@ -382,11 +381,12 @@ async fn get_base(State(app): State<AppState>) -> Result<Response, Problem> {
     responses((status = 200, body = CartesianFrame), (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn put_base(
     State(app): State<AppState>,
+    who: Who,
     JsonBody(frame): JsonBody<CartesianFrame>,
 ) -> Result<Response, Problem> {
     check_frame(&frame)?;
     Ok(ok_json(&frame_of(
-        &execute(&app, Operation::SetBase(frame)).await?,
+        &execute(&app, &who, Operation::SetBase(frame)).await?,
     )?))
 }
 
@@ -401,6 +401,7 @@ async fn get_speed(State(app): State<AppState>) -> Response {
     responses((status = 200, body = SpeedSettings), (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn put_speed(
     State(app): State<AppState>,
+    who: Who,
     JsonBody(u): JsonBody<SpeedUpdate>,
 ) -> Result<Response, Problem> {
     let cur = app.engine.state().speed;
@@ -411,7 +412,7 @@ async fn put_speed(
         cp_velocity_m_s: u.cp_velocity_m_s.unwrap_or(cur.cp_velocity_m_s),
         cp_acceleration_pct: u.cp_acceleration_pct.unwrap_or(cur.cp_acceleration_pct),
     };
-    execute(&app, Operation::SetSpeed(next)).await?;
+    execute(&app, &who, Operation::SetSpeed(next)).await?;
     Ok(ok_json(&app.engine.state().speed))
 }
 

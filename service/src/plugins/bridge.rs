@@ -5,6 +5,7 @@
 
 use kuka_plugin_host as host;
 
+use crate::access::RequestContext;
 use crate::engine::{CartesianFrame, Engine, Operation, Position};
 use crate::error::{BridgeError, ErrorCode};
 use crate::motion::{AuxPoint, AxesSpec, MotionRequest, TargetSpec};
@@ -130,9 +131,13 @@ impl host::BridgeApi for EngineBridge {
         Box::pin(async move {
             let requests: Vec<MotionRequest> = motions.into_iter().map(motion_request).collect();
             let count = requests.len();
-            if let Some(caller) = crate::access::current_principal() {
+            let who = ctx
+                .caller
+                .clone()
+                .and_then(|c| c.downcast::<RequestContext>().ok());
+            if let Some(who) = &who {
                 // The caller's own HTTP call holds the lease meanwhile.
-                drop(self.control.check(&caller).map_err(host_error)?);
+                drop(self.control.check(&who.principal).map_err(host_error)?);
             }
             tracing::info!(plugin = %ctx.plugin, version = %ctx.version, motions = count, "plugin motion batch");
             let job = self
@@ -144,7 +149,7 @@ impl host::BridgeApi for EngineBridge {
                     Some(ctx.request_time),
                     ctx.request_time,
                     Some(format!("plugin:{}@{}", ctx.plugin, ctx.version)),
-                    crate::access::caller(),
+                    who.map(|w| w.caller()).unwrap_or_default(),
                 )
                 .await
                 .map_err(host_error)?;
