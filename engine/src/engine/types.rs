@@ -308,7 +308,7 @@ pub struct ControllerInfo {
     "base": {"x": 0.0, "y": 0.0, "z": 0.0, "a": 0.0, "b": 0.0, "c": 0.0},
     "speed": {"override_pct": 100.0, "ptp_velocity_pct": 20.0, "ptp_acceleration_pct": 100.0,
               "cp_velocity_m_s": 0.25, "cp_acceleration_pct": 100.0},
-    "model": "kr3_r540"
+    "model": "kr3_r540", "degraded": []
 }))]
 pub struct RobotState {
     /// Connection to the controller.

@@ -10,6 +10,7 @@ mod auth;
 mod dashboard;
 mod edge;
 mod events;
+mod openapi;
 mod plugins;
 pub mod problem;
 mod programs;
@@ -146,6 +147,7 @@ async fn openapi_json(State(app): State<AppState>) -> Response {
             let mut doc = app.openapi.as_ref().clone();
             plugins::add_plugin_paths(&mut doc, &registry.active());
             auth::document(&mut doc);
+            openapi::finish(&mut doc);
             problem::json_response(200, "application/json", &doc)
         }
         None => problem::json_response(200, "application/json", app.openapi.as_ref()),
@@ -205,6 +207,7 @@ fn documented() -> OpenApiRouter<AppState> {
 pub fn openapi() -> serde_json::Value {
     let mut doc = serde_json::to_value(documented().into_openapi()).unwrap_or_default();
     auth::document(&mut doc);
+    openapi::finish(&mut doc);
     doc
 }
 
@@ -214,6 +217,7 @@ pub fn app(mut state: AppState) -> Router {
     let (router, doc) = documented().split_for_parts();
     let mut doc = serde_json::to_value(&doc).unwrap_or_default();
     auth::document(&mut doc);
+    openapi::finish(&mut doc);
     state.openapi = Arc::new(doc);
     let server = state.server.clone();
     let router = router
