@@ -10,10 +10,13 @@
 //! - primitive component schemas utoipa makes of type aliases (`u64` for a
 //!   job id, `i32` for a command id) are inlined;
 //! - the four motion kinds are named schemas (`PtpMotion`, `AxisMotion`,
-//!   `LinMotion`, `CircMotion`) under a `oneOf` with a `type` discriminator;
+//!   `LinMotion`, `CircMotion`) under a `oneOf` with a `type` discriminator,
+//!   and so are the variants of other tagged unions (`JobEvent`, …);
 //! - a problem's `code` is an open string: the bridge's codes are listed,
 //!   and plugins may answer their own;
 //! - raw byte bodies are binary strings (`format: binary`);
+//! - a token is optional in the document (`security` lists `{}` too): it
+//!   is needed only beyond loopback or with `--require-auth`;
 //! - `info.license` has its SPDX identifier, and `servers` the service itself.
 //!
 //! Every step is idempotent: the plugin routes are added to an already
@@ -87,17 +90,40 @@ const METHODS: &[&str] = &[
 pub(crate) fn finish(doc: &mut Value) {
     info_and_servers(doc);
     inline_primitives(doc);
-    name_motion_kinds(doc);
+    name_tagged_variants(doc);
     open_error_code(doc);
     for_each_operation(doc, |method, path, op| {
         describe_responses(op);
         name_operation(method, path, op);
         binary_bodies(op);
+        optional_auth(op);
     });
     unique_operation_ids(doc);
 }
 
+/// A token is needed only when the service listens beyond loopback or
+/// runs with `--require-auth`: each secured operation also lists the empty
+/// requirement (`{}`), so generated clients work with and without one.
+fn optional_auth(op: &mut Map<String, Value>) {
+    if let Some(list) = op.get_mut("security").and_then(Value::as_array_mut)
+        && !list.is_empty()
+        && !list
+            .iter()
+            .any(|r| r.as_object().is_some_and(Map::is_empty))
+    {
+        list.push(json!({}));
+    }
+}
+
 fn info_and_servers(doc: &mut Value) {
+    if let Some(list) = doc.get_mut("security").and_then(Value::as_array_mut)
+        && !list.is_empty()
+        && !list
+            .iter()
+            .any(|r| r.as_object().is_some_and(Map::is_empty))
+    {
+        list.push(json!({}));
+    }
     if let Some(license) = doc
         .pointer_mut("/info/license")
         .and_then(Value::as_object_mut)
@@ -174,50 +200,62 @@ fn replace_refs(v: &mut Value, by: &Map<String, Value>) {
     }
 }
 
-fn name_motion_kinds(doc: &mut Value) {
+/// Names the inline variants of every tagged `oneOf` (a `type` property
+/// with one value each): [`MOTION_KINDS`] for motions, `<Tag><Parent>`
+/// otherwise (`JobEvent` for the `job` variant of `Event`), and adds the
+/// discriminator, so generators make one type per variant.
+fn name_tagged_variants(doc: &mut Value) {
     let Some(schemas) = doc
         .pointer_mut("/components/schemas")
         .and_then(Value::as_object_mut)
     else {
         return;
     };
-    let Some(variants) = schemas
-        .get("MotionRequest")
-        .and_then(|m| m.get("oneOf"))
-        .and_then(Value::as_array)
-        .cloned()
-    else {
-        return;
-    };
-    let mut refs = Vec::new();
-    let mut mapping = Map::new();
-    for variant in variants {
-        if variant.get("$ref").is_some() {
-            return; // done before
-        }
-        let tag = variant
-            .pointer("/properties/type/enum/0")
-            .and_then(Value::as_str)
-            .unwrap_or_default()
-            .to_string();
-        let Some((_, name)) = MOTION_KINDS.iter().find(|(t, _)| *t == tag) else {
-            tracing::error!(%tag, "a motion kind without a schema name: add it to MOTION_KINDS");
-            return;
+    let parents: Vec<String> = schemas
+        .iter()
+        .filter(|(_, v)| {
+            v.get("oneOf").and_then(Value::as_array).is_some_and(|vs| {
+                !vs.is_empty()
+                    && vs
+                        .iter()
+                        .all(|x| x.pointer("/properties/type/enum/0").is_some())
+            })
+        })
+        .map(|(k, _)| k.clone())
+        .collect();
+    for parent in parents {
+        let Some(variants) = schemas
+            .get(&parent)
+            .and_then(|m| m.get("oneOf"))
+            .and_then(Value::as_array)
+            .cloned()
+        else {
+            continue;
         };
-        let r = format!("#/components/schemas/{name}");
-        schemas.insert((*name).to_string(), variant);
-        mapping.insert(tag, json!(r));
-        refs.push(json!({"$ref": r}));
-    }
-    if let Some(m) = schemas
-        .get_mut("MotionRequest")
-        .and_then(Value::as_object_mut)
-    {
-        m.insert("oneOf".into(), Value::Array(refs));
-        m.insert(
-            "discriminator".into(),
-            json!({"propertyName": "type", "mapping": mapping}),
-        );
+        let mut refs = Vec::new();
+        let mut mapping = Map::new();
+        for variant in variants {
+            let tag = variant
+                .pointer("/properties/type/enum/0")
+                .and_then(Value::as_str)
+                .unwrap_or_default()
+                .to_string();
+            let name = match MOTION_KINDS.iter().find(|(t, _)| *t == tag) {
+                Some((_, name)) if parent == "MotionRequest" => (*name).to_string(),
+                _ => format!("{}{parent}", pascal(&tag)),
+            };
+            let r = format!("#/components/schemas/{name}");
+            schemas.insert(name, variant);
+            mapping.insert(tag, json!(r));
+            refs.push(json!({"$ref": r}));
+        }
+        if let Some(m) = schemas.get_mut(&parent).and_then(Value::as_object_mut) {
+            m.insert("oneOf".into(), Value::Array(refs));
+            m.insert(
+                "discriminator".into(),
+                json!({"propertyName": "type", "mapping": mapping}),
+            );
+        }
     }
 }
 
@@ -304,6 +342,11 @@ fn binary_bodies(op: &mut Map<String, Value>) {
                 json!({"type": "string", "format": "binary", "contentMediaType": media});
         }
     }
+    // One media type for a body of bytes: with two, generators make a
+    // union of two identical file types (openapi-python-client cannot).
+    if content.contains_key("application/wasm") {
+        content.remove("application/octet-stream");
+    }
 }
 
 /// `snake_case` → `camelCase`.
@@ -323,6 +366,16 @@ fn camel(name: &str) -> String {
         }
     }
     out
+}
+
+/// `snake_case` → `PascalCase`.
+fn pascal(name: &str) -> String {
+    let camel = camel(name);
+    let mut chars = camel.chars();
+    chars
+        .next()
+        .map(|c| c.to_ascii_uppercase().to_string() + chars.as_str())
+        .unwrap_or_default()
 }
 
 fn name_operation(method: &str, path: &str, op: &mut Map<String, Value>) {
@@ -386,6 +439,7 @@ mod tests {
 
     #[test]
     fn ids_are_camel_case() {
+        assert_eq!(pascal("ptp_axes"), "PtpAxes");
         assert_eq!(camel("list_jobs"), "listJobs");
         assert_eq!(
             plugin_operation_id("draw-square", "POST", "/square"),

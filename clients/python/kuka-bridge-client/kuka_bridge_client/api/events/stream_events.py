@@ -1,0 +1,274 @@
+from http import HTTPStatus
+from typing import Any, cast
+from urllib.parse import quote
+
+import httpx
+
+from ...client import AuthenticatedClient, Client
+from ...types import Response, UNSET
+from ... import errors
+
+from ...models.problem_details import ProblemDetails
+from ...types import UNSET, Unset
+from typing import cast
+
+
+
+def _get_kwargs(
+    *,
+    types: str | Unset = UNSET,
+    access_token: str | Unset = UNSET,
+
+) -> dict[str, Any]:
+    
+
+    
+
+    params: dict[str, Any] = {}
+
+    params["types"] = types
+
+    params["access_token"] = access_token
+
+
+    params = {k: v for k, v in params.items() if v is not UNSET and v is not None}
+
+
+    _kwargs: dict[str, Any] = {
+        "method": "get",
+        "url": "/api/v1/events",
+        "params": params,
+    }
+
+
+    return _kwargs
+
+
+
+def _parse_response(*, client: AuthenticatedClient | Client, response: httpx.Response) -> ProblemDetails | str | None:
+    if response.status_code == 200:
+        response_200 = response.text
+        return response_200
+
+    if response.status_code == 401:
+        response_401 = ProblemDetails.from_dict(response.json())
+
+
+
+        return response_401
+
+    if response.status_code == 403:
+        response_403 = ProblemDetails.from_dict(response.json())
+
+
+
+        return response_403
+
+    if response.status_code == 422:
+        response_422 = ProblemDetails.from_dict(response.json())
+
+
+
+        return response_422
+
+    if response.status_code == 429:
+        response_429 = ProblemDetails.from_dict(response.json())
+
+
+
+        return response_429
+
+    if 400 <= response.status_code <= 499:
+        response_4xx = ProblemDetails.from_dict(response.json())
+
+
+
+        return response_4xx
+
+    if 500 <= response.status_code <= 599:
+        response_5xx = ProblemDetails.from_dict(response.json())
+
+
+
+        return response_5xx
+
+    if client.raise_on_unexpected_status:
+        raise errors.UnexpectedStatus(response.status_code, response.content)
+    else:
+        return None
+
+
+def _build_response(*, client: AuthenticatedClient | Client, response: httpx.Response) -> Response[ProblemDetails | str]:
+    return Response(
+        status_code=HTTPStatus(response.status_code),
+        content=response.content,
+        headers=response.headers,
+        parsed=_parse_response(client=client, response=response),
+    )
+
+
+def sync_detailed(
+    *,
+    client: AuthenticatedClient,
+    types: str | Unset = UNSET,
+    access_token: str | Unset = UNSET,
+
+) -> Response[ProblemDetails | str]:
+    """ Live events (Server-Sent Events).
+
+     Each SSE message has `event:` = `job`, `state`, `alarm` or `plan` and `data:` = the JSON
+    of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`) or the
+    planned path of a move job (`JobPlan`, sent when its motions are written to the
+    controller, before they run). A state event follows each heartbeat
+    that changed something. A `lagged` event says the client was too slow and missed
+    some. The stream starts with the current state, and ends when the service
+    shuts down or the caller's token is revoked.
+
+    **Access:** role `viewer` or higher.
+
+    Args:
+        types (str | Unset):
+        access_token (str | Unset):
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        Response[ProblemDetails | str]
+     """
+
+
+    kwargs = _get_kwargs(
+        types=types,
+access_token=access_token,
+
+    )
+
+    response = client.get_httpx_client().request(
+        **kwargs,
+    )
+
+    return _build_response(client=client, response=response)
+
+def sync(
+    *,
+    client: AuthenticatedClient,
+    types: str | Unset = UNSET,
+    access_token: str | Unset = UNSET,
+
+) -> ProblemDetails | str | None:
+    """ Live events (Server-Sent Events).
+
+     Each SSE message has `event:` = `job`, `state`, `alarm` or `plan` and `data:` = the JSON
+    of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`) or the
+    planned path of a move job (`JobPlan`, sent when its motions are written to the
+    controller, before they run). A state event follows each heartbeat
+    that changed something. A `lagged` event says the client was too slow and missed
+    some. The stream starts with the current state, and ends when the service
+    shuts down or the caller's token is revoked.
+
+    **Access:** role `viewer` or higher.
+
+    Args:
+        types (str | Unset):
+        access_token (str | Unset):
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        ProblemDetails | str
+     """
+
+
+    return sync_detailed(
+        client=client,
+types=types,
+access_token=access_token,
+
+    ).parsed
+
+async def asyncio_detailed(
+    *,
+    client: AuthenticatedClient,
+    types: str | Unset = UNSET,
+    access_token: str | Unset = UNSET,
+
+) -> Response[ProblemDetails | str]:
+    """ Live events (Server-Sent Events).
+
+     Each SSE message has `event:` = `job`, `state`, `alarm` or `plan` and `data:` = the JSON
+    of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`) or the
+    planned path of a move job (`JobPlan`, sent when its motions are written to the
+    controller, before they run). A state event follows each heartbeat
+    that changed something. A `lagged` event says the client was too slow and missed
+    some. The stream starts with the current state, and ends when the service
+    shuts down or the caller's token is revoked.
+
+    **Access:** role `viewer` or higher.
+
+    Args:
+        types (str | Unset):
+        access_token (str | Unset):
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        Response[ProblemDetails | str]
+     """
+
+
+    kwargs = _get_kwargs(
+        types=types,
+access_token=access_token,
+
+    )
+
+    response = await client.get_async_httpx_client().request(
+        **kwargs
+    )
+
+    return _build_response(client=client, response=response)
+
+async def asyncio(
+    *,
+    client: AuthenticatedClient,
+    types: str | Unset = UNSET,
+    access_token: str | Unset = UNSET,
+
+) -> ProblemDetails | str | None:
+    """ Live events (Server-Sent Events).
+
+     Each SSE message has `event:` = `job`, `state`, `alarm` or `plan` and `data:` = the JSON
+    of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`) or the
+    planned path of a move job (`JobPlan`, sent when its motions are written to the
+    controller, before they run). A state event follows each heartbeat
+    that changed something. A `lagged` event says the client was too slow and missed
+    some. The stream starts with the current state, and ends when the service
+    shuts down or the caller's token is revoked.
+
+    **Access:** role `viewer` or higher.
+
+    Args:
+        types (str | Unset):
+        access_token (str | Unset):
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        ProblemDetails | str
+     """
+
+
+    return (await asyncio_detailed(
+        client=client,
+types=types,
+access_token=access_token,
+
+    )).parsed

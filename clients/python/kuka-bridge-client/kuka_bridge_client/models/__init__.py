@@ -1,0 +1,127 @@
+""" Contains all the data models used in inputs/outputs """
+
+from .alarm_event import AlarmEvent
+from .alarm_event_type import AlarmEventType
+from .audit_record import AuditRecord
+from .aux_point import AuxPoint
+from .axes_spec import AxesSpec
+from .axis_angles import AxisAngles
+from .axis_motion import AxisMotion
+from .axis_motion_type import AxisMotionType
+from .bridge_error import BridgeError
+from .cartesian_frame import CartesianFrame
+from .circ_motion import CircMotion
+from .circ_motion_type import CircMotionType
+from .connection import Connection
+from .control_request import ControlRequest
+from .control_state import ControlState
+from .controller_info import ControllerInfo
+from .created_token import CreatedToken
+from .error_body import ErrorBody
+from .health import Health
+from .job import Job
+from .job_event import JobEvent
+from .job_event_type import JobEventType
+from .job_plan import JobPlan
+from .job_state import JobState
+from .lease import Lease
+from .limits_info import LimitsInfo
+from .lin_motion import LinMotion
+from .lin_motion_type import LinMotionType
+from .model_info import ModelInfo
+from .motion_batch import MotionBatch
+from .new_token import NewToken
+from .opw_lengths import OpwLengths
+from .plan_event import PlanEvent
+from .plan_event_type import PlanEventType
+from .planned_motion import PlannedMotion
+from .plugin_info import PluginInfo
+from .plugin_route_info import PluginRouteInfo
+from .position import Position
+from .position_report import PositionReport
+from .principal import Principal
+from .problem_details import ProblemDetails
+from .program_info import ProgramInfo
+from .program_upload import ProgramUpload
+from .ptp_motion import PtpMotion
+from .ptp_motion_type import PtpMotionType
+from .robot_state import RobotState
+from .role import Role
+from .run_request import RunRequest
+from .sim_snapshot import SimSnapshot
+from .speed_settings import SpeedSettings
+from .speed_update import SpeedUpdate
+from .state_event import StateEvent
+from .state_event_type import StateEventType
+from .stopped import Stopped
+from .stored_program import StoredProgram
+from .target_spec import TargetSpec
+from .thesis_problem import ThesisProblem
+from .thesis_response import ThesisResponse
+from .token_info import TokenInfo
+from .trace_sample import TraceSample
+from .upload_form import UploadForm
+
+__all__ = (
+    "AlarmEvent",
+    "AlarmEventType",
+    "AuditRecord",
+    "AuxPoint",
+    "AxesSpec",
+    "AxisAngles",
+    "AxisMotion",
+    "AxisMotionType",
+    "BridgeError",
+    "CartesianFrame",
+    "CircMotion",
+    "CircMotionType",
+    "Connection",
+    "ControllerInfo",
+    "ControlRequest",
+    "ControlState",
+    "CreatedToken",
+    "ErrorBody",
+    "Health",
+    "Job",
+    "JobEvent",
+    "JobEventType",
+    "JobPlan",
+    "JobState",
+    "Lease",
+    "LimitsInfo",
+    "LinMotion",
+    "LinMotionType",
+    "ModelInfo",
+    "MotionBatch",
+    "NewToken",
+    "OpwLengths",
+    "PlanEvent",
+    "PlanEventType",
+    "PlannedMotion",
+    "PluginInfo",
+    "PluginRouteInfo",
+    "Position",
+    "PositionReport",
+    "Principal",
+    "ProblemDetails",
+    "ProgramInfo",
+    "ProgramUpload",
+    "PtpMotion",
+    "PtpMotionType",
+    "RobotState",
+    "Role",
+    "RunRequest",
+    "SimSnapshot",
+    "SpeedSettings",
+    "SpeedUpdate",
+    "StateEvent",
+    "StateEventType",
+    "Stopped",
+    "StoredProgram",
+    "TargetSpec",
+    "ThesisProblem",
+    "ThesisResponse",
+    "TokenInfo",
+    "TraceSample",
+    "UploadForm",
+)

@@ -1,0 +1,7 @@
+from enum import StrEnum
+
+class AlarmEventType(StrEnum):
+    ALARM = "alarm"
+
+    def __str__(self) -> str:
+        return str(self.value)

@@ -1,0 +1,7 @@
+from enum import StrEnum
+
+class AxisMotionType(StrEnum):
+    PTP_AXES = "ptp_axes"
+
+    def __str__(self) -> str:
+        return str(self.value)

@@ -1,0 +1,106 @@
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, TypeVar, BinaryIO, TextIO, TYPE_CHECKING, Generator
+
+from attrs import define as _attrs_define
+from attrs import field as _attrs_field
+
+from ..types import UNSET, Unset
+
+from ..models.role import Role
+
+
+
+
+
+
+T = TypeVar("T", bound="CreatedToken")
+
+
+
+@_attrs_define
+class CreatedToken:
+    """ A token just created: its secret is shown this once.
+
+        Attributes:
+            created_ms (int): When it was created (Unix ms).
+            name (str): Unique name (who appears in the audit trail).
+            role (Role): A token's role; each includes the ones below it.
+            secret (str): The secret to send as `Authorization: Bearer <secret>`; not stored
+                by the service (only its hash), so it cannot be shown again.
+     """
+
+    created_ms: int
+    name: str
+    role: Role
+    secret: str
+    additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
+
+
+
+
+
+    def to_dict(self) -> dict[str, Any]:
+        created_ms = self.created_ms
+
+        name = self.name
+
+        role = self.role.value
+
+        secret = self.secret
+
+
+        field_dict: dict[str, Any] = {}
+        field_dict.update(self.additional_properties)
+        field_dict.update({
+            "created_ms": created_ms,
+            "name": name,
+            "role": role,
+            "secret": secret,
+        })
+
+        return field_dict
+
+
+
+    @classmethod
+    def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        d = dict(src_dict)
+        created_ms = d.pop("created_ms")
+
+        name = d.pop("name")
+
+        role = Role(d.pop("role"))
+
+
+
+
+        secret = d.pop("secret")
+
+        created_token = cls(
+            created_ms=created_ms,
+            name=name,
+            role=role,
+            secret=secret,
+        )
+
+
+        created_token.additional_properties = d
+        return created_token
+
+    @property
+    def additional_keys(self) -> list[str]:
+        return list(self.additional_properties.keys())
+
+    def __getitem__(self, key: str) -> Any:
+        return self.additional_properties[key]
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        self.additional_properties[key] = value
+
+    def __delitem__(self, key: str) -> None:
+        del self.additional_properties[key]
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.additional_properties

@@ -1,0 +1,7 @@
+from enum import StrEnum
+
+class LinMotionType(StrEnum):
+    LIN = "lin"
+
+    def __str__(self) -> str:
+        return str(self.value)

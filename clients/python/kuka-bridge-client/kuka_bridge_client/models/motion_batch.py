@@ -1,0 +1,183 @@
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, TypeVar, BinaryIO, TextIO, TYPE_CHECKING, Generator
+
+from attrs import define as _attrs_define
+from attrs import field as _attrs_field
+
+from ..types import UNSET, Unset
+
+from ..types import UNSET, Unset
+from typing import cast
+
+if TYPE_CHECKING:
+  from ..models.axis_motion import AxisMotion
+  from ..models.circ_motion import CircMotion
+  from ..models.lin_motion import LinMotion
+  from ..models.ptp_motion import PtpMotion
+
+
+
+
+
+T = TypeVar("T", bound="MotionBatch")
+
+
+
+@_attrs_define
+class MotionBatch:
+    """ A motion request: one motion or a continuous batch.
+
+        Example:
+            {'motions': [{'target': {'a': 0, 'b': 180, 'c': 0, 'x': 200, 'y': 0, 'z': 100}, 'type': 'ptp'}, {'target': {'z':
+                70}, 'type': 'lin', 'velocity_m_s': 0.1}, {'approx_mm': 2, 'aux': {'x': 250, 'y': 50}, 'target': {'x': 200, 'y':
+                100}, 'type': 'circ'}, {'target': {'z': 100}, 'type': 'lin'}], 'wait': True}
+
+        Attributes:
+            motions (list[AxisMotion | CircMotion | LinMotion | PtpMotion]): The motions, executed in order as one
+                continuous batch (approximated
+                between motions unless `approx_mm` is 0).
+            timeout_ms (int | None | Unset): Fail the job (and stop the robot) if it has not finished after this many ms.
+            wait (bool | None | Unset): Wait for completion (default true). With false the answer is 202
+                with the queued job; poll `/api/v1/jobs/{id}` or listen to events.
+     """
+
+    motions: list[AxisMotion | CircMotion | LinMotion | PtpMotion]
+    timeout_ms: int | None | Unset = UNSET
+    wait: bool | None | Unset = UNSET
+
+
+
+
+
+    def to_dict(self) -> dict[str, Any]:
+        from ..models.axis_motion import AxisMotion # noqa: PLC0415
+        from ..models.circ_motion import CircMotion # noqa: PLC0415
+        from ..models.lin_motion import LinMotion # noqa: PLC0415
+        from ..models.ptp_motion import PtpMotion # noqa: PLC0415
+        motions = []
+        for motions_item_data in self.motions:
+            motions_item: dict[str, Any]
+            if isinstance(motions_item_data, PtpMotion):
+                motions_item = motions_item_data.to_dict()
+            elif isinstance(motions_item_data, AxisMotion):
+                motions_item = motions_item_data.to_dict()
+            elif isinstance(motions_item_data, LinMotion):
+                motions_item = motions_item_data.to_dict()
+            else:
+                motions_item = motions_item_data.to_dict()
+
+            motions.append(motions_item)
+
+
+
+        timeout_ms: int | None | Unset
+        if isinstance(self.timeout_ms, Unset):
+            timeout_ms = UNSET
+        else:
+            timeout_ms = self.timeout_ms
+
+        wait: bool | None | Unset
+        if isinstance(self.wait, Unset):
+            wait = UNSET
+        else:
+            wait = self.wait
+
+
+        field_dict: dict[str, Any] = {}
+
+        field_dict.update({
+            "motions": motions,
+        })
+        if timeout_ms is not UNSET:
+            field_dict["timeout_ms"] = timeout_ms
+        if wait is not UNSET:
+            field_dict["wait"] = wait
+
+        return field_dict
+
+
+
+    @classmethod
+    def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        from ..models.axis_motion import AxisMotion # noqa: PLC0415
+        from ..models.circ_motion import CircMotion # noqa: PLC0415
+        from ..models.lin_motion import LinMotion # noqa: PLC0415
+        from ..models.ptp_motion import PtpMotion # noqa: PLC0415
+        d = dict(src_dict)
+        motions = []
+        _motions = d.pop("motions")
+        for motions_item_data in (_motions):
+            def _parse_motions_item(data: object) -> AxisMotion | CircMotion | LinMotion | PtpMotion:
+                try:
+                    if not isinstance(data, dict):
+                        raise TypeError()
+                    componentsschemas_motion_request_type_0 = PtpMotion.from_dict(data)
+
+
+
+                    return componentsschemas_motion_request_type_0
+                except (TypeError, ValueError, AttributeError, KeyError):
+                    pass
+                try:
+                    if not isinstance(data, dict):
+                        raise TypeError()
+                    componentsschemas_motion_request_type_1 = AxisMotion.from_dict(data)
+
+
+
+                    return componentsschemas_motion_request_type_1
+                except (TypeError, ValueError, AttributeError, KeyError):
+                    pass
+                try:
+                    if not isinstance(data, dict):
+                        raise TypeError()
+                    componentsschemas_motion_request_type_2 = LinMotion.from_dict(data)
+
+
+
+                    return componentsschemas_motion_request_type_2
+                except (TypeError, ValueError, AttributeError, KeyError):
+                    pass
+                if not isinstance(data, dict):
+                    raise TypeError()
+                componentsschemas_motion_request_type_3 = CircMotion.from_dict(data)
+
+
+
+                return componentsschemas_motion_request_type_3
+
+            motions_item = _parse_motions_item(motions_item_data)
+
+            motions.append(motions_item)
+
+
+        def _parse_timeout_ms(data: object) -> int | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(int | None | Unset, data)
+
+        timeout_ms = _parse_timeout_ms(d.pop("timeout_ms", UNSET))
+
+
+        def _parse_wait(data: object) -> bool | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(bool | None | Unset, data)
+
+        wait = _parse_wait(d.pop("wait", UNSET))
+
+
+        motion_batch = cls(
+            motions=motions,
+            timeout_ms=timeout_ms,
+            wait=wait,
+        )
+
+        return motion_batch
+

@@ -1,0 +1,7 @@
+from enum import StrEnum
+
+class StateEventType(StrEnum):
+    STATE = "state"
+
+    def __str__(self) -> str:
+        return str(self.value)

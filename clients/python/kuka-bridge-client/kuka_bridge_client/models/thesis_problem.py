@@ -1,0 +1,270 @@
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, TypeVar, BinaryIO, TextIO, TYPE_CHECKING, Generator
+
+from attrs import define as _attrs_define
+from attrs import field as _attrs_field
+
+from ..types import UNSET, Unset
+
+from ..types import UNSET, Unset
+from typing import cast
+
+
+
+
+
+
+T = TypeVar("T", bound="ThesisProblem")
+
+
+
+@_attrs_define
+class ThesisProblem:
+    """ A thesis failure: the problem details plus `statuscode` and `position`.
+
+        Example:
+            {'code': 'unreachable', 'detail': 'target is out of reach of the robot', 'motion': 0, 'position': [355.0, 0.0,
+                625.0, 0.0, 90.0, 0.0], 'status': 422, 'statuscode': 20, 'title': 'Target unreachable', 'type':
+                'https://github.com/kuka-bridge/kuka-bridge/blob/main/docs/errors.md#unreachable'}
+
+        Attributes:
+            code (str): A stable, machine-readable error code (never renamed; see /errors). The bridge's codes:
+                invalid_input, workspace_violation, speed_limit, unreachable, software_limit, singularity, controller_offline,
+                channel_locked, timeout, controller_error, controller_busy, cancelled, not_found, method_not_allowed,
+                payload_too_large, unsupported_media_type, queue_full, invalid_program, program_unsupported, program_failed,
+                programs_unavailable, plugin_invalid, plugin_timeout, plugin_memory, plugin_trap, plugin_bad_response,
+                plugins_unavailable, unauthenticated, forbidden, control_held, too_many_attempts, overloaded, request_timeout,
+                protocol_error, internal, storage_unavailable, command_lost, gone, shutting_down. A plugin's answer may carry a
+                code of its own.
+            detail (str): Human explanation of this occurrence.
+            status (int): HTTP status.
+            title (str): Short summary of the problem type.
+            type_ (str): URI identifying the problem type (docs/errors.md anchor).
+            position (list[float]): Last known position `[x, y, z, a, b, c]` (zeros when unknown).
+            statuscode (int): Never 1.
+            axis (int | None | Unset): Axis (1..6) for software-limit errors.
+            file (None | str | Unset): For KRL program errors: the uploaded file (`src` or `dat`) of `line`.
+            job_id (int | None | Unset):
+            line (int | None | Unset): For KRL program errors: the 1-based line in the uploaded file.
+            motion (int | None | Unset): Index of the failing motion in the batch.
+            request_id (None | str | Unset): The request's id (also the `x-request-id` header): the service log
+                has the request's internal details (paths, operating system errors)
+                under it.
+     """
+
+    code: str
+    detail: str
+    status: int
+    title: str
+    type_: str
+    position: list[float]
+    statuscode: int
+    axis: int | None | Unset = UNSET
+    file: None | str | Unset = UNSET
+    job_id: int | None | Unset = UNSET
+    line: int | None | Unset = UNSET
+    motion: int | None | Unset = UNSET
+    request_id: None | str | Unset = UNSET
+    additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
+
+
+
+
+
+    def to_dict(self) -> dict[str, Any]:
+        code = self.code
+
+        detail = self.detail
+
+        status = self.status
+
+        title = self.title
+
+        type_ = self.type_
+
+        position = self.position
+
+
+
+        statuscode = self.statuscode
+
+        axis: int | None | Unset
+        if isinstance(self.axis, Unset):
+            axis = UNSET
+        else:
+            axis = self.axis
+
+        file: None | str | Unset
+        if isinstance(self.file, Unset):
+            file = UNSET
+        else:
+            file = self.file
+
+        job_id: int | None | Unset
+        if isinstance(self.job_id, Unset):
+            job_id = UNSET
+        else:
+            job_id = self.job_id
+
+        line: int | None | Unset
+        if isinstance(self.line, Unset):
+            line = UNSET
+        else:
+            line = self.line
+
+        motion: int | None | Unset
+        if isinstance(self.motion, Unset):
+            motion = UNSET
+        else:
+            motion = self.motion
+
+        request_id: None | str | Unset
+        if isinstance(self.request_id, Unset):
+            request_id = UNSET
+        else:
+            request_id = self.request_id
+
+
+        field_dict: dict[str, Any] = {}
+        field_dict.update(self.additional_properties)
+        field_dict.update({
+            "code": code,
+            "detail": detail,
+            "status": status,
+            "title": title,
+            "type": type_,
+            "position": position,
+            "statuscode": statuscode,
+        })
+        if axis is not UNSET:
+            field_dict["axis"] = axis
+        if file is not UNSET:
+            field_dict["file"] = file
+        if job_id is not UNSET:
+            field_dict["job_id"] = job_id
+        if line is not UNSET:
+            field_dict["line"] = line
+        if motion is not UNSET:
+            field_dict["motion"] = motion
+        if request_id is not UNSET:
+            field_dict["request_id"] = request_id
+
+        return field_dict
+
+
+
+    @classmethod
+    def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        d = dict(src_dict)
+        code = d.pop("code")
+
+        detail = d.pop("detail")
+
+        status = d.pop("status")
+
+        title = d.pop("title")
+
+        type_ = d.pop("type")
+
+        position = cast(list[float], d.pop("position"))
+
+
+        statuscode = d.pop("statuscode")
+
+        def _parse_axis(data: object) -> int | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(int | None | Unset, data)
+
+        axis = _parse_axis(d.pop("axis", UNSET))
+
+
+        def _parse_file(data: object) -> None | str | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(None | str | Unset, data)
+
+        file = _parse_file(d.pop("file", UNSET))
+
+
+        def _parse_job_id(data: object) -> int | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(int | None | Unset, data)
+
+        job_id = _parse_job_id(d.pop("job_id", UNSET))
+
+
+        def _parse_line(data: object) -> int | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(int | None | Unset, data)
+
+        line = _parse_line(d.pop("line", UNSET))
+
+
+        def _parse_motion(data: object) -> int | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(int | None | Unset, data)
+
+        motion = _parse_motion(d.pop("motion", UNSET))
+
+
+        def _parse_request_id(data: object) -> None | str | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(None | str | Unset, data)
+
+        request_id = _parse_request_id(d.pop("request_id", UNSET))
+
+
+        thesis_problem = cls(
+            code=code,
+            detail=detail,
+            status=status,
+            title=title,
+            type_=type_,
+            position=position,
+            statuscode=statuscode,
+            axis=axis,
+            file=file,
+            job_id=job_id,
+            line=line,
+            motion=motion,
+            request_id=request_id,
+        )
+
+
+        thesis_problem.additional_properties = d
+        return thesis_problem
+
+    @property
+    def additional_keys(self) -> list[str]:
+        return list(self.additional_properties.keys())
+
+    def __getitem__(self, key: str) -> Any:
+        return self.additional_properties[key]
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        self.additional_properties[key] = value
+
+    def __delitem__(self, key: str) -> None:
+        del self.additional_properties[key]
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.additional_properties
