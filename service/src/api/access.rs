@@ -109,11 +109,20 @@ async fn release_control(State(app): State<AppState>, who: Who) -> Result<Respon
     Ok(ok_json(&control_state(&app, &who)))
 }
 
+/// The client gets the sentence of a refusal; a storage failure (its path
+/// and OS error) goes to the log only.
 fn token_problem(e: TokenError) -> Problem {
     let code = match &e {
         TokenError::Exists(_) | TokenError::BadName(_) => ErrorCode::InvalidInput,
         TokenError::NotFound(_) => ErrorCode::NotFound,
-        _ => ErrorCode::Internal,
+        _ => {
+            tracing::error!(error = %crate::error::chain(&e), "token store failed");
+            return BridgeError::new(
+                ErrorCode::Internal,
+                "the token store could not be read or written; the service log has the cause",
+            )
+            .into();
+        }
     };
     BridgeError::new(code, e.to_string()).into()
 }

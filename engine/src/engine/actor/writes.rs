@@ -75,7 +75,7 @@ impl Actor {
                     let e = BridgeError::new(
                         ErrorCode::ChannelLocked,
                         format!(
-                            "{path} stayed locked by another process for {} ms; nothing was sent. Close the program holding it (on a KRC: the KRL program's open file handle)",
+                            "the command file stayed locked by another process for {} ms; nothing was sent. Close the program holding it (on a KRC: the KRL program's open file handle)",
                             self.cfg.lock_timeout.as_millis()
                         ),
                     );
@@ -89,7 +89,7 @@ impl Actor {
                     self.ctl.locked = true;
                     self.shared.publish(Event::Alarm(BridgeError::new(
                         ErrorCode::ChannelLocked,
-                        format!("{path} is locked by another process"),
+                        "the command file is locked by another process",
                     )));
                 }
             }
