@@ -235,7 +235,7 @@ async fn the_page_draws_what_the_robot_draws() {
              const ink = (id) => { const c = document.getElementById(id);
                const px = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
                let n = 0; for (let i = 3; i < px.length; i += 4) if (px[i] > 0) n++; return n; };
-             return [d.path.length, d.view.executed.count, ink('top'), ink('side'),
+             return [d.path.length, d.view.executedCount, ink('top'), ink('side'),
                      d.pathCsv().trim().split('\\n').length - 1];",
         )
         .await;
@@ -244,14 +244,16 @@ async fn the_page_draws_what_the_robot_draws() {
         "3D path points vs page path: {counts}"
     );
     assert_eq!(counts[0], counts[4], "CSV rows vs page path: {counts}");
-    // The SVG export is a valid SVG document with one vertex per sample.
+    // The SVG export is a valid SVG document with one vertex per sample
+    // (its strokes and travel runs join: each starts where the one before ends).
     let svg = browser
         .eval(
             "const doc = new DOMParser().parseFromString(window.dashboard.pathSvg(), 'image/svg+xml');
              const err = doc.querySelector('parsererror');
-             const lines = [...doc.querySelectorAll('polyline')];
+             const lines = [...doc.querySelectorAll('polyline.executed')];
+             const vertices = lines.map((l) => l.getAttribute('points').trim().split(/\\s+/).length);
              return [err ? err.textContent : null, doc.documentElement.nodeName,
-                     lines.at(-1).getAttribute('points').trim().split(/\\s+/).length];",
+                     vertices.reduce((a, b) => a + b, 0) - (lines.length - 1)];",
         )
         .await;
     assert!(svg[0].is_null(), "SVG parse error: {svg}");
@@ -572,6 +574,10 @@ async fn a_viewer_sees_the_page_but_cannot_drive() {
     for css in [
         "#go",
         "[data-step]",
+        "[data-joint]",
+        "#step",
+        "#rot-step",
+        "#goto [name=s]",
         "#home",
         "#override-input",
         "#take-control",
@@ -970,4 +976,845 @@ async fn the_page_resyncs_after_a_service_restart() {
         )
         .await;
     browser.close().await;
+}
+
+/// Waits until the page shows a job newer than `after` done; its id.
+async fn job_done_after(browser: &Browser, after: u64, what: &str) -> u64 {
+    let id = browser
+        .wait_js(
+            &format!(
+                "[...window.dashboard.jobs.values()].find((j) => j.id > {after} && j.state === 'done')?.id"
+            ),
+            WAIT,
+            what,
+        )
+        .await;
+    id.as_u64().expect("job id")
+}
+
+/// The newest job id the service knows (0 before any).
+async fn last_job(t: &TestService) -> u64 {
+    let (_, jobs) = t.get("/api/v1/jobs?limit=1").await;
+    jobs[0]["id"].as_u64().unwrap_or(0)
+}
+
+/// The jog panel names the arm configuration of S and T in words, sends
+/// them with a PTP, shows the API's sentences as text (no backticks),
+/// steps A/B/C by the rotation step and each axis A1–A6 by an axis PTP,
+/// with the axes on bars between their software limits and the steps
+/// that would pass a limit switched off.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn jog_with_status_turn_rotations_and_axis_steps() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options::default()).await;
+    // Pen-down orientation with the wrist flipped: S 6 (A5 < 0), T 18 (A2 and A5 negative).
+    let (s, v) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [{"type": "ptp", "target": {"x": 275, "y": 0, "z": 100, "a": 0, "b": 180, "c": 0, "s": 6}}]}),
+        )
+        .await;
+    assert_eq!(s, 200, "{v}");
+    assert_eq!(
+        (v["position"]["s"].as_i64(), v["position"]["t"].as_i64()),
+        (Some(6), Some(18)),
+        "{v}"
+    );
+    browser.resize(1400, 1900).await;
+    open(&browser, &t).await;
+    // The pose table and the S field name the configuration (φ = atan(20/260) = 4.4° on a KR 3 R540).
+    browser
+        .wait_js(
+            "document.querySelector('#pose tbody tr:nth-child(7) td:nth-child(3)').textContent === 'basic · elbow up · wrist flipped'
+             && document.querySelector('#pose tbody tr:nth-child(8) td:nth-child(3)').textContent === 'A2, A5 < 0, the others ≥ 0'",
+            WAIT,
+            "S 6 and T 18 in words in the pose table",
+        )
+        .await;
+    let words = browser
+        .eval("return [document.getElementById('s-words').textContent, document.getElementById('t-words').textContent];")
+        .await;
+    assert_eq!(
+        words,
+        json!([
+            "empty: keeps S 6 (basic area · elbow up (A3 ≥ 4.4°) · wrist flipped (A5 < 0))",
+            "empty: the shortest axis motion"
+        ])
+    );
+
+    // A flange-down target the flipped wrist cannot reach: the red bar says
+    // how to choose another configuration, as text with code, no backticks.
+    for (name, value) in [
+        ("x", "300"),
+        ("y", "0"),
+        ("z", "300"),
+        ("a", "0"),
+        ("b", "180"),
+        ("c", "0"),
+    ] {
+        browser
+            .set_value(&format!("#goto [name={name}]"), value)
+            .await;
+    }
+    browser.click("#go").await;
+    let alarm = browser
+        .wait_js(
+            "(() => { const a = document.getElementById('alarm');
+               return !document.getElementById('alarm-bar').hidden && a.textContent.includes('give s, 0..7, to choose another arm configuration')
+                 && [a.textContent, [...a.querySelectorAll('code')].map((c) => c.textContent)]; })()",
+            WAIT,
+            "the refused PTP in the red bar",
+        )
+        .await;
+    assert!(
+        !alarm[0].as_str().unwrap_or("`").contains('`'),
+        "no backticks shown: {alarm}"
+    );
+    assert_eq!(alarm[1], json!(["s", "s"]), "code spans: {alarm}");
+    browser.screenshot("jog-refused").await;
+
+    // S 2 (wrist not flipped) and T 2, named as typed, reach it.
+    browser.set_value("#goto [name=s]", "9").await;
+    browser
+        .wait_js(
+            "document.getElementById('s-words').classList.contains('bad') && document.getElementById('s-words').textContent === 'must be a whole number from 0 to 7'",
+            WAIT,
+            "an S out of range said next to the field",
+        )
+        .await;
+    browser.set_value("#goto [name=s]", "2").await;
+    browser.set_value("#goto [name=t]", "2").await;
+    let words = browser
+        .eval("return [document.getElementById('s-words').textContent, document.getElementById('t-words').textContent];")
+        .await;
+    assert_eq!(
+        words,
+        json!([
+            "S 2: basic area · elbow up (A3 ≥ 4.4°) · wrist not flipped (A5 ≥ 0)",
+            "T 2: A2 < 0, the others ≥ 0"
+        ])
+    );
+    let before = last_job(&t).await;
+    browser.click("#go").await;
+    job_done_after(&browser, before, "the PTP with S 2 and T 2 done").await;
+    let (_, st) = t.get("/api/v1/state").await;
+    let p = &st["position"];
+    assert_eq!(
+        (f(&p["x"]), f(&p["z"]), p["s"].as_i64(), p["t"].as_i64()),
+        (300.0, 300.0, Some(2), Some(2)),
+        "{p}"
+    );
+
+    // S and T are for PTP only: with LIN they are off, and said so.
+    browser
+        .eval("const s = document.getElementById('jog-type'); s.value = 'lin'; s.dispatchEvent(new Event('change'));")
+        .await;
+    let lin = browser
+        .eval("const f = document.getElementById('goto').elements; return [f.s.disabled, f.t.disabled, f.x.disabled, document.getElementById('s-words').textContent];")
+        .await;
+    assert_eq!(
+        lin,
+        json!([
+            true,
+            true,
+            false,
+            "S and T apply to PTP only (a LIN keeps the configuration)"
+        ])
+    );
+    browser
+        .eval("const s = document.getElementById('jog-type'); s.value = 'ptp'; s.dispatchEvent(new Event('change'));")
+        .await;
+
+    // A− by the rotation step: the tool turns 10° about Z in place.
+    browser
+        .eval("const s = document.getElementById('rot-step'); s.value = '10'; s.dispatchEvent(new Event('change'));")
+        .await;
+    let pose = |p: &Value| {
+        kuka_kinematics::Pose::new(
+            f(&p["x"]),
+            f(&p["y"]),
+            f(&p["z"]),
+            f(&p["a"]),
+            f(&p["b"]),
+            f(&p["c"]),
+        )
+    };
+    let (_, st) = t.get("/api/v1/state").await;
+    let start = pose(&st["position"]);
+    let before = last_job(&t).await;
+    browser.click("[data-step='a,-1']").await;
+    job_done_after(&browser, before, "A− done").await;
+    let (_, st) = t.get("/api/v1/state").await;
+    let turned = pose(&st["position"]);
+    assert!(
+        turned.distance_mm(&start) < 1e-3,
+        "in place: {}",
+        st["position"]
+    );
+    assert!(
+        (turned.angle_deg(&start) - 10.0).abs() < 1e-3,
+        "turned 10°: {}",
+        st["position"]
+    );
+
+    // A1+ by the same step: an axis PTP; the bar follows.
+    let a1 = f(&st["axes"]["a1"]);
+    let before = last_job(&t).await;
+    browser.click("[data-joint='a1,1']").await;
+    job_done_after(&browser, before, "A1+ done").await;
+    let (_, jobs) = t.get("/api/v1/jobs?limit=1").await;
+    assert_eq!(jobs[0]["operation"], "move", "{jobs}");
+    let (_, st) = t.get("/api/v1/state").await;
+    assert!(
+        (f(&st["axes"]["a1"]) - (a1 + 10.0)).abs() < 1e-6,
+        "A1 {a1} + 10: {}",
+        st["axes"]
+    );
+    let mark = browser
+        .wait_js(
+            &format!(
+                "(() => {{ const row = document.querySelector('#joints [data-axis=a1]');
+                   return row.querySelector('.value').textContent === '{:.2}°' && parseFloat(row.querySelector('.mark').style.left); }})()",
+                a1 + 10.0
+            ),
+            WAIT,
+            "the A1 bar at its new angle",
+        )
+        .await;
+    assert!(
+        (f(&mark) - (a1 + 10.0 + 170.0) / 340.0 * 100.0).abs() < 0.01,
+        "A1 marker at {mark}%"
+    );
+
+    // Near a limit a step that would pass it is off and says why; a smaller one is on.
+    let (s, v) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 165}}]}),
+        )
+        .await;
+    assert_eq!(s, 200, "{v}");
+    let plus = browser
+        .wait_js(
+            "(() => { const b = document.querySelector(\"[data-joint='a1,1']\");
+               return b.disabled && [b.title, document.querySelector(\"[data-joint='a1,-1']\").disabled,
+                 document.querySelector('#joints [data-axis=a1]').classList.contains('near')]; })()",
+            WAIT,
+            "A1+ off at 165° with a 10° step",
+        )
+        .await;
+    assert_eq!(
+        plus,
+        json!(["A1 + 10° would pass the software limit 170°", false, true])
+    );
+    browser
+        .eval("const s = document.getElementById('rot-step'); s.value = '1'; s.dispatchEvent(new Event('change'));")
+        .await;
+    assert_eq!(
+        browser
+            .eval("return document.querySelector(\"[data-joint='a1,1']\").disabled;")
+            .await,
+        false,
+        "a 1° step stays within the limit"
+    );
+    browser.screenshot("jog").await;
+    let errors = browser.page_errors().await;
+    assert!(errors.is_empty(), "console errors: {errors:#?}");
+    browser.close().await;
+}
+
+/// The motions of the smiley that only travel (docs/smiley.json): the PTP
+/// to the start, and the LINs that lower, lift or move the pen at
+/// Z 100 (the drawing plane is Z 70, the lowest Z of its LINs and CIRCs).
+const SMILEY_TRAVEL: [usize; 12] = [0, 1, 4, 5, 6, 9, 10, 11, 14, 15, 16, 18];
+
+/// Pen-up travel is drawn faint and dashed in the top view and the 3D view
+/// (and the SVG export): PTPs and the LINs above the drawing plane, by the
+/// rule of docs/DASHBOARD.md computed here from the plan the service
+/// published; after a reload the page classifies the path the same way
+/// from the event history.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn pen_up_travel_is_drawn_faint_and_dashed() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options::default()).await;
+    browser.resize(1400, 1900).await;
+    open(&browser, &t).await;
+    let (s, job) = t.post_json("/api/v1/motions", &smiley()).await;
+    assert_eq!(s, 200, "{job}");
+    let cid = job["cid"].as_i64().expect("cid");
+
+    // The rule, from the plan as published (targets resolved).
+    let (_, plans) = t.get("/api/v1/events/recent?types=plan&limit=1").await;
+    let motions = plans[0]["data"]["motions"]
+        .as_array()
+        .expect("planned motions")
+        .clone();
+    assert_eq!(plans[0]["data"]["cid"].as_i64(), Some(cid));
+    let z = |v: &Value| f(&v[2]);
+    let cp = |m: &Value| m["type"] == "lin" || m["type"] == "circ";
+    let mut plane = f64::INFINITY;
+    for (i, m) in motions.iter().enumerate() {
+        if cp(m) {
+            plane = plane.min(z(&m["target"])).min(z(&motions[i - 1]["target"]));
+        }
+    }
+    assert_eq!(plane, 70.0);
+    let travel: Vec<bool> = motions
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let above = |p: &Value| !p.is_null() && z(p) > plane + 0.5;
+            !cp(m) || above(&motions[i - 1]["target"]) || above(&m["target"]) || above(&m["aux"])
+        })
+        .collect();
+    let expected: Vec<bool> = (0..motions.len())
+        .map(|i| SMILEY_TRAVEL.contains(&i))
+        .collect();
+    assert_eq!(travel, expected, "the rule on the smiley");
+
+    let (_, trace) = t.get("/api/v1/sim/trace").await;
+    let samples: Vec<&Value> = trace
+        .as_array()
+        .expect("trace")
+        .iter()
+        .filter(|s| s["cid"].as_i64() == Some(cid))
+        .collect();
+    let want: Vec<bool> = samples
+        .iter()
+        .map(|s| travel[s["motion"].as_u64().expect("motion") as usize])
+        .collect();
+    let page_kinds = format!(
+        "(() => {{ const p = window.dashboard.path.filter((s) => s.cid === {cid});
+           return p.length === {} && p.map((s) => !!s.travel); }})()",
+        samples.len()
+    );
+    let shown = browser
+        .wait_js(&page_kinds, WAIT, "every sample on the page, classified")
+        .await;
+    assert_eq!(shown, json!(want), "travel per sample on the page");
+    let plan = browser
+        .eval("return [window.dashboard.lastPlan.kinds.plane, window.dashboard.lastPlan.kinds.travel];")
+        .await;
+    assert_eq!(
+        (f(&plan[0]), &plan[1]),
+        (70.0, &json!(travel)),
+        "the page's plan"
+    );
+
+    // 3D: strokes solid, travel dashed and faint, every segment in one of them.
+    let view = browser
+        .eval(
+            "const v = window.dashboard.view;
+             return [v.ink.count, v.travel.count, v.executedCount, v.ink.line.material.type,
+                     v.travel.line.material.type, v.travel.line.material.opacity, v.travel.line.material.transparent];",
+        )
+        .await;
+    assert!(f(&view[0]) > 100.0 && f(&view[1]) > 100.0, "{view}");
+    assert_eq!(f(&view[0]) + f(&view[1]), f(&view[2]) - 1.0, "{view}");
+    assert_eq!(view[3], "LineBasicMaterial", "{view}");
+    assert_eq!(view[4], "LineDashedMaterial", "{view}");
+    assert!(f(&view[5]) < 0.5 && view[6] == true, "faint: {view}");
+    // Planned travel is fainter than planned strokes in 3D too.
+    let planned = browser
+        .eval(
+            "const d = window.dashboard; d.view.setPlanned([d.lastPlan]);
+             const ch = d.view.planned.children;
+             const out = [ch.length, ch.filter((c) => c.userData.travel && c.material.opacity < 0.5).length,
+                          ch.filter((c) => !c.userData.travel && c.material.opacity === 1).length];
+             d.view.setPlanned([]); return out;",
+        )
+        .await;
+    assert!(
+        f(&planned[0]) > 2.0
+            && f(&planned[0]) == f(&planned[1]) + f(&planned[2])
+            && f(&planned[1]) > 0.0,
+        "planned runs: {planned}"
+    );
+
+    // Top view, pixels: away from the strokes the travel lines are faint and
+    // have gaps (dashes); away from travel the strokes are solid.
+    let pixels = browser
+        .eval_async(
+            "const d = window.dashboard; d.drawPathNow();
+             await new Promise((r) => requestAnimationFrame(r));
+             const c = document.getElementById('top');
+             const px = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+             const alpha = ([x, y]) => { let m = 0;
+               for (let dx = -1; dx <= 1; dx++) for (let dy = -1; dy <= 1; dy++) {
+                 const X = Math.round(x) + dx, Y = Math.round(y) + dy;
+                 if (X >= 0 && Y >= 0 && X < c.width && Y < c.height) m = Math.max(m, px[(Y * c.width + X) * 4 + 3]); }
+               return m; };
+             const ink = d.path.filter((s) => !s.travel), trav = d.path.filter((s) => s.travel);
+             const far = (s, others) => others.every((o) => Math.hypot(o.pose[0] - s.pose[0], o.pose[1] - s.pose[1]) > 3);
+             const t = trav.filter((s) => far(s, ink)).map((s) => alpha(d.top.toCanvas(s.pose)));
+             const i = ink.filter((s) => far(s, trav)).map((s) => alpha(d.top.toCanvas(s.pose)));
+             return [t.length, Math.max(...t), t.filter((a) => a < 20).length, i.length, Math.min(...i)];",
+        )
+        .await;
+    println!(
+        "top view: [travel samples, their max alpha, in gaps, stroke samples, their min alpha] = {pixels}"
+    );
+    let p: Vec<f64> = pixels.as_array().expect("pixels").iter().map(f).collect();
+    assert!(
+        p[0] > 30.0,
+        "travel samples away from the strokes: {pixels}"
+    );
+    assert!(p[1] < 200.0, "travel is faint: {pixels}");
+    assert!(p[2] > 0.0, "travel is dashed: {pixels}");
+    assert!(p[3] > 100.0 && p[4] >= 200.0, "strokes are solid: {pixels}");
+    // The SVG export draws travel dashed and faint too.
+    let svg = browser
+        .eval(
+            "const doc = new DOMParser().parseFromString(window.dashboard.pathSvg(), 'image/svg+xml');
+             const t = [...doc.querySelectorAll('polyline.executed.travel')];
+             return [t.length, t.every((l) => l.getAttribute('stroke-dasharray') && Number(l.getAttribute('stroke-opacity')) < 0.5),
+                     doc.querySelectorAll('polyline.executed:not(.travel)').length];",
+        )
+        .await;
+    assert!(
+        f(&svg[0]) >= 4.0 && svg[1] == true && f(&svg[2]) >= 4.0,
+        "{svg}"
+    );
+    browser.screenshot("travel").await;
+
+    // After a reload the trace comes back and the plan from the event history: same kinds.
+    browser.goto(&t.url("/")).await;
+    open(&browser, &t).await;
+    let shown = browser
+        .wait_js(
+            &page_kinds,
+            WAIT,
+            "the path classified again after a reload",
+        )
+        .await;
+    assert_eq!(shown, json!(want), "travel per sample after a reload");
+    let errors = browser.page_errors().await;
+    assert!(errors.is_empty(), "console errors: {errors:#?}");
+    browser.close().await;
+}
+
+/// The Events panel shows what happened before the page was (re)loaded,
+/// from `GET /api/v1/events/recent`, at the times it happened, once; the
+/// stream continues from the last id without a gap, and a stream that
+/// reconnects gets the events it missed (and none twice).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_events_panel_keeps_its_history_across_a_reload() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options::default()).await;
+    let (s, home) = t.post("/api/v1/home").await;
+    assert_eq!(s, 200, "{home}");
+    let (s, mv) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 10}}]}),
+        )
+        .await;
+    assert_eq!(s, 200, "{mv}");
+    let id = mv["id"].as_u64().expect("id");
+    // Opened after the fact: the history is there.
+    open(&browser, &t).await;
+    let lines = |text: String| {
+        format!(
+            "[...document.querySelectorAll('#events li')].filter((l) => l.textContent.includes({})).length",
+            json!(text)
+        )
+    };
+    let done = format!("job #{id} move done");
+    let plan = format!("plan #{id} cid {}: ptp_axes", mv["cid"]);
+    let home_done = format!("job #{} home done", home["id"]);
+    for reload in [false, true] {
+        if reload {
+            browser.eval("location.reload();").await;
+            open(&browser, &t).await;
+        }
+        browser
+            .wait_js(
+                &format!(
+                    "{} === 1 && {} === 1 && {} === 1",
+                    lines(done.clone()),
+                    lines(plan.clone()),
+                    lines(home_done.clone())
+                ),
+                WAIT,
+                "the earlier jobs and plan listed once",
+            )
+            .await;
+    }
+    // At the time the service published them.
+    let (_, recent) = t.get("/api/v1/events/recent?types=job").await;
+    let published = recent
+        .as_array()
+        .expect("recent")
+        .iter()
+        .rev()
+        .find(|e| e["data"]["id"].as_u64() == Some(id) && e["data"]["state"] == "done")
+        .expect("the done event")
+        .clone();
+    let shown = browser
+        .eval(&format!(
+            "return window.dashboard.events.find((e) => e.type === 'job' && e.text.startsWith('#{id} move done')).at.getTime();"
+        ))
+        .await;
+    assert_eq!(shown, published["at_ms"], "the time it happened");
+    let (_, newest) = t.get("/api/v1/events/recent?limit=1").await;
+    browser
+        .wait_js(
+            &format!("window.dashboard.lastEventId >= {}", newest[0]["id"]),
+            WAIT,
+            "the page at the newest event id",
+        )
+        .await;
+
+    // A job after the reload is listed once (live, not also replayed).
+    let (s, again) = t.post("/api/v1/home").await;
+    assert_eq!(s, 200, "{again}");
+    let again_done = format!("job #{} home done", again["id"]);
+    browser
+        .wait_js(
+            &format!("{} === 1", lines(again_done.clone())),
+            WAIT,
+            "the new job listed",
+        )
+        .await;
+    // The stream drops; a job runs meanwhile; the page reconnects from its last id and gets it, once.
+    browser.eval("window.dashboard.stream.close();").await;
+    let (s, missed) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [{"type": "ptp_axes", "axes": {"a1": -10}}]}),
+        )
+        .await;
+    assert_eq!(s, 200, "{missed}");
+    let missed_done = format!("job #{} move done", missed["id"]);
+    assert_eq!(
+        browser
+            .eval(&format!("return {};", lines(missed_done.clone())))
+            .await,
+        0
+    );
+    browser.eval("window.dashboard.reconnect();").await;
+    browser
+        .wait_js(
+            &format!("{} === 1", lines(missed_done.clone())),
+            WAIT,
+            "the missed job replayed",
+        )
+        .await;
+    browser
+        .wait_js(
+            &format!(
+                "window.dashboard.jobs.get({})?.state === 'done'",
+                missed["id"]
+            ),
+            WAIT,
+            "the missed job in the jobs panel",
+        )
+        .await;
+    for line in [done, plan, home_done, again_done, missed_done] {
+        assert_eq!(
+            browser
+                .eval(&format!("return {};", lines(line.clone())))
+                .await,
+            1,
+            "{line} once"
+        );
+    }
+    browser.screenshot("events-history").await;
+    let errors = browser.page_errors().await;
+    assert!(errors.is_empty(), "console errors: {errors:#?}");
+    browser.close().await;
+}
+
+/// A plugin's form lists its fields in the order of its schema as
+/// `/openapi.json` gives it (not sorted, required ones not moved first).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn plugin_form_fields_follow_the_schema_order() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options::default()).await;
+    open(&browser, &t).await;
+    let names = browser
+        .eval_async(
+            "const { renderPlugins } = await import('/ui/plugins.js');
+             // As the page parses /openapi.json: JSON.parse keeps the document's order.
+             const schema = {type: 'object', required: ['zeta', 'alpha'], properties: {
+               zeta: {type: 'number'}, mid: {type: 'string'}, alpha: {type: 'number'}, beta: {type: 'boolean'}}};
+             const text = JSON.stringify({paths: {'/api/v1/plugins/p/go': {post: {requestBody: {content: {'application/json': {schema}}}}}}});
+             const doc = JSON.parse(text);
+             const box = document.createElement('div');
+             renderPlugins(box, [{name: 'p', version: '1', status: 'active', routes: [{method: 'POST', url: '/api/v1/plugins/p/go', summary: 'go'}]}],
+                           doc, async () => ({status: 200, body: {}}));
+             return [...box.querySelectorAll('input, select')].map((i) => [i.name, i.required]);",
+        )
+        .await;
+    assert_eq!(
+        names,
+        json!([
+            ["zeta", true],
+            ["mid", false],
+            ["alpha", true],
+            ["beta", false]
+        ])
+    );
+    browser.close().await;
+}
+
+/// The draw-smiley plugin's form in the order its schema lists the
+/// fields. Ignored: the order is lost on the server (the plugin's
+/// `serde_json` without `preserve_order` serialises its schema sorted; the
+/// host parses it into a sorted `serde_json::Value` in
+/// `plugins/host/src/describe.rs` `parse_schema`; `/openapi.json` is built
+/// as a `serde_json::Value` in `service/src/api/plugins.rs`
+/// `add_plugin_paths`), so the page gets the fields alphabetically.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+#[ignore = "the schema order is lost server-side: serde_json without preserve_order in the plugin, the host and the OpenAPI document"]
+async fn smiley_plugin_form_in_its_schema_order() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let wasm = kuka_bridge_tests::example_plugins(
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")),
+        false,
+    )
+    .join("draw-smiley.wasm");
+    let t = TestService::start(Options::default()).await;
+    let (s, v) = t
+        .put_bytes(
+            "/api/v1/plugins/draw-smiley",
+            std::fs::read(&wasm).expect("draw-smiley.wasm"),
+        )
+        .await;
+    assert!(s == 200 || s == 201, "install: {s} {v}");
+    open(&browser, &t).await;
+    let form = "form[data-url='/api/v1/plugins/draw-smiley/smiley']";
+    let names = browser
+        .wait_js(
+            &format!(
+                "(() => {{ const f = document.querySelector(\"{form}\"); return f && [...f.querySelectorAll('input, select')].map((i) => i.name); }})()"
+            ),
+            WAIT,
+            "the smiley's form",
+        )
+        .await;
+    assert_eq!(
+        names,
+        json!(["x", "y", "z", "size", "lift_mm", "speed_m_s"])
+    );
+    browser.close().await;
+}
+
+/// One SSE message: its `event:`, `id:` (if any) and `data:` as JSON.
+#[derive(Debug)]
+struct Sse {
+    event: String,
+    id: Option<u64>,
+    data: Value,
+}
+
+/// Reads SSE messages from `r` until one with `event: <until>` (included).
+async fn read_sse(r: reqwest::Response, until: &str) -> Vec<Sse> {
+    use futures_util::StreamExt;
+    let mut stream = r.bytes_stream();
+    let mut buf = String::new();
+    let mut out = Vec::new();
+    loop {
+        while let Some(end) = buf.find("\n\n") {
+            let msg: String = buf.drain(..end + 2).collect();
+            let field = |name: &str| {
+                msg.lines()
+                    .find_map(|l| l.strip_prefix(name).map(|v| v.trim().to_string()))
+            };
+            let Some(event) = field("event:") else {
+                continue; // a keep-alive comment
+            };
+            out.push(Sse {
+                id: field("id:").map(|i| i.parse().expect("numeric id")),
+                data: serde_json::from_str(&field("data:").unwrap_or_default())
+                    .unwrap_or(Value::Null),
+                event: event.clone(),
+            });
+            if event == until {
+                return out;
+            }
+        }
+        let chunk = tokio::time::timeout(WAIT, stream.next())
+            .await
+            .expect("an SSE message in time")
+            .expect("stream open")
+            .expect("chunk");
+        buf.push_str(&String::from_utf8_lossy(&chunk));
+    }
+}
+
+/// `GET /api/v1/events/recent` lists the held job, plan and alarm events
+/// with consecutive ids, newest last, filtered by type, limit and id; the
+/// event stream replays what came after `Last-Event-ID` (or
+/// `?last_event_id=`, the header winning) before the current state, then
+/// continues with the next id.
+#[tokio::test]
+async fn the_event_history_is_listed_and_replayed() {
+    let t = TestService::start(Options::default()).await;
+    let (s, home) = t.post("/api/v1/home").await;
+    assert_eq!(s, 200, "{home}");
+    let (s, mv) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 10}}]}),
+        )
+        .await;
+    assert_eq!(s, 200, "{mv}");
+    let (s, all) = t.get("/api/v1/events/recent").await;
+    assert_eq!(s, 200, "{all}");
+    let all = all.as_array().expect("a list").clone();
+    let ids: Vec<u64> = all.iter().map(|e| e["id"].as_u64().expect("id")).collect();
+    assert!(
+        ids.windows(2).all(|w| w[1] == w[0] + 1),
+        "consecutive ids: {ids:?}"
+    );
+    assert!(
+        all.windows(2)
+            .all(|w| w[0]["at_ms"].as_u64() <= w[1]["at_ms"].as_u64()),
+        "oldest first"
+    );
+    assert!(
+        all.iter()
+            .all(|e| ["job", "plan", "alarm"].contains(&e["type"].as_str().unwrap_or("")))
+    );
+    let find = |kind: &str, ok: &dyn Fn(&Value) -> bool| {
+        all.iter()
+            .position(|e| e["type"] == kind && ok(&e["data"]))
+            .unwrap_or_else(|| panic!("no {kind} event like that in {all:#?}"))
+    };
+    let home_done = find("job", &|d| d["id"] == home["id"] && d["state"] == "done");
+    let plan = find("plan", &|d| {
+        d["job"] == mv["id"] && d["motions"][0]["type"] == "ptp_axes"
+    });
+    let mv_done = find("job", &|d| d["id"] == mv["id"] && d["state"] == "done");
+    assert!(home_done < plan && plan < mv_done, "in order");
+    assert_eq!(all[mv_done]["data"]["position"], mv["position"]);
+
+    // Limit (the newest), types, after.
+    let (_, two) = t.get("/api/v1/events/recent?limit=2").await;
+    assert_eq!(two, json!(all[all.len() - 2..]));
+    let (_, plans) = t.get("/api/v1/events/recent?types=plan").await;
+    let plans = plans.as_array().expect("plans");
+    assert!(
+        !plans.is_empty() && plans.iter().all(|e| e["type"] == "plan"),
+        "{plans:?}"
+    );
+    let plan_id = ids[plan];
+    let (_, after) = t
+        .get(&format!(
+            "/api/v1/events/recent?after={plan_id}&types=job,alarm"
+        ))
+        .await;
+    let want: Vec<&Value> = all[plan + 1..]
+        .iter()
+        .filter(|e| e["type"] != "plan")
+        .collect();
+    assert_eq!(after, json!(want));
+    for bad in [
+        "limit=0",
+        "limit=1001",
+        "types=state",
+        "types=job,bogus",
+        "after=abc",
+        "since=3",
+    ] {
+        let (s, v) = t.get(&format!("/api/v1/events/recent?{bad}")).await;
+        assert_eq!(
+            (s, v["code"].as_str()),
+            (422, Some("invalid_input")),
+            "{bad}: {v}"
+        );
+    }
+
+    // The stream after Last-Event-ID: the held events after it with their
+    // ids, then the state (no id); the query parameter does the same; the
+    // header wins over it.
+    let replayed: Vec<(String, Option<u64>)> = all[plan + 1..]
+        .iter()
+        .map(|e| {
+            (
+                e["type"].as_str().unwrap_or("").to_string(),
+                e["id"].as_u64(),
+            )
+        })
+        .chain([("state".to_string(), None)])
+        .collect();
+    for (header, query) in [
+        (Some(plan_id), None),
+        (None, Some(plan_id)),
+        (Some(plan_id), Some(ids[0])),
+    ] {
+        let mut req = t.http.get(t.url(&format!(
+            "/api/v1/events{}",
+            query.map_or(String::new(), |q| format!("?last_event_id={q}"))
+        )));
+        if let Some(h) = header {
+            req = req.header("Last-Event-ID", h.to_string());
+        }
+        let r = req.send().await.expect("events");
+        assert_eq!(r.status(), 200);
+        let got: Vec<(String, Option<u64>)> = read_sse(r, "state")
+            .await
+            .into_iter()
+            .map(|m| (m.event, m.id))
+            .collect();
+        assert_eq!(got, replayed, "header {header:?}, query {query:?}");
+    }
+    // Without a position the stream starts with the state; live events continue the ids.
+    let r = t
+        .http
+        .get(t.url("/api/v1/events?types=state,job"))
+        .send()
+        .await
+        .expect("events");
+    let first = read_sse(r, "state").await;
+    assert_eq!(first.len(), 1, "{first:?}");
+    let r = t
+        .http
+        .get(t.url(&format!(
+            "/api/v1/events?types=job&last_event_id={}",
+            ids[ids.len() - 1]
+        )))
+        .send()
+        .await
+        .expect("events");
+    let (s, next) = t.post("/api/v1/home").await;
+    assert_eq!(s, 200, "{next}");
+    let live = read_sse(r, "job").await;
+    let job = live.last().expect("a job event");
+    assert_eq!(job.id, Some(ids[ids.len() - 1] + 1), "{live:?}");
+    assert_eq!(job.data["id"], next["id"]);
+    let (s, v) = t
+        .http
+        .get(t.url("/api/v1/events"))
+        .header("Last-Event-ID", "abc")
+        .send()
+        .await
+        .map(|r| (r.status().as_u16(), r))
+        .expect("events");
+    assert_eq!(s, 422, "{:?}", v.text().await);
+
+    // Documented for clients, with the role it needs.
+    let (_, doc) = t.get("/openapi.json").await;
+    let op = &doc["paths"]["/api/v1/events/recent"]["get"];
+    assert_eq!(op["operationId"], "listRecentEvents", "{op}");
+    assert_eq!(op["x-required-role"], "viewer", "{op}");
+    let responses = op["responses"].as_object().expect("responses");
+    for (status, r) in responses {
+        assert!(
+            r["description"].as_str().is_some_and(|d| !d.is_empty()),
+            "{status} without a description"
+        );
+    }
+    t.service.shutdown().await.expect("shutdown");
 }

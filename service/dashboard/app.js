@@ -1,17 +1,22 @@
 // kuka-bridge dashboard: wires the panels to the public API only —
 // GET /api/v1/state, /api/v1/model, /api/v1/control, /openapi.json, the
-// event stream /api/v1/events (state, job, plan, alarm), the simulator's
-// trace when simulating, and the same POST/PUT calls any client makes —
+// recent events /api/v1/events/recent and the event stream /api/v1/events
+// (state, job, plan, alarm; continued from the last event id seen), the
+// simulator's trace when simulating, and the same POST/PUT calls any client makes —
 // with this tab's token when access control is on. Updates are pushed by
 // the event stream; nothing polls in a tight loop.
 import { ArmView } from "./arm.js";
 import { Projection } from "./projections.js";
 import { arc, tcpInBase } from "./kinematics.js";
-import { $, el, fmt, download } from "./dom.js";
+import { $, el, fmt, download, textWithCode } from "./dom.js";
 import { renderPlugins } from "./plugins.js";
+import { classifyPlan, sampleIsTravel } from "./travel.js";
+import { axisBar, buildJoints, placeMark, showJoints, statusShort, statusWords, turnWords } from "./jog.js";
 
 const MAX_PATH = 100000; // executed samples kept (oldest dropped)
 const MAX_EVENTS = 500;
+const HISTORY = 200; // recent events shown after a (re)load
+const MAX_KINDS = 500; // classified plans kept (by command id)
 const RANK = { viewer: 1, operator: 2, admin: 3 };
 
 /** Everything the page knows; also `window.dashboard` for tests and the curious. */
@@ -26,10 +31,13 @@ const state = {
   mine: new Set(), // jobs this page started: their outcome is reported
 
   plans: new Map(),
+  kinds: new Map(), // cid → {plane, travel[]}: which motions of a batch are pen-up travel
   path: [],
   traceSince: null,
   traceSeen: new Set(),
   events: [],
+  lastEventId: null, // the newest job/plan/alarm event id seen: the stream continues from it
+  seenIds: new Set(),
 };
 window.dashboard = state;
 
@@ -70,7 +78,7 @@ state.api = api;
 
 /** A short message at the bottom of the page; it goes away after 8 s. */
 function say(text) {
-  $("message").textContent = text;
+  $("message").replaceChildren(...textWithCode(text));
   clearTimeout(state.sayTimer);
   if (text) state.sayTimer = setTimeout(() => ($("message").textContent = ""), 8000);
 }
@@ -140,8 +148,14 @@ function renderState(s) {
   rows.forEach(([, key], i) => {
     const v = p?.[key];
     body.rows[i].cells[1].textContent = v === undefined ? "–" : key === "s" ? `${v} (${v.toString(2).padStart(3, "0")}b)` : key === "t" ? `${v} (${v.toString(2).padStart(6, "0")}b)` : fmt(v);
+    if (key === "s" || key === "t") {
+      const words = v === undefined ? "" : key === "s" ? statusShort(v) : turnWords(v);
+      if (body.rows[i].cells[2].textContent !== words) body.rows[i].cells[2].replaceChildren(el("small", {}, words));
+      body.rows[i].title = v === undefined ? "" : key === "s" ? `Status ${v}: ${statusWords(v, state.model)}` : `Turn ${v}: ${turnWords(v)}`;
+    }
   });
   showAxes(s.axes);
+  showConfigWords();
   showRunning();
   // The 3D view and the projections only when the arm or its frames moved.
   const pose = JSON.stringify([s.axes, s.tool, s.base]);
@@ -164,13 +178,13 @@ function showAlarm(text, ms = 15000) {
 function renderAlarm() {
   const notice = state.notice && Date.now() < state.notice.until ? state.notice.text : null;
   const parts = [notice, state.condition].filter(Boolean);
-  $("alarm").textContent = parts.join(" · ");
+  $("alarm").replaceChildren(...textWithCode(parts.join(" · ")));
   $("alarm-bar").hidden = !parts.length;
 }
 
 const frame = (f) => (f ? [f.x, f.y, f.z, f.a, f.b, f.c] : [0, 0, 0, 0, 0, 0]);
 
-/** A1–A6 against their software limits (rows built once, then updated in place). */
+/** A1–A6 against their software limits (rows built once, then updated in place), here and in the jog panel. */
 function showAxes(axes) {
   const box = $("axes");
   const limits = state.model?.limits_deg;
@@ -178,13 +192,8 @@ function showAxes(axes) {
   if (!box.children.length) {
     for (let i = 0; i < 6; i++) {
       const row = el("div", { class: "axis" });
-      const [lo, hi] = limits ? limits[i] : [0, 0];
       row.append(el("b", {}, `A${i + 1}`), el("span", { class: "value" }));
-      if (limits) {
-        const zero = el("span", { class: "zero" });
-        zero.style.left = `${(-lo / (hi - lo)) * 100}%`;
-        row.append(el("span", { class: "bar" }, zero, el("span", { class: "mark" })), el("small", {}, `${lo}…${hi}`));
-      }
+      if (limits) row.append(axisBar(...limits[i]), el("small", {}, `${limits[i][0]}…${limits[i][1]}`));
       box.append(row);
     }
   }
@@ -193,10 +202,38 @@ function showAxes(axes) {
     row.querySelector(".value").textContent = `${fmt(v)}°`;
     if (!limits) return;
     const [lo, hi] = limits[i];
-    row.querySelector(".mark").style.left = `${Math.max(0, Math.min(100, ((v - lo) / (hi - lo)) * 100))}%`;
-    row.classList.toggle("near", Math.min(v - lo, hi - v) < 0.05 * (hi - lo));
+    row.classList.toggle("near", placeMark(row.querySelector(".bar"), v, lo, hi));
     row.title = `A${i + 1} ${fmt(v)}° within [${lo}°, ${hi}°]`;
   });
+  showJointRows();
+}
+
+/** The jog panel's joint rows: values, bars, and which steps are possible. */
+function showJointRows() {
+  const limits = state.model?.limits_deg;
+  buildJoints($("joints"), limits);
+  showJoints($("joints"), state.robot?.axes, limits, Number($("rot-step").value), blocked("POST /api/v1/motions"));
+}
+
+/** The S and T fields' configuration in words: the typed value, or the current one that an empty field keeps. */
+function showConfigWords() {
+  const f = $("goto").elements;
+  const p = state.robot?.position;
+  const ptp = $("jog-type").value === "ptp";
+  const word = (input, max, words, empty) => {
+    const text = input.value.trim();
+    if (!ptp) return ["S and T apply to PTP only (a LIN keeps the configuration)", false];
+    if (text === "") return [empty, false];
+    const v = Number(text);
+    if (!Number.isInteger(v) || v < 0 || v > max) return [`must be a whole number from 0 to ${max}`, true];
+    return [words(v), false];
+  };
+  const [sw, sbad] = word(f.s, 7, (v) => `S ${v}: ${statusWords(v, state.model)}`, p ? `empty: keeps S ${p.s} (${statusWords(p.s, state.model)})` : "empty: keeps the current Status");
+  const [tw, tbad] = word(f.t, 63, (v) => `T ${v}: ${turnWords(v)}`, "empty: the shortest axis motion");
+  for (const [id, text, bad] of [["s-words", sw, sbad], ["t-words", tw, tbad]]) {
+    if ($(id).textContent !== text) $(id).textContent = text;
+    $(id).classList.toggle("bad", bad);
+  }
 }
 
 // ---------------------------------------------------------------- path
@@ -207,17 +244,53 @@ function addPositions(samples, dedupe) {
   for (const s of samples) {
     const last = state.path[state.path.length - 1];
     if (dedupe && last && Math.hypot(last.pose[0] - s.pose[0], last.pose[1] - s.pose[1], last.pose[2] - s.pose[2]) < 0.01) continue;
+    s.travel = sampleIsTravel(state.kinds, s);
     state.path.push(s);
-    fresh.push(s.pose);
+    fresh.push(s);
   }
   if (state.path.length > MAX_PATH) {
     state.path.splice(0, state.path.length - MAX_PATH / 2);
-    state.view.setExecuted(state.path.map((s) => s.pose));
+    redrawExecuted();
   } else if (fresh.length) {
-    state.view.addExecuted(fresh);
+    state.view.addExecuted(
+      fresh.map((s) => s.pose),
+      fresh.map((s) => s.travel),
+    );
   }
   if (fresh.length) drawPath();
 }
+
+/** The whole executed path into the 3D view again (after a trim or a reclassification). */
+function redrawExecuted() {
+  state.view.setExecuted(
+    state.path.map((s) => s.pose),
+    state.path.map((s) => s.travel),
+  );
+}
+
+/**
+ * Remembers which motions of a batch are travel (by its command id); samples
+ * of that batch already on the page (a plan read from the history after a
+ * reload) are classified again.
+ */
+function rememberKinds(cid, kinds) {
+  state.kinds.set(cid, kinds);
+  if (state.kinds.size > MAX_KINDS) state.kinds.delete(state.kinds.keys().next().value);
+  let changed = false;
+  for (const s of state.path) {
+    if (s.cid !== cid) continue;
+    const travel = sampleIsTravel(state.kinds, s);
+    changed ||= travel !== s.travel;
+    s.travel = travel;
+  }
+  if (changed) {
+    redrawExecuted();
+    drawPath();
+  }
+}
+
+/** Whether each sample of the page's path is travel (tests). */
+state.pathTravel = () => state.path.map((s) => !!s.travel);
 
 /** Fetches the simulator's trace since the last sample seen; one request at a time, re-run if asked meanwhile. */
 async function fetchTrace() {
@@ -246,25 +319,45 @@ async function fetchTrace() {
   }
 }
 
-function planPoints(plan) {
-  // Starts where the previous unfinished plan ends, else at the robot.
+/**
+ * A plan's path and kinds: `points` (CIRCs as arcs), `travel[i]` = the
+ * segment to points[i] is travel, the drawing plane and the travel flag of
+ * each motion (travel.js). `start` = where the batch starts, or null (a plan
+ * from the history).
+ */
+function planOf(plan, start) {
+  const endOf = (m) => {
+    if (m.target) return m.target.slice(0, 3);
+    if (m.axes && state.model && state.robot) return tcpInBase(state.model, m.axes, frame(state.robot.tool), frame(state.robot.base)).slice(0, 3);
+    return null;
+  };
+  const k = classifyPlan(plan.motions, start, endOf);
+  const points = [];
+  const travel = [];
+  k.motions.forEach((m, i) => {
+    if (!m.end) return;
+    if (!points.length && m.start) {
+      points.push(m.start);
+      travel.push(false);
+    }
+    const pts = m.type === "circ" && m.start && m.aux ? arc(m.start, m.aux, m.end).slice(1) : [m.end];
+    for (const p of pts) {
+      points.push(p);
+      travel.push(k.travel[i]);
+    }
+  });
+  return { job: plan.job, cid: plan.cid, points, travel, kinds: { plane: k.plane, travel: k.travel } };
+}
+
+/** Where a new plan starts: where the previous unfinished plan ends, else at the robot. */
+function planStart(plan) {
   const earlier = [...state.plans.values()].filter((p) => p.job < plan.job);
   const p = state.robot?.position;
-  let at = earlier.length ? earlier[earlier.length - 1].points.at(-1) : p ? [p.x, p.y, p.z] : null;
-  const points = at ? [at] : [];
-  for (const m of plan.motions) {
-    let end = m.target ? m.target.slice(0, 3) : null;
-    if (m.axes && state.model && state.robot) end = tcpInBase(state.model, m.axes, frame(state.robot.tool), frame(state.robot.base)).slice(0, 3);
-    if (!end) continue;
-    if (m.type === "circ" && at) points.push(...arc(at, m.aux, end).slice(1));
-    else points.push(end);
-    at = end;
-  }
-  return points;
+  return earlier.length ? earlier[earlier.length - 1].points.at(-1) : p ? [p.x, p.y, p.z] : null;
 }
 
 function showPlans() {
-  state.view.setPlanned([...state.plans.values()].map((p) => p.points));
+  state.view.setPlanned([...state.plans.values()]);
   drawPath();
 }
 
@@ -280,11 +373,12 @@ function drawPath() {
 
 function drawPathNow() {
   const executed = state.path.map((s) => s.pose);
-  const planned = [...state.plans.values()].map((p) => p.points);
+  const travel = state.path.map((s) => s.travel);
+  const planned = [...state.plans.values()];
   const p = state.robot?.position;
   const tcp = p ? [p.x, p.y, p.z] : null;
-  state.top.draw({ executed, planned, tcp });
-  state.side.draw({ executed, planned, tcp });
+  state.top.draw({ executed, travel, planned, tcp });
+  state.side.draw({ executed, travel, planned, tcp });
   $("path-count").textContent = `${state.path.length} points`;
 }
 state.drawPathNow = drawPathNow;
@@ -342,7 +436,7 @@ function renderJobs() {
           el("span", { class: "state" }, j.state),
           " ",
           el("small", {}, j.origin || j.requested_by || ""),
-          j.error && el("div", { class: "error" }, `${j.error.code}: ${j.error.detail}`),
+          j.error && el("div", { class: "error" }, ...textWithCode(`${j.error.code}: ${j.error.detail}`)),
         );
       }),
     );
@@ -364,8 +458,8 @@ function showRunning() {
   box.replaceChildren(el("b", {}, `#${j.id}`), ` ${j.operation} — ${j.state}${pct !== null ? ` — ${j.completed}/${j.motions} motions` : ""}`, bar);
 }
 
-function logEvent(type, text) {
-  state.events.push({ at: new Date(), type, text });
+function logEvent(type, text, at = new Date()) {
+  state.events.push({ at, type, text });
   if (state.events.length > MAX_EVENTS) state.events.splice(0, state.events.length - MAX_EVENTS);
   showEvents();
 }
@@ -381,34 +475,77 @@ function showEvents() {
     const shown = state.events.filter((e) => types.has(e.type) && (!needle || `${e.type} ${e.text}`.toLowerCase().includes(needle))).slice(-150).reverse();
     $("events").replaceChildren(
       ...shown.map((e) => {
-        return el("li", { class: e.type }, el("time", {}, e.at.toLocaleTimeString()), " ", el("b", {}, e.type), " ", e.text);
+        return el("li", { class: e.type }, el("time", {}, e.at.toLocaleTimeString()), " ", el("b", {}, e.type), " ", ...textWithCode(e.text));
       }),
     );
   });
 }
 
+/** The Events panel's line for a job, plan or alarm event. */
+function eventText(type, d) {
+  if (type === "job") return `#${d.id} ${d.operation} ${d.state}${d.motions ? ` ${d.completed}/${d.motions}` : ""}${d.error ? ` — ${d.error.code}: ${d.error.detail}` : ""}`;
+  if (type === "plan") return `#${d.job} cid ${d.cid}: ${d.motions.map((m) => m.type).join(" ")}`;
+  return `${d.code}: ${d.detail}`;
+}
+
+/** True the first time an event id is seen (a replay never shows an event twice); remembers the newest. */
+function firstSeen(id) {
+  if (id === null || id === undefined || id === "") return true;
+  const n = Number(id);
+  if (state.seenIds.has(n)) return false;
+  state.seenIds.add(n);
+  if (state.seenIds.size > 4 * MAX_EVENTS) state.seenIds.delete(state.seenIds.values().next().value);
+  state.lastEventId = n;
+  return true;
+}
+
+/**
+ * The recent job, plan and alarm events (GET /api/v1/events/recent) into the
+ * Events panel, and the plans' kinds for the path; the stream then
+ * continues from the newest id. Jobs come from GET /api/v1/jobs.
+ */
+async function loadHistory() {
+  const r = await api("GET", `/api/v1/events/recent?limit=${HISTORY}`);
+  if (!r.ok || !Array.isArray(r.body)) return;
+  for (const e of r.body) {
+    if (!firstSeen(e.id)) continue;
+    if (e.type === "plan") rememberKinds(e.data.cid, planOf(e.data, null).kinds);
+    logEvent(e.type, eventText(e.type, e.data), new Date(e.at_ms));
+  }
+  // Nothing held yet: 0 asks the stream for every event held when it opens.
+  if (state.lastEventId === null) state.lastEventId = 0;
+}
+
 function listen() {
-  const q = state.token ? `?access_token=${encodeURIComponent(state.token)}` : "";
-  const events = new EventSource(`/api/v1/events${q}`);
+  const q = new URLSearchParams();
+  if (state.token) q.set("access_token", state.token);
+  // The stream replays what came after the last event seen (a reconnecting
+  // EventSource sends Last-Event-ID itself, which the service prefers).
+  if (state.lastEventId !== null) q.set("last_event_id", state.lastEventId);
+  const events = new EventSource(`/api/v1/events${q.size ? `?${q}` : ""}`);
   events.addEventListener("state", (e) => showState(JSON.parse(e.data)));
   events.addEventListener("job", (e) => {
+    if (!firstSeen(e.lastEventId)) return;
     const j = JSON.parse(e.data);
     showJob(j);
-    logEvent("job", `#${j.id} ${j.operation} ${j.state}${j.motions ? ` ${j.completed}/${j.motions}` : ""}${j.error ? ` — ${j.error.code}: ${j.error.detail}` : ""}`);
+    logEvent("job", eventText("job", j));
   });
   events.addEventListener("plan", (e) => {
+    if (!firstSeen(e.lastEventId)) return;
     const plan = JSON.parse(e.data);
-    state.lastPlan = { job: plan.job, points: planPoints(plan) };
-    state.plans.set(plan.job, state.lastPlan);
+    state.lastPlan = planOf(plan, planStart(plan));
+    rememberKinds(plan.cid, state.lastPlan.kinds);
+    if (!["done", "failed", "cancelled"].includes(state.jobs.get(plan.job)?.state)) state.plans.set(plan.job, state.lastPlan);
     showPlans();
-    logEvent("plan", `#${plan.job} cid ${plan.cid}: ${plan.motions.map((m) => m.type).join(" ")}`);
+    logEvent("plan", eventText("plan", plan));
   });
   events.addEventListener("alarm", (e) => {
+    if (!firstSeen(e.lastEventId)) return;
     const a = JSON.parse(e.data);
-    logEvent("alarm", `${a.code}: ${a.detail}`);
+    logEvent("alarm", eventText("alarm", a));
     showAlarm(`${a.code}: ${a.detail}`, 10000);
   });
-  events.addEventListener("lagged", (e) => logEvent("alarm", `missed ${e.data} events (page too slow)`));
+  events.addEventListener("lagged", (e) => logEvent("alarm", `missed ${e.data} events (page too slow, or no longer held by the service)`));
   events.onerror = async () => {
     // Lost service, or lost access? Ask once; a revoked token needs a new one, not patience.
     const r = await fetch("/api/v1/state", { headers: headers() }).catch(() => null);
@@ -488,7 +625,11 @@ function applyRole() {
   }
   const jog = blocked("POST /api/v1/motions");
   for (const i of $("goto").querySelectorAll("input, select, #fill-current")) i.disabled = !!jog;
+  // S and T are PTP only.
+  for (const k of ["s", "t"]) $("goto").elements[k].disabled = !!jog || $("jog-type").value !== "ptp";
   $("step").disabled = !!jog;
+  $("rot-step").disabled = !!jog;
+  showJointRows();
   const auth = !!state.control?.auth;
   if (!auth) for (const b of [$("take-control"), $("release-control")]) b.disabled = true;
   $("logout").hidden = !auth;
@@ -543,25 +684,46 @@ $("stop").addEventListener("click", async () => {
 
 $("goto").addEventListener("submit", (e) => {
   e.preventDefault();
+  const type = $("jog-type").value;
   const target = {};
-  for (const k of ["x", "y", "z", "a", "b", "c"]) {
+  // S and T (whole numbers) only with a PTP: a LIN keeps the configuration.
+  for (const k of type === "ptp" ? ["x", "y", "z", "a", "b", "c", "s", "t"] : ["x", "y", "z", "a", "b", "c"]) {
     const v = e.target.elements[k].value;
     if (v !== "") target[k] = Number(v);
   }
-  move({ type: $("jog-type").value, target }).then(loadControl);
+  move({ type, target }).then(loadControl);
 });
 
 onClick("fill-current", async () => {
   const p = state.robot?.position;
   if (p) for (const k of ["x", "y", "z", "a", "b", "c"]) $("goto").elements[k].value = p[k].toFixed(3);
+  if (p) for (const k of ["s", "t"]) $("goto").elements[k].value = p[k];
+  showConfigWords();
 });
 
+$("jog-type").addEventListener("change", () => {
+  applyRole();
+  showConfigWords();
+});
+for (const k of ["s", "t"]) $("goto").elements[k].addEventListener("input", showConfigWords);
+
+// Cartesian steps: X/Y/Z by the mm step, A/B/C by the ° step, relative to the pose.
 for (const b of document.querySelectorAll("[data-step]")) {
   b.addEventListener("click", () => {
     const [axis, sign] = b.dataset.step.split(",");
-    move({ type: $("jog-type").value, target: { [axis]: Number(sign) * Number($("step").value) }, relative: true }).then(loadControl);
+    const step = Number($("xyz".includes(axis) ? "step" : "rot-step").value);
+    move({ type: $("jog-type").value, target: { [axis]: Number(sign) * step }, relative: true }).then(loadControl);
   });
 }
+
+// Joint steps: an axis-specific PTP by the ° step (the buttons are off where a step would pass a limit).
+$("joints").addEventListener("click", (e) => {
+  const b = e.target.closest("[data-joint]");
+  if (!b || b.disabled) return;
+  const [axis, sign] = b.dataset.joint.split(",");
+  move({ type: "ptp_axes", axes: { [axis]: Number(sign) * Number($("rot-step").value) }, relative: true }).then(loadControl);
+});
+$("rot-step").addEventListener("change", showJointRows);
 
 onClick("home", () => api("POST", "/api/v1/home"));
 $("logout").addEventListener("click", () => {
@@ -583,7 +745,7 @@ $("clear-path").addEventListener("click", () => {
 });
 $("export-csv").addEventListener("click", () => download("tcp-path.csv", "text/csv", pathCsv()));
 /** The top view as SVG (what Export SVG downloads). */
-state.pathSvg = () => state.top.svg({ executed: state.path.map((s) => s.pose), planned: [...state.plans.values()].map((p) => p.points) });
+state.pathSvg = () => state.top.svg({ executed: state.path.map((s) => s.pose), travel: state.path.map((s) => s.travel), planned: [...state.plans.values()] });
 $("export-svg").addEventListener("click", () => download("tcp-path-top.svg", "image/svg+xml", state.pathSvg()));
 
 for (const type of ["input", "change", "search"]) $("event-filter").addEventListener(type, showEvents);
@@ -704,7 +866,7 @@ async function resync() {
   if (s.ok) showState(s.body);
 }
 
-/** The stream was closed for good (e.g. 401): ask for a token if that is why, else try again. */
+/** The stream was closed for good (e.g. 401): ask for a token if that is why, else try again (continuing from the last event seen). */
 async function reconnect() {
   const r = await fetch("/api/v1/state", { headers: headers() }).catch(() => null);
   if (r && r.status === 401) {
@@ -715,10 +877,12 @@ async function reconnect() {
   if (state.stream) state.stream.close();
   listen();
 }
+state.reconnect = reconnect;
 
 async function start() {
   const r = await api("GET", "/api/v1/jobs?limit=20");
   if (r.ok) r.body.reverse().forEach(showJob);
+  if (state.lastEventId === null) await loadHistory();
   if (state.stream) state.stream.close();
   listen();
   // Control and role change without events (leases lapse): refresh now and then.

@@ -1,21 +1,26 @@
 // The 3D view (three.js): the arm as a simple-solid stick model from the
 // model's kinematics and the live axis angles, the base and tool frames,
-// the executed TCP path and the planned paths. Renders only when
+// the executed TCP path (travel faint and dashed) and the planned paths. Renders only when
 // something changed (no animation loop).
 import * as THREE from "./vendor/three.module.js";
 import { OrbitControls } from "./vendor/OrbitControls.js";
 import { frameMatrix, skeleton, mul, apply } from "./kinematics.js";
+import { runs } from "./projections.js";
 
 const EXECUTED = 0x1f6feb;
 const PLANNED = 0xf08c00;
 
-/** A growable polyline (positions in a Float32Array, doubled when full). */
-class Polyline {
-  constructor(scene, color) {
+/**
+ * Growable line segments (two vertices each) with the path length at each
+ * vertex, so a dashed material dashes along the whole path, not per
+ * segment; buffers doubled when full.
+ */
+class Segments {
+  constructor(scene, material) {
     this.geometry = new THREE.BufferGeometry();
     this.capacity = 0;
     this.count = 0;
-    this.line = new THREE.Line(this.geometry, new THREE.LineBasicMaterial({ color }));
+    this.line = new THREE.LineSegments(this.geometry, material);
     this.line.frustumCulled = false;
     scene.add(this.line);
     this.reserve(1024);
@@ -24,29 +29,40 @@ class Polyline {
     if (n <= this.capacity) return;
     let cap = Math.max(this.capacity, 1024);
     while (cap < n) cap *= 2;
-    const data = new Float32Array(cap * 3);
-    if (this.attr) data.set(this.attr.array.subarray(0, this.count * 3));
-    this.attr = new THREE.BufferAttribute(data, 3);
-    this.geometry.setAttribute("position", this.attr);
+    const pos = new Float32Array(cap * 6);
+    const dist = new Float32Array(cap * 2);
+    if (this.pos) {
+      pos.set(this.pos.array.subarray(0, this.count * 6));
+      dist.set(this.dist.array.subarray(0, this.count * 2));
+    }
+    this.pos = new THREE.BufferAttribute(pos, 3);
+    this.dist = new THREE.BufferAttribute(dist, 1);
+    this.geometry.setAttribute("position", this.pos);
+    this.geometry.setAttribute("lineDistance", this.dist);
     this.capacity = cap;
   }
-  push(points) {
-    this.reserve(this.count + points.length);
-    const a = this.attr.array;
-    for (const [x, y, z] of points) {
-      a[this.count * 3] = x;
-      a[this.count * 3 + 1] = y;
-      a[this.count * 3 + 2] = z;
-      this.count++;
-    }
-    this.attr.needsUpdate = true;
-    this.geometry.setDrawRange(0, this.count);
+  /** Adds the segment a→b; `d0`, `d1` = the path length at a and b. */
+  push(a, b, d0, d1) {
+    this.reserve(this.count + 1);
+    this.pos.array.set(a, this.count * 6);
+    this.pos.array.set(b, this.count * 6 + 3);
+    this.dist.array[this.count * 2] = d0;
+    this.dist.array[this.count * 2 + 1] = d1;
+    this.count++;
   }
-  set(points) {
+  commit() {
+    this.pos.needsUpdate = true;
+    this.dist.needsUpdate = true;
+    this.geometry.setDrawRange(0, this.count * 2);
+  }
+  clear() {
     this.count = 0;
-    this.push(points);
+    this.commit();
   }
 }
+
+/** Travel (pen up) is drawn faint and dashed: 3D dashes in mm. */
+const travelMaterial = (color, opacity) => new THREE.LineDashedMaterial({ color, dashSize: 6, gapSize: 5, transparent: true, opacity });
 
 /** The 3D scene in `container`. */
 export class ArmView {
@@ -81,7 +97,12 @@ export class ArmView {
     this.joints = [];
     this.linkMaterial = new THREE.MeshStandardMaterial({ color: 0xff7a00, metalness: 0.1, roughness: 0.6 });
     this.jointMaterial = new THREE.MeshStandardMaterial({ color: 0x39424e, roughness: 0.5 });
-    this.executed = new Polyline(this.scene, EXECUTED);
+    // The executed path: strokes solid, travel faint and dashed.
+    this.ink = new Segments(this.scene, new THREE.LineBasicMaterial({ color: EXECUTED }));
+    this.travel = new Segments(this.scene, travelMaterial(EXECUTED, 0.35));
+    this.executedCount = 0;
+    this.lastPoint = null;
+    this.pathLength = 0;
     this.planned = new THREE.Group();
     this.scene.add(this.planned);
     this.baseMatrix = frameMatrix([0, 0, 0, 0, 0, 0]);
@@ -169,29 +190,51 @@ export class ArmView {
     return points.map((p) => apply(this.baseMatrix, p));
   }
 
-  /** Adds executed TCP points (base frame). */
-  addExecuted(points) {
-    this.executed.push(this.toWorld(points));
+  /** Adds executed TCP points (base frame); `travel[i]` = the segment to point i is travel. */
+  addExecuted(points, travel = []) {
+    const world = this.toWorld(points);
+    for (let i = 0; i < world.length; i++) {
+      const p = world[i];
+      if (this.lastPoint) {
+        const a = this.lastPoint;
+        const len = Math.hypot(p[0] - a[0], p[1] - a[1], p[2] - a[2]);
+        (travel[i] ? this.travel : this.ink).push(a, p, this.pathLength, this.pathLength + len);
+        this.pathLength += len;
+      }
+      this.lastPoint = p;
+      this.executedCount++;
+    }
+    this.ink.commit();
+    this.travel.commit();
     this.render();
   }
 
   /** Replaces the executed path (base frame). */
-  setExecuted(points) {
-    this.executed.set(this.toWorld(points));
-    this.render();
+  setExecuted(points, travel = []) {
+    this.ink.clear();
+    this.travel.clear();
+    this.lastPoint = null;
+    this.pathLength = 0;
+    this.executedCount = 0;
+    this.addExecuted(points, travel);
   }
 
-  /** Shows the planned polylines (base frame), replacing the previous ones. */
-  setPlanned(polylines) {
+  /** Shows the planned paths [{points, travel}] (base frame), replacing the previous ones: strokes dashed, travel fainter. */
+  setPlanned(plans) {
     for (const c of [...this.planned.children]) {
       c.geometry.dispose();
+      c.material.dispose();
       this.planned.remove(c);
     }
-    for (const pts of polylines) {
-      const g = new THREE.BufferGeometry().setFromPoints(this.toWorld(pts).map((p) => new THREE.Vector3(...p)));
-      const line = new THREE.Line(g, new THREE.LineDashedMaterial({ color: PLANNED, dashSize: 6, gapSize: 4 }));
-      line.computeLineDistances();
-      this.planned.add(line);
+    for (const plan of plans) {
+      for (const run of runs(plan.points, plan.travel)) {
+        const g = new THREE.BufferGeometry().setFromPoints(this.toWorld(run.points).map((p) => new THREE.Vector3(...p)));
+        const material = run.travel ? travelMaterial(PLANNED, 0.35) : new THREE.LineDashedMaterial({ color: PLANNED, dashSize: 6, gapSize: 4 });
+        const line = new THREE.Line(g, material);
+        line.computeLineDistances();
+        line.userData.travel = run.travel;
+        this.planned.add(line);
+      }
     }
     this.render();
   }

@@ -26,3 +26,14 @@ export function download(name, type, text) {
   a.click();
   setTimeout(() => URL.revokeObjectURL(a.href), 1000);
 }
+
+/**
+ * The API's sentences mark names with backticks (`s`, `0..7`): as nodes,
+ * each marked part a <code> element, the rest text, never markup. An
+ * unpaired backtick stays as it is.
+ */
+export function textWithCode(text) {
+  const parts = String(text ?? "").split("`");
+  if (parts.length % 2 === 0) parts.splice(-2, 2, `${parts.at(-2)}\`${parts.at(-1)}`);
+  return parts.map((p, i) => (i % 2 ? el("code", {}, p) : p)).filter((p) => p !== "");
+}

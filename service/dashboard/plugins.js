@@ -20,10 +20,8 @@ function fieldsOf(op, doc) {
     const s = deref(body, doc);
     const required = new Set(s.required || []);
     const example = (s.examples || [])[0] || {};
-    // Required fields first, each group in the schema's order.
-    return Object.entries(s.properties || {})
-      .map(([name, p]) => ({ name, schema: deref(p, doc), required: required.has(name), example: example[name] }))
-      .sort((a, b) => b.required - a.required);
+    // In the schema's order (as /openapi.json lists the properties; JSON.parse keeps it).
+    return Object.entries(s.properties || {}).map(([name, p]) => ({ name, schema: deref(p, doc), required: required.has(name), example: example[name] }));
   }
   return (op.parameters || [])
     .filter((p) => p.in === "query")

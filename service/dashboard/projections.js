@@ -1,10 +1,30 @@
 // Top (X up, Y to the left: as seen standing in front of the robot) and
 // side (X–Z) projections of the TCP path on 2D canvases:
-// executed path, planned paths and the current TCP, equal scale on both
+// executed path (strokes solid, pen-up travel faint and dashed: see
+// travel.js), planned paths and the current TCP, equal scale on both
 // axes, fitted to what is shown. Also the SVG export of the same view.
 
 const EXECUTED = "#1f6feb";
 const PLANNED = "#f08c00";
+/** Opacity of travel (pen up) lines. */
+const FAINT = 0.35;
+
+/**
+ * Splits a path into runs of the same kind: `travel[i]` says whether the
+ * segment ending at points[i] is travel. Each run starts at the last point
+ * of the one before, so the runs join. [{points, travel}]
+ */
+export function runs(points, travel = []) {
+  const out = [];
+  for (let i = 0; i + 1 < points.length; ) {
+    const kind = !!travel[i + 1];
+    let j = i + 1;
+    while (j + 1 < points.length && !!travel[j + 1] === kind) j++;
+    out.push({ points: points.slice(i, j + 1), travel: kind });
+    i = j;
+  }
+  return out;
+}
 
 /**
  * One projection: `u`, `v` = indices into [x, y, z] for the horizontal and
@@ -29,16 +49,19 @@ export class Projection {
       hi = [Math.max(hi[0], u), Math.max(hi[1], p[this.v])];
     };
     for (let i = 0; i < executed.length; i++) take(executed[i]);
-    planned.forEach((line) => line.forEach(take));
+    planned.forEach((plan) => plan.points.forEach(take));
     if (tcp) take(tcp);
     if (!isFinite(lo[0])) return null;
     const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], 20) * 1.15;
     return [(lo[0] + hi[0] - size) / 2, (lo[1] + hi[1] - size) / 2, size];
   }
 
-  /** Redraws: `executed` = [[x, y, z], ...], `planned` = list of such lists, `tcp` = [x, y, z]. */
-  draw({ executed = [], planned = [], tcp = null }) {
-    this.last = { executed, planned, tcp };
+  /**
+   * Redraws: `executed` = [[x, y, z], ...] with `travel` = [bool, ...] (the
+   * segment to point i is travel), `planned` = [{points, travel}], `tcp` = [x, y, z].
+   */
+  draw({ executed = [], travel = [], planned = [], tcp = null }) {
+    this.last = { executed, travel, planned, tcp };
     const c = this.canvas;
     const dpr = window.devicePixelRatio || 1;
     const w = c.clientWidth, h = c.clientHeight;
@@ -54,12 +77,15 @@ export class Projection {
     g.font = "12px system-ui, sans-serif";
     g.fillText(this.label, 6, 14);
     const box = this.bounds(executed, planned, tcp);
+    this.toCanvas = null;
     if (!box) return;
     const [u0, v0, size] = box;
     const k = Math.min(w, h) / size;
     const ox = (w - size * k) / 2, oy = (h - size * k) / 2;
     const X = (p) => ox + (this.su * p[this.u] - u0) * k;
     const Y = (p) => h - oy - (p[this.v] - v0) * k;
+    /** A base-frame point → canvas pixels (device pixels, as getImageData counts them). */
+    this.toCanvas = (p) => [X(p) * dpr, Y(p) * dpr];
     // scale bar
     const step = niceStep(size / 4);
     g.strokeStyle = "#5b6470";
@@ -68,19 +94,23 @@ export class Projection {
     g.lineTo(6 + step * k, h - 8);
     g.stroke();
     g.fillText(`${step} mm`, 10 + step * k, h - 4);
-    const line = (pts, colour, dash) => {
+    const line = (pts, colour, dash, alpha, width) => {
       if (pts.length < 2) return;
       g.strokeStyle = colour;
+      g.globalAlpha = alpha;
       g.setLineDash(dash);
-      g.lineWidth = 1.5;
+      g.lineWidth = width;
       g.beginPath();
       g.moveTo(X(pts[0]), Y(pts[0]));
       for (let i = 1; i < pts.length; i++) g.lineTo(X(pts[i]), Y(pts[i]));
       g.stroke();
       g.setLineDash([]);
+      g.globalAlpha = 1;
     };
-    planned.forEach((p) => line(p, PLANNED, [6, 4]));
-    line(executed, EXECUTED, []);
+    for (const plan of planned) {
+      for (const r of runs(plan.points, plan.travel)) line(r.points, PLANNED, r.travel ? [3, 5] : [6, 4], r.travel ? FAINT : 1, 1.5);
+    }
+    for (const r of runs(executed, travel)) line(r.points, EXECUTED, r.travel ? [4, 4] : [], r.travel ? FAINT : 1, r.travel ? 1.2 : 1.5);
     if (tcp) {
       g.fillStyle = "#d92d20";
       g.beginPath();
@@ -89,18 +119,26 @@ export class Projection {
     }
   }
 
-  /** The same drawing as an SVG document (mm units, Y up). */
-  svg({ executed = [], planned = [] }) {
+  /** The same drawing as an SVG document (mm units, Y up): strokes solid, travel faint and dashed. */
+  svg({ executed = [], travel = [], planned = [] }) {
     const box = this.bounds(executed, planned, null) || [0, 0, 100];
     const [u0, v0, size] = box;
     const pts = (list) => list.map((p) => `${(this.su * p[this.u] - u0).toFixed(3)},${(size - (p[this.v] - v0)).toFixed(3)}`).join(" ");
+    const faint = `stroke-opacity="${FAINT}"`;
     const lines = planned
-      .map((p) => `<polyline fill="none" stroke="${PLANNED}" stroke-dasharray="6 4" stroke-width="0.8" points="${pts(p)}"/>`)
-      .concat([`<polyline fill="none" stroke="${EXECUTED}" stroke-width="0.8" points="${pts(executed)}"/>`]);
+      .flatMap((p) => runs(p.points, p.travel))
+      .map((r) => `<polyline class="planned${r.travel ? " travel" : ""}" fill="none" stroke="${PLANNED}" stroke-dasharray="${r.travel ? "1.5 2.5" : "6 4"}" ${r.travel ? faint : ""} stroke-width="0.8" points="${pts(r.points)}"/>`)
+      .concat(
+        runs(executed, travel).map((r) =>
+          r.travel
+            ? `<polyline class="executed travel" fill="none" stroke="${EXECUTED}" stroke-dasharray="2 2" ${faint} stroke-width="0.6" points="${pts(r.points)}"/>`
+            : `<polyline class="executed" fill="none" stroke="${EXECUTED}" stroke-width="0.8" points="${pts(r.points)}"/>`,
+        ),
+      );
     return (
       `<?xml version="1.0" encoding="UTF-8"?>\n` +
       `<svg xmlns="http://www.w3.org/2000/svg" width="${size.toFixed(1)}mm" height="${size.toFixed(1)}mm" viewBox="0 0 ${size.toFixed(3)} ${size.toFixed(3)}">\n` +
-      `<title>kuka-bridge TCP path, ${this.label}; lower left corner at ${"XYZ"[this.u]} = ${(this.su * u0).toFixed(3)} mm, ${"XYZ"[this.v]} = ${v0.toFixed(3)} mm</title>\n` +
+      `<title>kuka-bridge TCP path, ${this.label}; lower left corner at ${"XYZ"[this.u]} = ${(this.su * u0).toFixed(3)} mm, ${"XYZ"[this.v]} = ${v0.toFixed(3)} mm; travel (pen up) dashed</title>\n` +
       lines.join("\n") +
       "\n</svg>\n"
     );

@@ -4,6 +4,7 @@
 //! and heartbeats, enforces timeouts and publishes state and events.
 
 mod actor;
+mod history;
 mod types;
 
 use std::collections::{HashMap, VecDeque};
@@ -13,6 +14,7 @@ use std::time::Duration;
 
 use tokio::sync::{broadcast, oneshot, watch};
 
+pub use history::{HISTORY_EVENTS, Published, Replay};
 pub use types::*;
 
 use crate::channel::{Channel, ChannelError, CidStore};
@@ -44,7 +46,10 @@ pub(crate) struct JobTable {
 pub(crate) struct Shared {
     jobs: Mutex<JobTable>,
     state: watch::Sender<RobotState>,
-    events: broadcast::Sender<Event>,
+    events: broadcast::Sender<Published>,
+    /// Event ids and recent events; sending happens under its lock, so a
+    /// subscriber takes the held events and the live stream at one instant.
+    history: Mutex<history::History>,
     safety: Safety,
     next_id: AtomicU64,
     /// The first job id of this run: lower ids belong to earlier runs.
@@ -77,7 +82,7 @@ impl Shared {
             });
             tx.borrow().clone()
         };
-        let _ = self.events.send(Event::Job(Box::new(job.clone())));
+        self.publish(Event::Job(Box::new(job.clone())));
         Some(job)
     }
 
@@ -100,7 +105,8 @@ impl Shared {
     }
 
     pub(crate) fn publish(&self, event: Event) {
-        let _ = self.events.send(event);
+        let mut history = self.history.lock().unwrap_or_else(|p| p.into_inner());
+        let _ = self.events.send(history.stamp(event, now_ms()));
     }
 }
 
@@ -162,6 +168,7 @@ impl Engine {
         let job_ids = JobIdStore::open(&settings.data_dir);
         let first_id = job_ids.next;
         let (events, _) = broadcast::channel(1024);
+        let started_ms = now_ms();
         let shared = Arc::new(Shared {
             jobs: Mutex::new(JobTable {
                 jobs: HashMap::new(),
@@ -169,11 +176,12 @@ impl Engine {
             }),
             state,
             events,
+            history: Mutex::new(history::History::new(started_ms)),
             safety,
             next_id: AtomicU64::new(first_id),
             first_id,
             job_ids: Mutex::new(job_ids),
-            started_ms: now_ms(),
+            started_ms,
             max_queue: settings.motion.max_queue,
             queued: AtomicU64::new(0),
             draining: std::sync::atomic::AtomicBool::new(false),
@@ -212,8 +220,38 @@ impl Engine {
     }
 
     /// Subscribes to events.
-    pub fn subscribe(&self) -> broadcast::Receiver<Event> {
+    pub fn subscribe(&self) -> broadcast::Receiver<Published> {
         self.shared.events.subscribe()
+    }
+
+    /// The held events after the event id `after` (every one held for
+    /// `None`, 0 or another run's id), the state, and the live events from
+    /// that instant on: what a reconnecting client missed, without gaps or
+    /// repeats.
+    pub fn replay(&self, after: Option<u64>) -> Replay {
+        let history = self
+            .shared
+            .history
+            .lock()
+            .unwrap_or_else(|p| p.into_inner());
+        let (missed, lost) = history.after(after);
+        Replay {
+            missed,
+            lost,
+            state: self.state(),
+            live: self.shared.events.subscribe(),
+        }
+    }
+
+    /// The held job, plan and alarm events after the event id `after`,
+    /// oldest first (every one held for `None`, 0 or another run's id).
+    pub fn held_events(&self, after: Option<u64>) -> Vec<Published> {
+        let history = self
+            .shared
+            .history
+            .lock()
+            .unwrap_or_else(|p| p.into_inner());
+        history.after(after).0
     }
 
     /// Validates and queues an operation for `caller`; returns the queued job.

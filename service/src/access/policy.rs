@@ -124,6 +124,7 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("GET", "/api/v1/jobs/{id}", READ),
     ("DELETE", "/api/v1/jobs/{id}", OPERATE),
     ("GET", "/api/v1/events", READ),
+    ("GET", "/api/v1/events/recent", READ),
     // Control of the robot.
     ("GET", "/api/v1/control", READ),
     ("POST", "/api/v1/control", CONTROL),

@@ -36,6 +36,8 @@ const ASSETS: &[Asset] = &[
     asset!("projections.js", JS),
     asset!("kinematics.js", JS),
     asset!("plugins.js", JS),
+    asset!("jog.js", JS),
+    asset!("travel.js", JS),
     asset!("dom.js", JS),
     asset!("style.css", "text/css; charset=utf-8"),
     asset!("vendor/three.module.js", JS),
