@@ -144,3 +144,82 @@ fn a_closed_stdout_is_not_a_crash() {
         );
     }
 }
+
+/// `--listen` takes a host name: `localhost:PORT` listens on loopback.
+/// Without a port, or with a port out of range, it stops at once with a
+/// sentence saying what it wants (exit 2, a usage error).
+#[test]
+fn listen_takes_a_host_name() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let data = root.path().join("data");
+    let mut service = kuka_bridge_tests::CliService::spawn(
+        cli(),
+        "warn",
+        [
+            "--simulate",
+            "--time-scale",
+            "0",
+            "--listen",
+            "localhost:0",
+            "--data-dir",
+            data.to_str().expect("a UTF-8 temporary path"),
+        ],
+    );
+    let url = service.url().to_string();
+    assert!(url.starts_with("http://127.0.0.1:"), "loopback: {url}");
+    assert!(
+        service.console().contains("no tokens (loopback only"),
+        "{}",
+        service.console()
+    );
+    service.terminate();
+    service.wait_exit(Duration::from_secs(20), "after a stop");
+
+    for (listen, says) in [
+        ("localhost", "is not HOST:PORT"),
+        ("localhost:99999", "port 0..65535"),
+        (":8080", "is not HOST:PORT"),
+    ] {
+        let out = Command::new(cli())
+            .args(["run", "--listen", listen])
+            .output()
+            .expect("run");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{listen}: {err}");
+        assert!(
+            err.contains("--listen") && err.contains(says),
+            "{listen}: {err}"
+        );
+    }
+}
+
+/// Off Windows, `kuka-bridge service …` says that the service commands
+/// are Windows-only and what to run instead, and fails (exit 2), rather
+/// than "unrecognized subcommand".
+#[cfg(not(windows))]
+#[test]
+fn service_commands_off_windows_say_what_to_run_instead() {
+    for args in [
+        &["service"][..],
+        &["service", "install", "--no-start"][..],
+        &["service", "--help"][..],
+    ] {
+        let out = Command::new(cli()).args(args).output().expect("run");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains("only on Windows")
+                && err.contains("kuka-bridge run")
+                && err.contains("systemd"),
+            "{args:?}: {err}"
+        );
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+    // Not offered in the help of a Linux build.
+    let out = Command::new(cli()).arg("--help").output().expect("help");
+    let help = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        !help.lines().any(|l| l.trim_start().starts_with("service")),
+        "{help}"
+    );
+}

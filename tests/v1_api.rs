@@ -820,3 +820,152 @@ async fn errors_carry_the_request_id_and_no_internal_paths() {
     assert!(v["request_id"].is_string(), "{v}");
     t.service.shutdown().await.expect("shutdown");
 }
+
+/// A problem's `type` (`/errors#<code>`, relative to the request's URL)
+/// leads to the service's own error catalogue, a 200 HTML page with the
+/// code's section; so on every problem, the thesis format and the answers
+/// the edge makes of bare errors included. Every code of the enum (the
+/// document's `ErrorCode` list) has its section, and the JSON catalogue
+/// lists each with its status.
+#[tokio::test]
+async fn problem_types_lead_to_the_served_error_catalogue() {
+    let t = TestService::start(Options::default()).await;
+    let cases = [
+        ("GET", "/api/v1/jobs?limt=3", "invalid_input"),
+        ("GET", "/api/v1/jobs/987654", "not_found"),
+        ("GET", "/api/v1/nothing", "not_found"),
+        ("DELETE", "/api/v1/stop", "method_not_allowed"),
+        ("POST", "/krl/getpos?foo=1", "invalid_input"),
+        ("POST", "/krl/ptp?x=99999", "invalid_input"),
+    ];
+    for (method, path, code) in cases {
+        let method = reqwest::Method::from_bytes(method.as_bytes()).expect("method");
+        let (status, v) = kuka_bridge_tests::decode(t.request(method, path).await).await;
+        assert!(status >= 400, "{path}: {status} {v}");
+        assert_eq!(v["code"], code, "{path}: {v}");
+        let type_uri = v["type"].as_str().expect("a type");
+        assert_eq!(type_uri, format!("/errors#{code}"), "{path}");
+        let page = reqwest::Url::parse(&t.url(path))
+            .expect("url")
+            .join(type_uri)
+            .expect("a URI reference");
+        assert_eq!(page.fragment(), Some(code));
+        let r = t.http.get(page.clone()).send().await.expect("catalogue");
+        assert_eq!(r.status(), 200, "{page}");
+        let media = r.headers()["content-type"].to_str().expect("ascii");
+        assert!(media.starts_with("text/html"), "{media}");
+        let html = r.text().await.expect("page");
+        assert!(html.contains(&format!("id=\"{code}\"")), "{page}");
+    }
+
+    // Every code the service knows (the enum, as the document lists it).
+    let (_, doc) = t.get("/openapi.json").await;
+    let codes: Vec<String> = doc["components"]["schemas"]["ErrorCode"]["examples"]
+        .as_array()
+        .expect("the known codes")
+        .iter()
+        .map(|c| c.as_str().expect("a code").to_string())
+        .collect();
+    assert!(codes.len() >= 39, "{codes:?}");
+    let html = t
+        .http
+        .get(t.url("/errors"))
+        .send()
+        .await
+        .expect("page")
+        .text()
+        .await
+        .expect("html");
+    let r = t
+        .http
+        .get(t.url("/errors"))
+        .header("accept", "application/json")
+        .send()
+        .await
+        .expect("json");
+    assert_eq!(r.status(), 200);
+    let catalogue: Value = r.json().await.expect("JSON catalogue");
+    for code in &codes {
+        assert!(
+            html.contains(&format!("id=\"{code}\"")),
+            "no section {code}"
+        );
+        let entry = &catalogue[code];
+        assert_eq!(entry["type"], format!("/errors#{code}"), "{entry}");
+        assert!(
+            entry["status"].as_u64().is_some_and(|s| s >= 400),
+            "{entry}"
+        );
+        assert!(entry["title"].is_string() && entry["summary"].is_string());
+    }
+    assert_eq!(catalogue["software_limit"]["status"], 422);
+    assert_eq!(catalogue["software_limit"]["thesis_statuscode"], 21);
+    // Swagger UI links to it; the operation is documented and public.
+    assert!(
+        doc["info"]["description"]
+            .as_str()
+            .is_some_and(|d| d.contains("[/errors](/errors)")),
+        "{}",
+        doc["info"]
+    );
+    let op = &doc["paths"]["/errors"]["get"];
+    assert_eq!(op["operationId"], "getErrorCatalogue");
+    assert_eq!(op["x-required-role"], "none");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// Every documented operation refuses a query parameter it does not
+/// declare: 422 `invalid_input` naming it (thesis format on `/krl/*`),
+/// before anything runs; declared ones still pass.
+#[tokio::test]
+async fn every_operation_refuses_unknown_query_parameters() {
+    let t = TestService::start(Options::default()).await;
+    let (_, doc) = t.get("/openapi.json").await;
+    let mut checked = 0;
+    for (path, item) in doc["paths"].as_object().expect("paths") {
+        let url = path
+            .replace("{id}", "999999")
+            .replace("{name}", "no-such-name");
+        for method in item.as_object().expect("item").keys() {
+            let what = format!("{} {path}", method.to_uppercase());
+            let method =
+                reqwest::Method::from_bytes(method.to_uppercase().as_bytes()).expect("method");
+            let r = t.request(method, &format!("{url}?zz_unknown=1")).await;
+            let (status, v) = kuka_bridge_tests::decode(r).await;
+            assert_eq!(
+                (status, v["code"].as_str()),
+                (422, Some("invalid_input")),
+                "{what}: {v}"
+            );
+            let detail = v["detail"].as_str().unwrap_or_default();
+            assert!(detail.contains("\"zz_unknown\""), "{what}: {detail}");
+            if path.starts_with("/krl/") {
+                assert_eq!(v["statuscode"], 10, "{what}: {v}");
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 45, "only {checked} operations");
+    // The example, and the allowed parameters named.
+    let (s, v) = t.get("/api/v1/tool?index=3").await;
+    assert_eq!(s, 422, "{v}");
+    let detail = v["detail"].as_str().unwrap_or_default();
+    assert!(
+        detail.contains("\"index\"") && detail.contains("takes no query parameters"),
+        "{detail}"
+    );
+    let (s, v) = t.get("/api/v1/jobs?limit=2&limt=3").await;
+    let detail = v["detail"].as_str().unwrap_or_default();
+    assert!(
+        s == 422 && detail.contains("\"limt\"") && detail.contains("takes limit"),
+        "{s} {v}"
+    );
+    // Declared parameters (and the thesis's upper-case spelling) pass.
+    let (s, v) = t.get("/api/v1/jobs?limit=2").await;
+    assert_eq!(s, 200, "{v}");
+    let (s, v) = t.post("/krl/getpos").await;
+    assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
+    let (s, v) = t.post("/krl/tcp?X=0&z=0").await;
+    assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
+    t.service.shutdown().await.expect("shutdown");
+}

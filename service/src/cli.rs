@@ -58,7 +58,26 @@ enum Cmd {
     #[cfg(windows)]
     #[command(subcommand)]
     Service(ServiceCmd),
+    /// The Windows service commands (Windows only): says so, and what to
+    /// use instead, rather than "unrecognized subcommand".
+    #[cfg(not(windows))]
+    #[command(hide = true, disable_help_flag = true)]
+    Service {
+        /// Whatever followed `service`.
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
 }
+
+/// What `kuka-bridge service …` says off Windows.
+#[cfg(not(windows))]
+const NOT_WINDOWS: &str = "the Windows service commands exist only on Windows; on Linux run \
+    `kuka-bridge run` under systemd (see README.md, \"Running under systemd\")";
+
+/// Exit code of `kuka-bridge service …` off Windows: a usage error, as
+/// for any other unknown command.
+#[cfg(not(windows))]
+const EXIT_USAGE: u8 = 2;
 
 /// `kuka-bridge service …` (Windows).
 #[cfg(windows)]
@@ -246,8 +265,9 @@ struct RunArgs {
     /// Embed the simulated controller (no robot needed).
     #[arg(long)]
     simulate: bool,
-    /// Listen address, e.g. 0.0.0.0:8080 (default 127.0.0.1:8080).
-    #[arg(long)]
+    /// Listen address, e.g. 0.0.0.0:8080 or localhost:8080 (default
+    /// 127.0.0.1:8080); a host name is resolved once, at start.
+    #[arg(long, value_parser = crate::config::resolve_listen)]
     listen: Option<SocketAddr>,
     /// Channel directory shared with the controller.
     #[arg(long)]
@@ -400,6 +420,12 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
         }
         #[cfg(windows)]
         Cmd::Service(cmd) => service_command(cmd, log),
+        #[cfg(not(windows))]
+        Cmd::Service { .. } => Err(Failure {
+            code: EXIT_USAGE,
+            error: anyhow::anyhow!(NOT_WINDOWS),
+            logged: false,
+        }),
         Cmd::Token(cmd) => Ok(token_command(cmd)?),
         Cmd::DefaultConfig => Ok(write_out(&toml::to_string_pretty(&Config::default())?)?),
         Cmd::Openapi => Ok(write_out(&format!(

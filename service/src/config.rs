@@ -90,7 +90,10 @@ pub struct Config {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ServerConfig {
-    /// Address and port to listen on. Default 127.0.0.1:8080 (loopback only).
+    /// Address and port to listen on. Default 127.0.0.1:8080 (loopback
+    /// only). A host name (`localhost:8080`, `hmi-pc:8080`) is resolved
+    /// once, at start (see [`resolve_listen`]).
+    #[serde(deserialize_with = "listen_address")]
     pub listen: SocketAddr,
     /// How long a synchronous request may wait for its job by default (ms).
     pub request_timeout_ms: u64,
@@ -358,6 +361,56 @@ impl Default for Config {
             source_name: "defaults".into(),
         }
     }
+}
+
+/// The address to listen on for `HOST:PORT`: an IP address as it is, a
+/// host name resolved with the system's resolver (`localhost:8080`). Of
+/// several addresses the first is taken, except that `localhost` always
+/// listens on loopback (127.0.0.1 before ::1), whatever the resolver lists
+/// first. The error is a sentence for `--listen` and `server.listen`.
+pub fn resolve_listen(text: &str) -> Result<SocketAddr, String> {
+    use std::net::ToSocketAddrs;
+    let text = text.trim();
+    if let Ok(addr) = text.parse::<SocketAddr>() {
+        return Ok(addr);
+    }
+    let Some((host, port)) = text.rsplit_once(':') else {
+        return Err(format!(
+            "{text:?} is not HOST:PORT, e.g. 127.0.0.1:8080, 0.0.0.0:8080 or localhost:8080"
+        ));
+    };
+    if host.is_empty() || port.parse::<u16>().is_err() {
+        return Err(format!(
+            "{text:?} is not HOST:PORT with a port 0..65535, e.g. 127.0.0.1:8080 or localhost:8080"
+        ));
+    }
+    let found: Vec<SocketAddr> = text
+        .to_socket_addrs()
+        .map_err(|e| format!("cannot resolve the host name {host:?}: {e}"))?
+        .collect();
+    pick_listen_address(host, &found).ok_or_else(|| {
+        format!("the host name {host:?} resolves to no address; give an IP address such as 127.0.0.1:{port}")
+    })
+}
+
+/// The address of `host` to listen on among those it resolved to (see
+/// [`resolve_listen`]); `None` when there are none (or, for `localhost`,
+/// no loopback one).
+fn pick_listen_address(host: &str, found: &[SocketAddr]) -> Option<SocketAddr> {
+    if host.eq_ignore_ascii_case("localhost") {
+        return found
+            .iter()
+            .find(|a| a.is_ipv4() && a.ip().is_loopback())
+            .or_else(|| found.iter().find(|a| a.ip().is_loopback()))
+            .copied();
+    }
+    found.first().copied()
+}
+
+/// `server.listen`: an address, or a host name resolved at load time.
+fn listen_address<'de, D: serde::Deserializer<'de>>(d: D) -> Result<SocketAddr, D::Error> {
+    let text = String::deserialize(d)?;
+    resolve_listen(&text).map_err(serde::de::Error::custom)
 }
 
 /// `%ProgramData%\kuka-bridge` on Windows, `$XDG_STATE_HOME/kuka-bridge`
@@ -868,19 +921,144 @@ mod tests {
 }
 
 #[cfg(test)]
+mod listen_tests {
+    use super::*;
+
+    /// `--listen` and `server.listen` take an address or `HOST:PORT`;
+    /// `localhost` listens on loopback whatever the resolver lists first.
+    #[test]
+    fn listen_takes_addresses_and_host_names() {
+        let addr = |s: &str| s.parse::<SocketAddr>().expect("address");
+        assert_eq!(resolve_listen("0.0.0.0:8080"), Ok(addr("0.0.0.0:8080")));
+        assert_eq!(resolve_listen(" [::1]:80 "), Ok(addr("[::1]:80")));
+        let local = resolve_listen("localhost:8080").expect("localhost resolves");
+        assert!(local.ip().is_loopback() && local.port() == 8080, "{local}");
+        for bad in ["localhost", "localhost:99999", ":8080", "localhost:http"] {
+            let e = resolve_listen(bad).expect_err(bad);
+            assert!(e.contains("HOST:PORT"), "{bad}: {e}");
+        }
+        let (v6, v4, lan) = (addr("[::1]:80"), addr("127.0.0.1:80"), addr("10.0.0.5:80"));
+        assert_eq!(pick_listen_address("localhost", &[v6, v4]), Some(v4));
+        assert_eq!(pick_listen_address("LocalHost", &[lan, v6]), Some(v6));
+        assert_eq!(pick_listen_address("localhost", &[lan]), None);
+        assert_eq!(pick_listen_address("hmi-pc", &[lan, v4]), Some(lan));
+        assert_eq!(pick_listen_address("hmi-pc", &[]), None);
+
+        let c: Config = toml::from_str("[server]\nlisten = \"localhost:9000\"\n").expect("parses");
+        assert!(c.server.listen.ip().is_loopback() && c.server.listen.port() == 9000);
+        let e = toml::from_str::<Config>("[server]\nlisten = \"hmi\"\n").expect_err("no port");
+        assert!(e.to_string().contains("HOST:PORT"), "{e}");
+    }
+}
+
+#[cfg(test)]
 mod readme_tests {
     use super::*;
 
-    /// The configuration example in README.md parses and validates.
-    #[test]
-    fn readme_config_example_is_valid() {
+    /// The TOML blocks of README.md's configuration section: the Windows
+    /// example, then the Linux one.
+    fn readme_examples() -> Vec<&'static str> {
         let readme = include_str!("../../README.md");
-        let start = readme.find("```toml\n").expect("README has a TOML example") + 8;
-        let len = readme[start..].find("```").expect("closed");
-        let config: Config =
-            toml::from_str(&readme[start..start + len]).expect("README TOML parses");
-        config.validate().expect("README TOML is valid");
-        assert!(config.workspace.is_some());
+        let start = readme
+            .find("\n## Configuration\n")
+            .expect("a configuration section");
+        let section = &readme[start + 1..];
+        let section = &section[..section[3..].find("\n## ").map_or(section.len(), |e| e + 3)];
+        section
+            .split("```toml\n")
+            .skip(1)
+            .map(|block| &block[..block.find("```").expect("a closed block")])
+            .collect()
+    }
+
+    /// The dotted keys a TOML block names, set or commented out
+    /// (`# key = …`, under `[section]` or `# [section]`).
+    fn named_keys(block: &str) -> Vec<String> {
+        let mut section = String::new();
+        let mut keys = Vec::new();
+        for line in block.lines() {
+            let line = line.trim_start();
+            let line = line.strip_prefix('#').map_or(line, str::trim_start);
+            if let Some(rest) = line.strip_prefix('[') {
+                section = rest.split(']').next().unwrap_or_default().to_string();
+            } else if let Some((key, _)) = line.split_once(" = ")
+                && !key.contains(' ')
+            {
+                keys.push(if section.is_empty() {
+                    key.to_string()
+                } else {
+                    format!("{section}.{key}")
+                });
+            }
+        }
+        keys
+    }
+
+    /// The dotted keys of a TOML table (leaves only).
+    fn leaf_keys(table: &toml::Table, prefix: &str, out: &mut Vec<String>) {
+        for (k, v) in table {
+            let key = format!("{prefix}{k}");
+            match v {
+                toml::Value::Table(t) => leaf_keys(t, &format!("{key}."), out),
+                _ => out.push(key),
+            }
+        }
+    }
+
+    /// README.md's two configuration examples, for Windows and for Linux,
+    /// parse and validate; each names every key `default-config` prints
+    /// (set, or commented out where the value depends on the machine), shows
+    /// the default values (paths aside), and switches nothing on that the
+    /// defaults leave off (no `[workspace]`). The Linux one has no Windows
+    /// path: run on Linux, it creates no folder named `C:\KRC\…`.
+    #[test]
+    fn readme_config_examples_are_valid_and_complete() {
+        let examples = readme_examples();
+        assert_eq!(examples.len(), 2, "a Windows and a Linux example");
+        let defaults = Config::default();
+        let mut default_keys = Vec::new();
+        let table = toml::Value::try_from(&defaults).expect("defaults as TOML");
+        leaf_keys(table.as_table().expect("a table"), "", &mut default_keys);
+        assert!(default_keys.contains(&"programs.run_timeout_ms".to_string()));
+        for (n, block) in examples.iter().enumerate() {
+            let which = ["Windows", "Linux"][n];
+            let mut config: Config = toml::from_str(block)
+                .unwrap_or_else(|e| panic!("the {which} example does not parse: {e}"));
+            config
+                .validate()
+                .unwrap_or_else(|e| panic!("the {which} example is invalid: {e}"));
+            assert!(
+                config.workspace.is_none(),
+                "{which}: no [workspace] by default"
+            );
+            let named = named_keys(block);
+            for key in &default_keys {
+                assert!(named.contains(key), "the {which} example lacks {key}");
+            }
+            let windows_path = |p: &Option<PathBuf>| {
+                p.as_ref()
+                    .is_some_and(|p| p.to_string_lossy().starts_with("C:\\"))
+            };
+            let paths = [
+                Some(config.data_dir.clone()),
+                config.channel.dir.clone(),
+                config.programs.controller_dir.clone(),
+            ];
+            if which == "Windows" {
+                assert!(paths.iter().all(windows_path), "{which}: {paths:?}");
+            } else {
+                assert!(!paths.iter().any(windows_path), "{which}: {paths:?}");
+            }
+            // Paths aside, the values are the defaults.
+            config.data_dir = defaults.data_dir.clone();
+            config.channel.dir = None;
+            config.programs.controller_dir = None;
+            assert_eq!(
+                toml::to_string(&config).expect("TOML"),
+                toml::to_string(&defaults).expect("TOML"),
+                "the {which} example shows other values than the defaults"
+            );
+        }
     }
 }
 

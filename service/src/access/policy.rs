@@ -152,6 +152,7 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("DELETE", "/api/v1/sim/trace", OPERATE),
     // Documentation.
     ("GET", "/openapi.json", PUBLIC),
+    ("GET", "/errors", PUBLIC),
     ("GET", "/", PUBLIC),
     // The dashboard's files (the data it shows needs a token).
     ("GET", "/ui/{*path}", PUBLIC),

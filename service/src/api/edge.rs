@@ -3,8 +3,9 @@
 //! configured, load shedding (a concurrency limit that answers 503 +
 //! `Retry-After` instead of queueing, never for Stop or `/health`) and the
 //! layer that turns bare error answers into problem documents. Inside it,
-//! so that the audit trail records the outcome: the per-request time limit
-//! and the body size limit (tower-http).
+//! so that the audit trail records the outcome: the per-request time limit,
+//! the body size limit (tower-http) and the check that refuses query
+//! parameters an operation does not declare.
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -25,9 +26,15 @@ use super::problem::PROBLEM_JSON;
 use crate::config::ServerConfig;
 use crate::error::{BridgeError, ErrorCode};
 
-/// The time and body limits (applied inside the access layer).
-pub fn inner_layers(router: Router<AppState>, server: &ServerConfig) -> Router<AppState> {
+/// The query-parameter check, the time and body limits (applied inside
+/// the access layer).
+pub fn inner_layers(router: Router<AppState>, state: &AppState) -> Router<AppState> {
+    let server = &state.server;
     router
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            known_query_parameters,
+        ))
         .layer(TimeoutLayer::with_status_code(
             StatusCode::GATEWAY_TIMEOUT,
             Duration::from_millis(server.max_request_ms),
@@ -144,6 +151,127 @@ async fn shed_load(State(slots): State<Arc<Semaphore>>, req: Request, next: Next
         return r;
     };
     next.run(req).await
+}
+
+/// Refuses a request with a query parameter its operation does not declare
+/// in the OpenAPI document (`AppState::openapi`): 422 `invalid_input`
+/// naming it and the ones the operation takes (in the thesis format on
+/// `/krl/*`), before the handler runs. A typo (`?limt=5`, `?index=3` on an
+/// endpoint without parameters) must not be ignored, on any endpoint.
+///
+/// `access_token` passes where the document declares it (`/krl/*` and
+/// `/api/v1/events`, whose clients cannot always set headers; the access
+/// layer has taken it out of the query already when it accepts it there).
+/// The thesis endpoints also take their parameters in upper case (KUKA's
+/// own spelling, `X=`). Plugin routes are checked against the plugin's own
+/// schemas when they are called; routes outside the document (Swagger UI,
+/// the dashboard's files, `/openapi.json`) are not checked.
+async fn known_query_parameters(State(app): State<AppState>, req: Request, next: Next) -> Response {
+    let Some(query) = req
+        .uri()
+        .query()
+        .filter(|q| !q.is_empty())
+        .map(str::to_string)
+    else {
+        return next.run(req).await;
+    };
+    let Some(template) = req
+        .extensions()
+        .get::<MatchedPath>()
+        .map(|m| m.as_str().to_string())
+    else {
+        return next.run(req).await;
+    };
+    if template.starts_with("/api/v1/plugins/{name}/") {
+        return next.run(req).await;
+    }
+    let method = match req.method().as_str() {
+        "HEAD" => "get".to_string(),
+        m => m.to_ascii_lowercase(),
+    };
+    let Some(operation) = app
+        .openapi
+        .get("paths")
+        .and_then(|p| p.get(&template))
+        .and_then(|item| item.get(&method))
+    else {
+        return next.run(req).await;
+    };
+    let declared: Vec<&str> = operation
+        .get("parameters")
+        .and_then(serde_json::Value::as_array)
+        .into_iter()
+        .flatten()
+        .filter(|p| p["in"] == "query")
+        .filter_map(|p| p["name"].as_str())
+        .collect();
+    let thesis = template.starts_with("/krl/");
+    let pairs: Vec<(String, String)> = match serde_urlencoded::from_str(&query) {
+        Ok(p) => p,
+        Err(e) => {
+            let e = BridgeError::invalid(format!("query string: {e}"));
+            return super::routing_error(&app, req.uri(), e);
+        }
+    };
+    let known = |name: &str| {
+        declared.contains(&name)
+            || (thesis
+                && name.chars().all(|c| !c.is_ascii_lowercase())
+                && declared.contains(&name.to_ascii_lowercase().as_str()))
+    };
+    let mut unknown: Vec<&str> = Vec::new();
+    for (name, value) in &pairs {
+        let blank = name.is_empty() && value.is_empty();
+        if !blank && !known(name) && !unknown.contains(&name.as_str()) {
+            unknown.push(name);
+        }
+    }
+    if unknown.is_empty() {
+        return next.run(req).await;
+    }
+    let e = BridgeError::invalid(unknown_parameters_sentence(
+        req.method().as_str(),
+        &template,
+        &unknown,
+        &declared,
+        thesis,
+    ));
+    super::routing_error(&app, req.uri(), e)
+}
+
+/// `query parameter "index" is not known; GET /api/v1/tool takes no query
+/// parameters`, or the ones it takes.
+fn unknown_parameters_sentence(
+    method: &str,
+    template: &str,
+    unknown: &[&str],
+    declared: &[&str],
+    thesis: bool,
+) -> String {
+    let names: Vec<String> = unknown.iter().map(|n| format!("{n:?}")).collect();
+    let mut out = if names.len() == 1 {
+        format!("query parameter {} is not known", names[0])
+    } else {
+        format!("query parameters {} are not known", names.join(", "))
+    };
+    if declared.is_empty() {
+        out.push_str(&format!("; {method} {template} takes no query parameters"));
+    } else {
+        out.push_str(&format!(
+            "; {method} {template} takes {}",
+            declared.join(", ")
+        ));
+        if thesis && declared.iter().any(|d| *d != crate::access::QUERY_TOKEN) {
+            out.push_str(" (coordinates also in upper case)");
+        }
+    }
+    if unknown.contains(&crate::access::QUERY_TOKEN) {
+        out.push_str(&format!(
+            "; send the token in the Authorization header (`{}` is accepted only on /krl/* and /api/v1/events)",
+            crate::access::QUERY_TOKEN
+        ));
+    }
+    out
 }
 
 /// CORS for the configured origins; none configured: no CORS headers, so

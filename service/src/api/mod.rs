@@ -9,6 +9,7 @@ mod access;
 mod auth;
 mod dashboard;
 mod edge;
+mod errors;
 mod events;
 mod openapi;
 mod plugins;
@@ -77,6 +78,8 @@ impl AppState {
             the versioned JSON API: robot state, motions (single or continuous batches), jobs, stop, \
             frames, speeds and live events.\n\n\
             Errors are `application/problem+json` with a stable `code` (see the ProblemDetails schema). \
+            Error codes: [/errors](/errors), served by this service (each problem's `type` links to its \
+            code's section there). \
             Units: mm, degrees; PTP speeds in % of the maximum axis speed, LIN/CIRC speeds in m/s.\n\n\
             **Access.** When the service listens beyond loopback (or runs with `--require-auth`) every \
             endpoint except `/health` and the documentation needs a bearer token (*Authorize* above). \
@@ -194,6 +197,7 @@ async fn method_not_allowed(uri: Uri) -> Response {
 fn documented() -> OpenApiRouter<AppState> {
     OpenApiRouter::with_openapi(ApiDoc::openapi())
         .routes(routes!(health))
+        .merge(errors::router())
         .merge(thesis::router())
         .merge(v1::router())
         .merge(programs::router())
@@ -237,7 +241,7 @@ pub fn app(mut state: AppState) -> Router {
     // Inside the access layer: what it must see (and audit) as the
     // request's outcome; outside it: what refuses a request before anyone
     // is identified.
-    let router = edge::inner_layers(router, &server).layer(axum::middleware::from_fn_with_state(
+    let router = edge::inner_layers(router, &state).layer(axum::middleware::from_fn_with_state(
         state.clone(),
         auth::guard,
     ));

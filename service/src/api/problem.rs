@@ -16,10 +16,22 @@ use crate::error::{BridgeError, ErrorCode};
 /// The media type of problem responses.
 pub const PROBLEM_JSON: &str = "application/problem+json";
 
+/// Where the service serves its error catalogue (`api::errors`): every
+/// problem's `type` is this page with the code as its fragment.
+pub const ERROR_PAGE: &str = "/errors";
+
+/// The `type` of a problem with this code: `/errors#<code>`, a relative
+/// URI reference (RFC 9457 §3.1.1) resolved against the request's URL, so
+/// that it leads to the catalogue of the service that answered, also on a
+/// plant network without internet.
+pub fn type_uri(code: ErrorCode) -> String {
+    format!("{ERROR_PAGE}#{}", code.as_str())
+}
+
 /// A problem details body (RFC 9457) with kuka-bridge extensions.
 #[derive(Debug, Clone, Serialize, ToSchema)]
 #[schema(example = json!({
-    "type": "https://github.com/kuka-bridge/kuka-bridge/blob/main/docs/errors.md#software_limit",
+    "type": "/errors#software_limit",
     "title": "Software limit switch",
     "status": 422,
     "detail": "axis A5 would be at 128.000° outside its software limits [-120.0°, 120.0°]",
@@ -28,7 +40,9 @@ pub const PROBLEM_JSON: &str = "application/problem+json";
     "motion": 0
 }))]
 pub struct ProblemDetails {
-    /// URI identifying the problem type (docs/errors.md anchor).
+    /// The problem type: `/errors#<code>`, a URI reference relative to the
+    /// request's URL; the service's error catalogue (`GET /errors`)
+    /// explains the code there.
     #[serde(rename = "type")]
     pub type_uri: String,
     /// Short summary of the problem type.
@@ -65,10 +79,7 @@ impl ProblemDetails {
     /// Builds the body for an error.
     pub fn from_error(e: &BridgeError) -> Self {
         ProblemDetails {
-            type_uri: format!(
-                "https://github.com/kuka-bridge/kuka-bridge/blob/main/docs/errors.md#{}",
-                e.code.as_str()
-            ),
+            type_uri: type_uri(e.code),
             title: e.code.title().into(),
             status: e.code.http_status(),
             detail: e.detail.clone(),

@@ -146,7 +146,7 @@ pub struct ThesisResponse {
 #[derive(Debug, Serialize, ToSchema)]
 #[schema(example = json!({
     "statuscode": 20, "position": [355.0, 0.0, 625.0, 0.0, 90.0, 0.0],
-    "type": "https://github.com/kuka-bridge/kuka-bridge/blob/main/docs/errors.md#unreachable",
+    "type": "/errors#unreachable",
     "title": "Target unreachable", "status": 422, "detail": "target is out of reach of the robot",
     "code": "unreachable", "motion": 0
 }))]
