@@ -40,7 +40,8 @@ pub struct PluginRouteInfo {
 #[schema(example = json!({
     "name": "draw-circle", "version": "0.1.0", "status": "active",
     "routes": [{"method": "POST", "url": "/api/v1/plugins/draw-circle/circle", "summary": "Draw a circle"}],
-    "sha256": "3f1c…", "wasm_bytes": 134326, "load_ms": 1.2, "from_cache": true
+    "sha256": "3f1c…", "wasm_bytes": 134326, "load_ms": 1.2, "from_cache": true,
+    "limits": {"memory_mib": 64, "cpu_time_ms": 2000, "request_timeout_ms": 120000, "max_motions": 1000}
 }))]
 pub struct PluginInfo {
     /// Its name (the URL prefix and the file name `<name>.wasm`).
@@ -382,11 +383,11 @@ impl PluginRegistry {
                 }
             }
             Err(e) => {
+                tracing::error!(plugin = name, file = %path.display(), error = %e, "plugin file not deleted");
                 return Err(BridgeError::new(
                     ErrorCode::Internal,
                     format!(
-                        "plugin {name} unloaded, but its file {} could not be deleted (it will load again at the next start): {e}",
-                        path.display()
+                        "plugin {name} unloaded, but its file {name}.wasm in the plugins folder could not be deleted (it will load again at the next start); the service log has the cause"
                     ),
                 ));
             }
@@ -453,15 +454,19 @@ impl PluginRegistry {
             return false;
         }
         let result = match bytes {
-            Err(e) => Err(ErrorBody {
-                code: ErrorCode::Internal.as_str(),
-                detail: format!("cannot read {}: {e}", path.display()),
-            }),
+            Err(e) => {
+                tracing::error!(plugin = name, file = %path.display(), error = %e, "plugin file not readable");
+                Err(ErrorBody {
+                    code: ErrorCode::Internal.as_str(),
+                    detail: format!(
+                        "{name}.wasm in the plugins folder cannot be read; the service log has the cause"
+                    ),
+                })
+            }
             Ok(bytes) if bytes.len() > self.max_wasm_bytes => Err(ErrorBody {
                 code: ErrorCode::PayloadTooLarge.as_str(),
                 detail: format!(
-                    "{} has {} bytes; plugins.max_wasm_bytes is {}",
-                    path.display(),
+                    "{name}.wasm has {} bytes; plugins.max_wasm_bytes is {}",
                     bytes.len(),
                     self.max_wasm_bytes
                 ),
