@@ -14,12 +14,19 @@
 //! 3. reinstall of the same bytes, which loads the compiled artifact from
 //!    the cache (the path of a restart or a reload);
 //! 4. resident memory of the process before and after installing 10
-//!    plugins (Linux: VmRSS from /proc/self/status).
+//!    plugins (Linux: VmRSS from /proc/self/status);
+//! 5. with `--memory` (only this part; Linux, needs Python): the memory of
+//!    the service in a process of its own (`kuka-bridge run`, VmRSS, RssAnon
+//!    and RssFile from /proc/<pid>/status) before installing the Python
+//!    example py-square, installed, after 3 calls and after its removal,
+//!    for 3 install/remove cycles (the first compiles, the others load the
+//!    compiled cache).
 //!
 //! Run: `cargo bench -p kuka-bridge-tests --bench plugins [-- N] [-- --python]`
-//! (N round trips, default 5000). The ten plugins are copies of draw-circle
-//! whose 11-byte name string is replaced in place (`bench-pl-00` ...), so
-//! each is a distinct component with its own compiled code.
+//! (N round trips, default 5000), or `... -- --memory`. The ten plugins are
+//! copies of draw-circle whose 11-byte name string is replaced in place
+//! (`bench-pl-00` ...), so each is a distinct component with its own
+//! compiled code.
 
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -63,10 +70,127 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// `VmRSS`, `RssAnon` and `RssFile` of a process, MiB (Linux).
+fn rss_parts(pid: u32) -> [f64; 3] {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
+    ["VmRSS:", "RssAnon:", "RssFile:"].map(|key| {
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix(key))
+            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
+            .map_or(f64::NAN, |kb| kb / 1024.0)
+    })
+}
+
+fn show(what: &str, [rss, anon, file]: [f64; 3]) {
+    println!("  {what:<38} VmRSS {rss:6.1} MiB  (anonymous {anon:6.1}, file {file:5.1})");
+}
+
+/// Part 5: install, call and remove py-square in a service of its own,
+/// three times; the memory it holds at each step.
+fn memory(py: Vec<u8>) {
+    let root = tempfile::tempdir().expect("tempdir");
+    let dir = |d: &str| root.path().join(d).to_string_lossy().into_owned();
+    let service = kuka_bridge_tests::CliService::spawn(
+        env!("CARGO_BIN_EXE_kuka-bridge-cli"),
+        "warn",
+        [
+            "--simulate",
+            "--time-scale",
+            "0",
+            "--listen",
+            "127.0.0.1:0",
+            "--data-dir",
+            &dir("data"),
+            "--channel-dir",
+            &dir("channel"),
+        ],
+    );
+    let pid = service.pid();
+    let rt = kuka_bridge_tests::bench::runtime();
+    let http = reqwest::Client::new();
+    let url = |p: &str| format!("{}{p}", service.url());
+    rt.block_on(async {
+        let wait_online = Instant::now() + Duration::from_secs(30);
+        loop {
+            let r = http.get(url("/health")).send().await.expect("health");
+            let (_, h) = kuka_bridge_tests::decode(r).await;
+            if h["connection"] == "online" {
+                break;
+            }
+            assert!(Instant::now() < wait_online, "never online: {h}");
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
+        tokio::time::sleep(Duration::from_secs(1)).await;
+        println!(
+            "-- memory of the service process (pid {pid}) with py-square ({:.1} MB)",
+            py.len() as f64 / 1e6
+        );
+        let start = rss_parts(pid);
+        show("started", start);
+        for cycle in 1..=3 {
+            let took = Instant::now();
+            let r = http
+                .put(url("/api/v1/plugins/py-square"))
+                .body(py.clone())
+                .send()
+                .await
+                .expect("install");
+            let (status, v) = kuka_bridge_tests::decode(r).await;
+            assert_eq!(status, 201, "{v}");
+            let how = if v["from_cache"] == true {
+                "from the cache"
+            } else {
+                "compiled"
+            };
+            show(
+                &format!(
+                    "{cycle}: installed ({how}, {:.1} s)",
+                    took.elapsed().as_secs_f64()
+                ),
+                rss_parts(pid),
+            );
+            for _ in 0..3 {
+                let body = serde_json::json!({"x": 300, "y": 0, "z": 100, "side": 20});
+                let r = http
+                    .post(url("/api/v1/plugins/py-square/square"))
+                    .json(&body)
+                    .send()
+                    .await
+                    .expect("call");
+                let (status, v) = kuka_bridge_tests::decode(r).await;
+                assert_eq!(status, 200, "{v}");
+            }
+            show(&format!("{cycle}: after 3 calls"), rss_parts(pid));
+            let r = http
+                .delete(url("/api/v1/plugins/py-square"))
+                .send()
+                .await
+                .expect("remove");
+            assert_eq!(r.status().as_u16(), 204);
+            // The memory goes back on a blocking thread, just after the answer.
+            tokio::time::sleep(Duration::from_secs(2)).await;
+            let after = rss_parts(pid);
+            show(&format!("{cycle}: removed (+2 s)"), after);
+            println!(
+                "  {cycle}: removed - started: {:+.1} MiB",
+                after[0] - start[0]
+            );
+        }
+    });
+    drop(service);
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let n: usize = args.iter().find_map(|a| a.parse().ok()).unwrap_or(5000);
     let python = args.iter().any(|a| a == "--python");
+    if args.iter().any(|a| a == "--memory") {
+        let examples =
+            kuka_bridge_tests::example_plugins(Path::new(env!("CARGO_TARGET_TMPDIR")), true);
+        memory(std::fs::read(examples.join("py-square.wasm")).expect("py-square.wasm"));
+        return;
+    }
     let examples =
         kuka_bridge_tests::example_plugins(Path::new(env!("CARGO_TARGET_TMPDIR")), python);
     let read =

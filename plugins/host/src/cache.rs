@@ -46,26 +46,33 @@ impl ArtifactCache {
     }
 
     /// The component for these bytes, from the cache when possible.
-    /// Returns the component and whether it came from the cache.
+    /// Returns the component and whether it came from the cache. A miss is
+    /// compiled by `compiler` (an engine of its own, dropped afterwards with
+    /// Cranelift's working memory, see `runtime::compiler`) and loaded into
+    /// `engine`.
     pub(crate) fn component(
         &self,
         engine: &Engine,
+        compiler: impl FnOnce() -> Result<Engine, crate::PluginError>,
         wasm: &[u8],
         sha: &str,
     ) -> Result<(Component, bool), wasmtime::Error> {
-        if let Some(path) = self.path(sha) {
-            if let Some(c) = load(engine, &path) {
-                return Ok((c, true));
-            }
-            let component = Component::new(engine, wasm)?;
-            match component.serialize() {
-                Ok(artifact) => store(&path, &artifact),
-                Err(e) => tracing::warn!(error = %e, "cannot serialize the compiled plugin"),
-            }
-            Ok((component, false))
-        } else {
-            Ok((Component::new(engine, wasm)?, false))
+        let path = self.path(sha);
+        if let Some(c) = path.as_deref().and_then(|p| load(engine, p)) {
+            return Ok((c, true));
         }
+        let artifact = {
+            let compiler = compiler().map_err(wasmtime::Error::msg)?;
+            compiler.precompile_component(wasm)?
+        };
+        if let Some(path) = &path {
+            store(path, &artifact);
+        }
+        // SAFETY: the bytes are an artifact `precompile_component` has just
+        // produced with the settings of `engine` (wasmtime checks that too).
+        #[allow(unsafe_code)]
+        let component = unsafe { Component::deserialize(engine, &artifact)? };
+        Ok((component, false))
     }
 
     /// Removes artifacts of other wasmtime versions, and those whose source

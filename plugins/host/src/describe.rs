@@ -1,8 +1,11 @@
 //! Checks a plugin's self-description before it is activated: its name,
-//! version and routes (methods, paths, duplicates) and that its JSON
-//! schemas parse. Every problem is listed, not just the first.
+//! version and routes (methods, paths, duplicates), that its JSON schemas
+//! parse and that each request schema compiles (it is enforced on every
+//! request, see [`crate::schema`]). Every problem is listed, not just the
+//! first.
 
 use crate::bindings::Description;
+use crate::schema::{CompiledSchema, Refusal};
 
 /// HTTP methods a plugin route may use.
 pub const METHODS: [&str; 2] = ["GET", "POST"];
@@ -21,8 +24,25 @@ pub struct RouteSpec {
     pub summary: String,
     /// JSON Schema of the request body (POST) or the query (GET).
     pub request_schema: serde_json::Value,
-    /// JSON Schema of the 200 response body.
+    /// JSON Schema of the 200 response body (documentation: not checked).
     pub response_schema: serde_json::Value,
+    /// `request_schema`, compiled when the plugin loaded.
+    request_validator: CompiledSchema,
+}
+
+impl RouteSpec {
+    /// Checks a request against the route's request schema before the
+    /// plugin runs: a POST's `body` must be JSON the schema accepts; a GET's
+    /// `query` is checked as a JSON object (see [`crate::schema::query_object`]).
+    pub fn check_request(&self, body: &str, query: &[(String, String)]) -> Result<(), Refusal> {
+        let label = format!("{} {}", self.method, self.path);
+        if self.method == "GET" {
+            self.request_validator
+                .check_query(&label, &self.request_schema, query)
+        } else {
+            self.request_validator.check_body(&label, body)
+        }
+    }
 }
 
 /// Is this a valid plugin name (also its URL prefix and file name)?
@@ -128,7 +148,16 @@ pub(crate) fn check(expected_name: &str, d: &Description) -> Result<Vec<RouteSpe
         }
         let request_schema = parse_schema(&label, "request", &r.request_schema)
             .map_err(|e| problems.push(e))
-            .ok();
+            .ok()
+            .and_then(|schema| match crate::schema::compile(&schema) {
+                Ok(validator) => Some((schema, validator)),
+                Err(e) => {
+                    problems.push(format!(
+                        "{label}: the request schema does not compile as a JSON Schema: {e}"
+                    ));
+                    None
+                }
+            });
         let response_schema = parse_schema(&label, "response", &r.response_schema)
             .map_err(|e| problems.push(e))
             .ok();
@@ -139,7 +168,7 @@ pub(crate) fn check(expected_name: &str, d: &Description) -> Result<Vec<RouteSpe
             problems.push(format!("{label}: declared twice"));
             ok = false;
         }
-        if let (true, Some(request_schema), Some(response_schema)) =
+        if let (true, Some((request_schema, request_validator)), Some(response_schema)) =
             (ok, request_schema, response_schema)
         {
             routes.push(RouteSpec {
@@ -148,6 +177,7 @@ pub(crate) fn check(expected_name: &str, d: &Description) -> Result<Vec<RouteSpe
                 summary: r.summary.clone(),
                 request_schema,
                 response_schema,
+                request_validator,
             });
         }
     }
@@ -204,6 +234,7 @@ mod tests {
                 route("GET", "/d/{id}", "{}"),
                 route("GET", "/e", "not json"),
                 route("GET", "/f", "[1]"),
+                route("POST", "/g", r#"{"type": "nmber"}"#),
             ],
         );
         let problems = check("other", &d).expect_err("invalid");
@@ -216,6 +247,7 @@ mod tests {
             "\"/d/{id}\" may only hold",
             "GET /e: the request schema is not JSON",
             "GET /f: the request schema must be a JSON object",
+            "POST /g: the request schema does not compile as a JSON Schema",
         ] {
             assert!(all.contains(needle), "missing {needle:?} in:\n{all}");
         }

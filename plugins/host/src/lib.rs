@@ -22,7 +22,9 @@ mod call;
 mod describe;
 mod error;
 mod imports;
+mod memory;
 mod runtime;
+mod schema;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -37,6 +39,7 @@ pub use cache::sha256_hex;
 pub use describe::{METHODS, RouteSpec, check_name};
 pub use error::PluginError;
 pub use imports::{BoxFuture, BridgeApi, CallContext, Caller, host_error};
+pub use schema::{Refusal, Violation, query_object};
 
 /// The WIT package version this host implements.
 pub const WIT_VERSION: &str = "kuka-bridge:plugin@0.1.0";
@@ -85,6 +88,9 @@ pub struct LoadedPlugin {
     /// Time to compile (or deserialize), link and describe it.
     pub load_time: Duration,
     pre: bindings::BridgePluginPre<imports::RequestState>,
+    /// Last field: dropped after `pre` (the compiled code and its metadata),
+    /// it hands the freed memory back to the operating system.
+    _trim: memory::TrimOnDrop,
 }
 
 impl std::fmt::Debug for LoadedPlugin {
@@ -135,6 +141,7 @@ impl PluginHost {
                 "the memory limit of plugin {name} is above the global one"
             )));
         }
+        memory::tune_allocator();
         let runtime = runtime::Runtime::new(limits.memory_bytes)?;
         let cache = cache::ArtifactCache::new(cache_dir, runtime.engine());
         Ok(PluginHost {
@@ -156,6 +163,9 @@ impl PluginHost {
     /// on a blocking thread (a Python plugin takes seconds).
     pub async fn load(&self, name: &str, wasm: Arc<[u8]>) -> Result<LoadedPlugin, PluginError> {
         check_name(name).map_err(|e| PluginError::InvalidDescription(vec![e]))?;
+        // However the load ends, the memory it freed (a compilation's working
+        // memory) goes back to the system.
+        let trim = memory::TrimOnDrop;
         let started = Instant::now();
         let sha256 = sha256_hex(&wasm);
         let (component, from_cache) = {
@@ -163,15 +173,18 @@ impl PluginHost {
             let cache = self.cache.clone();
             let wasm = wasm.clone();
             let sha = sha256.clone();
-            tokio::task::spawn_blocking(move || cache.component(&engine, &wasm, &sha))
-                .await
-                .map_err(|e| PluginError::Host(format!("compiler thread: {e}")))?
-                .map_err(|e| PluginError::NotComponent(error::one_line(&format!("{e:#}"))))?
+            tokio::task::spawn_blocking(move || {
+                cache.component(&engine, runtime::compiler, &wasm, &sha)
+            })
+            .await
+            .map_err(|e| PluginError::Host(format!("compiler thread: {e}")))?
+            .map_err(|e| PluginError::NotComponent(error::one_line(&format!("{e:#}"))))?
         };
         let pre = self.runtime.link(&component)?;
         let description = call::describe(&self.runtime, &pre, name, &self.limits).await?;
         let routes =
             describe::check(name, &description).map_err(PluginError::InvalidDescription)?;
+        drop(trim);
         let plugin = LoadedPlugin {
             name: name.into(),
             version: description.version.into(),
@@ -181,6 +194,7 @@ impl PluginHost {
             from_cache,
             load_time: started.elapsed(),
             pre,
+            _trim: memory::TrimOnDrop,
         };
         tracing::info!(
             plugin = name, version = %plugin.version, routes = plugin.routes.len(),

@@ -105,10 +105,26 @@ impl Drop for Place {
     }
 }
 
+/// The settings code is compiled with (the runtime engine adds its pool,
+/// which does not change the code: artifacts of one load in the other).
+fn code_config() -> Config {
+    let mut config = Config::new();
+    config.epoch_interruption(true);
+    config
+}
+
+/// A throwaway engine to compile one component with. Cranelift keeps the
+/// working memory of its largest function in its engine for the next
+/// compilation (≈ 50 MiB after a Python plugin: its interpreter loop is a
+/// huge function); compiling in an engine of its own, dropped with the
+/// compilation, gives that memory back (docs/BENCHMARKS.md §7).
+pub(crate) fn compiler() -> Result<Engine, PluginError> {
+    Engine::new(&code_config()).map_err(|e| PluginError::Host(format!("compiler: {e:#}")))
+}
+
 impl Runtime {
     pub(crate) fn new(memory_bytes: usize) -> Result<Self, PluginError> {
-        let mut config = Config::new();
-        config.epoch_interruption(true);
+        let mut config = code_config();
         config.allocation_strategy(InstanceAllocationStrategy::Pooling(pooling(memory_bytes)));
         let engine = Engine::new(&config).map_err(|e| PluginError::Host(format!("{e:#}")))?;
         let mut linker = Linker::<RequestState>::new(&engine);

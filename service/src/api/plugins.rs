@@ -10,7 +10,7 @@ use axum::body::Body;
 use axum::extract::{Path, RawQuery, State};
 use axum::http::{Method, StatusCode};
 use axum::response::{IntoResponse, Response};
-use kuka_plugin_host::{LoadedPlugin, Request};
+use kuka_plugin_host::{LoadedPlugin, Refusal, Request};
 use serde_json::{Value, json};
 use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
@@ -139,7 +139,7 @@ pub(super) async fn call(
     } else {
         method
     };
-    if plugin.route(method.as_str(), &path).is_none() {
+    let Some(route) = plugin.route(method.as_str(), &path) else {
         let routes: Vec<String> = plugin
             .routes
             .iter()
@@ -174,13 +174,18 @@ pub(super) async fn call(
             }
         }
         return Ok(resp);
-    }
+    };
     let body = read_body(body, registry.max_body_bytes(), "request body").await?;
     let body = String::from_utf8(body.to_vec())
         .map_err(|_| BridgeError::invalid("the request body is not UTF-8 text (JSON expected)"))?;
     let query: Vec<(String, String)> =
         serde_urlencoded::from_str(query.as_deref().unwrap_or(""))
             .map_err(|e| BridgeError::invalid(format!("query string: {e}")))?;
+    // The plugin's request schema is a contract: a request it refuses
+    // never reaches the plugin (nothing runs, nothing moves).
+    if let Err(refusal) = route.check_request(&body, &query) {
+        return Ok(schema_refusal(&name, &refusal));
+    }
     let request = Request {
         method: method.as_str().to_string(),
         path,
@@ -193,6 +198,25 @@ pub(super) async fn call(
         .await
         .map_err(|e| plugin_error(&e))?;
     Ok(plugin_response(&name, response.status, response.body))
+}
+
+/// A request its route's schema refuses: 422 `invalid_input`, the first
+/// violations in `detail` and all of them (up to ten) in `errors`, each
+/// with the JSON Pointer of the offending value, the schema keyword and a
+/// message; `plugin` names the plugin whose schema it is.
+fn schema_refusal(plugin: &str, refusal: &Refusal) -> Response {
+    let problem = ProblemDetails::from_error(&BridgeError::invalid(refusal.detail.clone()));
+    let mut body = serde_json::to_value(&problem).unwrap_or_else(|_| json!({}));
+    let errors: Vec<Value> = refusal
+        .violations
+        .iter()
+        .map(|v| json!({"pointer": v.pointer, "keyword": v.keyword, "message": v.message}))
+        .collect();
+    if let Value::Object(map) = &mut body {
+        map.insert("errors".into(), Value::Array(errors));
+        map.insert("plugin".into(), json!(plugin));
+    }
+    json_response(problem.status, PROBLEM_JSON, &body)
 }
 
 /// The plugin's answer as an HTTP response. Error answers (4xx/5xx) become
