@@ -7,9 +7,8 @@
 //! OpenAPI document follows the installed plugins.
 //!
 //! The Python example needs `python3` with its `venv` module: without it
-//! its test fails with the command that installs it; it is skipped only
-//! with `KUKA_BRIDGE_SKIP_PYTHON=1` set (and `CI` not), with a loud
-//! SKIPPED line.
+//! its tests fail with the command that installs it (leave them out on
+//! purpose with `cargo test -- --skip python`).
 
 use std::time::{Duration, Instant};
 
@@ -1014,13 +1013,11 @@ async fn installed_plugins_load_at_start_from_the_compiled_cache() {
     assert_eq!(status, 200, "{v}");
 }
 
-/// The Python example `py-square.wasm` (built once with componentize-py);
-/// `None` when python3 with venv is missing and KUKA_BRIDGE_SKIP_PYTHON is
-/// set (otherwise the test fails with the command that installs it).
+/// The Python example `py-square.wasm` (built once with componentize-py
+/// from PyPI into a venv). Without python3 and its venv module the test
+/// fails with the command that installs them ([`kuka_bridge_tests::missing_tool`]:
+/// it never returns `None`).
 fn python_plugin() -> Option<Vec<u8>> {
-    // componentize-py comes from PyPI into a venv: without python3 and its
-    // venv module this test fails with the command that installs them
-    // (skipped only with KUKA_BRIDGE_SKIP_PYTHON=1, loudly; never under CI).
     let python = if cfg!(windows) { "python" } else { "python3" };
     let have_python = std::process::Command::new(python)
         .args(["-c", "import venv, ensurepip"])
@@ -1038,7 +1035,7 @@ fn python_plugin() -> Option<Vec<u8>> {
             } else {
                 "sudo apt-get install python3 python3-venv"
             },
-            "KUKA_BRIDGE_SKIP_PYTHON",
+            "python",
         );
         return None;
     }
