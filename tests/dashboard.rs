@@ -3,9 +3,8 @@
 //! simulator's trace, Stop, jogging, and what a viewer may do. Without
 //! Chromium and chromedriver they fail at once with the command that
 //! installs them (`sudo apt-get install chromium chromium-driver` on
-//! Debian); they are skipped only with `KUKA_BRIDGE_SKIP_BROWSER=1` set (and
-//! `CI` not), with a loud SKIPPED line (see `kuka_bridge_tests::browser`);
-//! screenshots go to `<target>/artifacts/dashboard/`.
+//! Debian), never skipped and counted as passed (see
+//! `kuka_bridge_tests::browser`); screenshots go to `<target>/artifacts/dashboard/`.
 
 use std::time::Duration;
 
@@ -1567,14 +1566,9 @@ async fn plugin_form_fields_follow_the_schema_order() {
 }
 
 /// The draw-smiley plugin's form in the order its schema lists the
-/// fields. Ignored: the order is lost on the server (the plugin's
-/// `serde_json` without `preserve_order` serialises its schema sorted; the
-/// host parses it into a sorted `serde_json::Value` in
-/// `plugins/host/src/describe.rs` `parse_schema`; `/openapi.json` is built
-/// as a `serde_json::Value` in `service/src/api/plugins.rs`
-/// `add_plugin_paths`), so the page gets the fields alphabetically.
+/// fields: the order survives the plugin, the host and `/openapi.json`
+/// because both workspaces build `serde_json` with `preserve_order`.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-#[ignore = "the schema order is lost server-side: serde_json without preserve_order in the plugin, the host and the OpenAPI document"]
 async fn smiley_plugin_form_in_its_schema_order() {
     let Some(browser) = Browser::start().await else {
         return;

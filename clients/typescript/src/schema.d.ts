@@ -94,12 +94,45 @@ export interface paths {
          *     planned path of a move job (`JobPlan`, sent when its motions are written to the
          *     controller, before they run). A state event follows each heartbeat
          *     that changed something. A `lagged` event says the client was too slow and missed
-         *     some. The stream starts with the current state, and ends when the service
-         *     shuts down or the caller's token is revoked.
+         *     some (`data:` how many). The stream starts with the current state, and ends when the
+         *     service shuts down or the caller's token is revoked.
+         *
+         *     Job, plan and alarm events carry an `id:` that grows by one per event; the service
+         *     keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
+         *     `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
+         *     missed, then the current state, then live events; if some it missed are no longer
+         *     held, a `lagged` event says how many. State events carry no id and are not replayed
+         *     (the current state replaces them). An id from before a restart of the service replays
+         *     every event held.
          *
          *     **Access:** role `viewer` or higher.
          */
         get: operations["streamEvents"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/events/recent": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Recent job, plan and alarm events.
+         * @description The newest events the service still holds (it keeps the last 1000 job, plan and alarm
+         *     events of this run; state events are not kept), oldest first, with the ids and data of
+         *     the event stream: a page that reloads shows what happened before, then opens
+         *     `GET /api/v1/events?last_event_id=<the last id>` to continue without a gap.
+         *
+         *     **Access:** role `viewer` or higher.
+         */
+        get: operations["listRecentEvents"];
         put?: never;
         post?: never;
         delete?: never;
@@ -579,6 +612,30 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/errors": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The error catalogue: what each problem `code` means and what a client
+         *     should do about it.
+         * @description Every problem's `type` is `/errors#<code>`, a link into this page,
+         *     served by the service itself (no internet needed). Browsers get the
+         *     page as HTML; a request with `Accept: application/json` gets the codes
+         *     as JSON (code → title, HTTP status, thesis `statuscode`, sentence).
+         */
+        get: operations["getErrorCatalogue"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/health": {
         parameters: {
             query?: never;
@@ -777,45 +834,35 @@ export interface paths {
 export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
-        /** @description Something went wrong outside a job (channel locked, controller offline...). */
-        AlarmEvent: {
-            /** @description Something went wrong outside a job (channel locked, controller offline...). */
-            data: components["schemas"]["BridgeError"];
-            /**
-             * @description discriminator enum property added by openapi-typescript
-             * @enum {string}
-             */
-            type: "alarm";
-        };
         /**
          * @description One audited request.
          * @example {
+         *       "time_ms": 1763856000123,
+         *       "who": "line-3-pc",
+         *       "role": "operator",
          *       "client": "10.0.3.17",
-         *       "duration_ms": 812.4,
-         *       "jobs": [
-         *         42
-         *       ],
          *       "method": "POST",
+         *       "path": "/api/v1/motions",
+         *       "route": "/api/v1/motions",
          *       "params": {
          *         "body": {
          *           "motions": [
          *             {
+         *               "type": "ptp",
          *               "target": {
          *                 "x": 200,
          *                 "y": 0,
          *                 "z": 100
-         *               },
-         *               "type": "ptp"
+         *               }
          *             }
          *           ]
          *         }
          *       },
-         *       "path": "/api/v1/motions",
-         *       "role": "operator",
-         *       "route": "/api/v1/motions",
+         *       "jobs": [
+         *         42
+         *       ],
          *       "status": 200,
-         *       "time_ms": 1763856000123,
-         *       "who": "line-3-pc"
+         *       "duration_ms": 812.4
          *     }
          */
         AuditRecord: {
@@ -959,33 +1006,6 @@ export interface components {
              */
             a6: number;
         };
-        /** @description Axis-specific PTP. */
-        AxisMotion: {
-            /**
-             * Format: double
-             * @description % of max acceleration.
-             */
-            acceleration_pct?: number | null;
-            /**
-             * Format: double
-             * @description Approximation distance in mm.
-             */
-            approx_mm?: number | null;
-            /** @description Target axis angles. */
-            axes: components["schemas"]["AxesSpec"];
-            /** @description Add to the start instead of replacing. */
-            relative?: boolean;
-            /**
-             * @description discriminator enum property added by openapi-typescript
-             * @enum {string}
-             */
-            type: "ptp_axes";
-            /**
-             * Format: double
-             * @description % of max axis speed.
-             */
-            velocity_pct?: number | null;
-        };
         /**
          * @description An error with its code, sentence and context.
          * @example {
@@ -1016,12 +1036,12 @@ export interface components {
         /**
          * @description A Cartesian frame in mm and degrees (A, B, C about Z, Y, X).
          * @example {
-         *       "a": 0,
-         *       "b": 0,
-         *       "c": 0,
          *       "x": 0,
          *       "y": 0,
-         *       "z": 100
+         *       "z": 100,
+         *       "a": 0,
+         *       "b": 0,
+         *       "c": 0
          *     }
          */
         CartesianFrame: {
@@ -1056,35 +1076,6 @@ export interface components {
              */
             z: number;
         };
-        /** @description Circular arc through `aux` to `target`. */
-        CircMotion: {
-            /**
-             * Format: double
-             * @description % of max acceleration.
-             */
-            acceleration_pct?: number | null;
-            /**
-             * Format: double
-             * @description Approximation distance in mm.
-             */
-            approx_mm?: number | null;
-            /** @description Auxiliary point. */
-            aux: components["schemas"]["AuxPoint"];
-            /** @description Add both points to the start instead of replacing. */
-            relative?: boolean;
-            /** @description End point. */
-            target: components["schemas"]["TargetSpec"];
-            /**
-             * @description discriminator enum property added by openapi-typescript
-             * @enum {string}
-             */
-            type: "circ";
-            /**
-             * Format: double
-             * @description TCP speed in m/s.
-             */
-            velocity_m_s?: number | null;
-        };
         /**
          * @description Connection to the controller.
          * @enum {string}
@@ -1103,8 +1094,8 @@ export interface components {
         /**
          * @description Who holds control.
          * @example {
-         *       "auth": true,
          *       "lease": null,
+         *       "auth": true,
          *       "you": {
          *         "name": "line-3-pc",
          *         "role": "operator"
@@ -1212,16 +1203,44 @@ export interface components {
          * @example shutting_down
          */
         ErrorCode: string;
+        /**
+         * @description One code of the catalogue.
+         * @example {
+         *       "title": "Software limit switch",
+         *       "status": 422,
+         *       "thesis_statuscode": 21,
+         *       "summary": "an axis would pass its software limit switch",
+         *       "type": "/errors#software_limit"
+         *     }
+         */
+        ErrorCodeInfo: {
+            /**
+             * Format: int32
+             * @description The HTTP status a problem with this code has.
+             */
+            status: number;
+            /** @description What it means, in a sentence (the catalogue's summary table). */
+            summary: string;
+            /**
+             * Format: int32
+             * @description The `statuscode` the thesis endpoints (`/krl/*`) answer for it.
+             */
+            thesis_statuscode: number;
+            /** @description The problem's `title` for this code. */
+            title: string;
+            /** @description The problem's `type` for this code: its section of the HTML page. */
+            type: string;
+        };
         /** @description A push event (Server-Sent Events on `/api/v1/events`). */
         Event: components["schemas"]["JobEvent"] | components["schemas"]["StateEvent"] | components["schemas"]["AlarmEvent"] | components["schemas"]["PlanEvent"];
         /**
          * @description Service health.
          * @example {
-         *       "connection": "online",
-         *       "degraded": [],
-         *       "simulated": true,
          *       "status": "ok",
-         *       "version": "0.1.0"
+         *       "version": "0.1.0",
+         *       "connection": "online",
+         *       "simulated": true,
+         *       "degraded": []
          *     }
          */
         Health: {
@@ -1246,6 +1265,25 @@ export interface components {
         /**
          * @description A job as clients see it.
          * @example {
+         *       "id": 7,
+         *       "operation": "move",
+         *       "state": "done",
+         *       "motions": 2,
+         *       "completed": 2,
+         *       "cid": 1042,
+         *       "created_ms": 1795373060215,
+         *       "sent_ms": 1795373060221,
+         *       "finished_ms": 1795373060931,
+         *       "position": {
+         *         "x": 250,
+         *         "y": 100,
+         *         "z": 70,
+         *         "a": 180,
+         *         "b": 0,
+         *         "c": 180,
+         *         "s": 6,
+         *         "t": 51
+         *       },
          *       "axes": {
          *         "a1": -21.801,
          *         "a2": -13.511,
@@ -1254,27 +1292,8 @@ export interface components {
          *         "a5": -5.178,
          *         "a6": -21.801
          *       },
-         *       "cid": 1042,
-         *       "completed": 2,
-         *       "created_ms": 1795373060215,
-         *       "error": null,
-         *       "finished_ms": 1795373060931,
          *       "frame": null,
-         *       "id": 7,
-         *       "motions": 2,
-         *       "operation": "move",
-         *       "position": {
-         *         "a": 180,
-         *         "b": 0,
-         *         "c": 180,
-         *         "s": 6,
-         *         "t": 51,
-         *         "x": 250,
-         *         "y": 100,
-         *         "z": 70
-         *       },
-         *       "sent_ms": 1795373060221,
-         *       "state": "done"
+         *       "error": null
          *     }
          */
         Job: {
@@ -1330,24 +1349,15 @@ export interface components {
             /** @description Current state. */
             state: components["schemas"]["JobState"];
         };
-        /** @description A job changed state or progressed. */
-        JobEvent: {
-            /** @description A job changed state or progressed. */
-            data: components["schemas"]["Job"];
-            /**
-             * @description discriminator enum property added by openapi-typescript
-             * @enum {string}
-             */
-            type: "job";
-        };
         /**
          * @description The motions of a move job as written to the controller, with omitted
          *     and relative coordinates resolved: what the robot is about to do.
          * @example {
-         *       "cid": 1042,
          *       "job": 7,
+         *       "cid": 1042,
          *       "motions": [
          *         {
+         *           "type": "lin",
          *           "target": [
          *             200,
          *             0,
@@ -1355,10 +1365,10 @@ export interface components {
          *             0,
          *             180,
          *             0
-         *           ],
-         *           "type": "lin"
+         *           ]
          *         },
          *         {
+         *           "type": "circ",
          *           "aux": [
          *             250,
          *             50,
@@ -1371,8 +1381,7 @@ export interface components {
          *             0,
          *             180,
          *             0
-         *           ],
-         *           "type": "circ"
+         *           ]
          *         }
          *       ]
          *     }
@@ -1399,12 +1408,12 @@ export interface components {
         /**
          * @description A live lease, as the API shows it.
          * @example {
+         *       "id": "5f1c0a9e2b7d4c31",
+         *       "holder": "line-3-pc",
+         *       "role": "operator",
          *       "acquired_ms": 1763856000000,
          *       "expires_ms": 1763856030000,
-         *       "holder": "line-3-pc",
-         *       "id": "5f1c0a9e2b7d4c31",
-         *       "lease_ms": 30000,
-         *       "role": "operator"
+         *       "lease_ms": 30000
          *     }
          */
         Lease: {
@@ -1442,55 +1451,20 @@ export interface components {
             request_timeout_ms: number;
         };
         /**
-         * @description Straight line of the TCP.
-         * @example {
-         *       "target": {
-         *         "x": 250,
-         *         "y": 100
-         *       },
-         *       "type": "lin",
-         *       "velocity_m_s": 0.1
-         *     }
-         */
-        LinMotion: {
-            /**
-             * Format: double
-             * @description % of max acceleration.
-             */
-            acceleration_pct?: number | null;
-            /**
-             * Format: double
-             * @description Approximation distance in mm.
-             */
-            approx_mm?: number | null;
-            /** @description Add to the start instead of replacing. */
-            relative?: boolean;
-            /** @description Target. */
-            target: components["schemas"]["TargetSpec"];
-            /**
-             * @description discriminator enum property added by openapi-typescript
-             * @enum {string}
-             */
-            type: "lin";
-            /**
-             * Format: double
-             * @description TCP speed in m/s.
-             */
-            velocity_m_s?: number | null;
-        };
-        /**
          * @description The robot model the service checks motions against: enough to draw the
          *     arm (a stick model from the OPW lengths and the axis angles of
          *     `/api/v1/state`) and to show each axis against its software limits.
          * @example {
-         *       "home": [
-         *         0,
-         *         -90,
-         *         90,
-         *         0,
-         *         0,
-         *         0
-         *       ],
+         *       "name": "kr3_r540",
+         *       "opw_mm": {
+         *         "a1": 20,
+         *         "a2": -20,
+         *         "b": 0,
+         *         "c1": 345,
+         *         "c2": 260,
+         *         "c3": 260,
+         *         "c4": 75
+         *       },
          *       "limits_deg": [
          *         [
          *           -170,
@@ -1525,16 +1499,14 @@ export interface components {
          *         600,
          *         800
          *       ],
-         *       "name": "kr3_r540",
-         *       "opw_mm": {
-         *         "a1": 20,
-         *         "a2": -20,
-         *         "b": 0,
-         *         "c1": 345,
-         *         "c2": 260,
-         *         "c3": 260,
-         *         "c4": 75
-         *       }
+         *       "home": [
+         *         0,
+         *         -90,
+         *         90,
+         *         0,
+         *         0,
+         *         0
+         *       ]
          *     }
          */
         ModelInfo: {
@@ -1560,25 +1532,25 @@ export interface components {
          * @example {
          *       "motions": [
          *         {
+         *           "type": "ptp",
          *           "target": {
-         *             "a": 0,
-         *             "b": 180,
-         *             "c": 0,
          *             "x": 200,
          *             "y": 0,
-         *             "z": 100
-         *           },
-         *           "type": "ptp"
+         *             "z": 100,
+         *             "a": 0,
+         *             "b": 180,
+         *             "c": 0
+         *           }
          *         },
          *         {
+         *           "type": "lin",
          *           "target": {
          *             "z": 70
          *           },
-         *           "type": "lin",
          *           "velocity_m_s": 0.1
          *         },
          *         {
-         *           "approx_mm": 2,
+         *           "type": "circ",
          *           "aux": {
          *             "x": 250,
          *             "y": 50
@@ -1587,13 +1559,13 @@ export interface components {
          *             "x": 200,
          *             "y": 100
          *           },
-         *           "type": "circ"
+         *           "approx_mm": 2
          *         },
          *         {
+         *           "type": "lin",
          *           "target": {
          *             "z": 100
-         *           },
-         *           "type": "lin"
+         *           }
          *         }
          *       ],
          *       "wait": true
@@ -1673,16 +1645,6 @@ export interface components {
              */
             c4: number;
         };
-        /** @description A move job's motions as written to the controller (the planned path). */
-        PlanEvent: {
-            /** @description A move job's motions as written to the controller (the planned path). */
-            data: components["schemas"]["JobPlan"];
-            /**
-             * @description discriminator enum property added by openapi-typescript
-             * @enum {string}
-             */
-            type: "plan";
-        };
         /** @description One motion of a [`JobPlan`]. */
         PlannedMotion: {
             /** @description Auxiliary point `[x, y, z]` of a `circ`. */
@@ -1697,20 +1659,26 @@ export interface components {
         /**
          * @description An installed plugin, as listed by `GET /api/v1/plugins`.
          * @example {
-         *       "from_cache": true,
-         *       "load_ms": 1.2,
          *       "name": "draw-circle",
+         *       "version": "0.1.0",
+         *       "status": "active",
          *       "routes": [
          *         {
          *           "method": "POST",
-         *           "summary": "Draw a circle",
-         *           "url": "/api/v1/plugins/draw-circle/circle"
+         *           "url": "/api/v1/plugins/draw-circle/circle",
+         *           "summary": "Draw a circle"
          *         }
          *       ],
          *       "sha256": "3f1c…",
-         *       "status": "active",
-         *       "version": "0.1.0",
-         *       "wasm_bytes": 134326
+         *       "wasm_bytes": 134326,
+         *       "load_ms": 1.2,
+         *       "from_cache": true,
+         *       "limits": {
+         *         "memory_mib": 64,
+         *         "cpu_time_ms": 2000,
+         *         "request_timeout_ms": 120000,
+         *         "max_motions": 1000
+         *       }
          *     }
          */
         PluginInfo: {
@@ -1755,14 +1723,14 @@ export interface components {
         /**
          * @description TCP position in the base frame with Status and Turn (a KUKA E6POS without external axes).
          * @example {
+         *       "x": 200,
+         *       "y": 0,
+         *       "z": 70,
          *       "a": 0,
          *       "b": 180,
          *       "c": 0,
          *       "s": 2,
-         *       "t": 2,
-         *       "x": 200,
-         *       "y": 0,
-         *       "z": 70
+         *       "t": 2
          *     }
          */
         Position: {
@@ -1810,6 +1778,16 @@ export interface components {
         /**
          * @description Position with axis angles.
          * @example {
+         *       "position": {
+         *         "x": 355,
+         *         "y": 0,
+         *         "z": 625,
+         *         "a": 0,
+         *         "b": 90,
+         *         "c": 0,
+         *         "s": 2,
+         *         "t": 2
+         *       },
          *       "axes": {
          *         "a1": 0,
          *         "a2": -90,
@@ -1817,16 +1795,6 @@ export interface components {
          *         "a4": 0,
          *         "a5": 0,
          *         "a6": 0
-         *       },
-         *       "position": {
-         *         "a": 0,
-         *         "b": 90,
-         *         "c": 0,
-         *         "s": 2,
-         *         "t": 2,
-         *         "x": 355,
-         *         "y": 0,
-         *         "z": 625
          *       }
          *     }
          */
@@ -1845,13 +1813,13 @@ export interface components {
         /**
          * @description A problem details body (RFC 9457) with kuka-bridge extensions.
          * @example {
-         *       "axis": 5,
-         *       "code": "software_limit",
-         *       "detail": "axis A5 would be at 128.000° outside its software limits [-120.0°, 120.0°]",
-         *       "motion": 0,
-         *       "status": 422,
+         *       "type": "/errors#software_limit",
          *       "title": "Software limit switch",
-         *       "type": "https://github.com/kuka-bridge/kuka-bridge/blob/main/docs/errors.md#software_limit"
+         *       "status": 422,
+         *       "detail": "axis A5 would be at 128.000° outside its software limits [-120.0°, 120.0°]",
+         *       "code": "software_limit",
+         *       "axis": 5,
+         *       "motion": 0
          *     }
          */
         ProblemDetails: {
@@ -1887,7 +1855,11 @@ export interface components {
             status: number;
             /** @description Short summary of the problem type. */
             title: string;
-            /** @description URI identifying the problem type (docs/errors.md anchor). */
+            /**
+             * @description The problem type: `/errors#<code>`, a URI reference relative to the
+             *     request's URL; the service's error catalogue (`GET /errors`)
+             *     explains the code there.
+             */
             type: string;
         };
         /** @description What the service knows about a stored program. */
@@ -1947,48 +1919,66 @@ export interface components {
             src: string;
         };
         /**
-         * @description Point-to-point (synchronous axes) to a Cartesian target.
+         * @description A job, plan or alarm event as the service published it.
          * @example {
-         *       "target": {
-         *         "a": 0,
-         *         "b": 90,
-         *         "c": 0,
-         *         "x": 200,
-         *         "y": 0,
-         *         "z": 200
-         *       },
-         *       "type": "ptp"
+         *       "id": 1795629212950,
+         *       "type": "job",
+         *       "at_ms": 1795629212958,
+         *       "data": {
+         *         "id": 7,
+         *         "operation": "move",
+         *         "state": "done",
+         *         "motions": 1,
+         *         "completed": 1
+         *       }
          *     }
          */
-        PtpMotion: {
+        RecentEvent: {
             /**
-             * Format: double
-             * @description % of max acceleration.
+             * Format: int64
+             * @description When the service published it (Unix ms).
              */
-            acceleration_pct?: number | null;
+            at_ms: number;
             /**
-             * Format: double
-             * @description Approximation distance in mm.
+             * @description What the SSE `data:` carries: the `Job`, the `JobPlan` or the error (`code`,
+             *     `detail`, `axis`, `motion`).
              */
-            approx_mm?: number | null;
-            /** @description Add to the start instead of replacing. */
-            relative?: boolean;
-            /** @description Target. */
-            target: components["schemas"]["TargetSpec"];
+            data: Record<string, never>;
             /**
-             * @description discriminator enum property added by openapi-typescript
-             * @enum {string}
+             * Format: int64
+             * @description The event id (the SSE `id:`; grows by one per job, plan or alarm event).
              */
-            type: "ptp";
-            /**
-             * Format: double
-             * @description % of max axis speed (default from config).
-             */
-            velocity_pct?: number | null;
+            id: number;
+            /** @description `job`, `plan` or `alarm` (the SSE `event:`). */
+            type: string;
         };
         /**
          * @description The robot's state as the service knows it.
          * @example {
+         *       "connection": "online",
+         *       "controller": {
+         *         "status": "idle",
+         *         "mode": "EXT",
+         *         "error": null,
+         *         "simulated": true,
+         *         "override_pct": 100,
+         *         "heartbeat_seq": 184,
+         *         "heartbeat_age_ms": 28,
+         *         "last_cid": 3
+         *       },
+         *       "busy": false,
+         *       "current_job": null,
+         *       "queue_length": 0,
+         *       "position": {
+         *         "x": 355,
+         *         "y": 0,
+         *         "z": 625,
+         *         "a": 0,
+         *         "b": 90,
+         *         "c": 0,
+         *         "s": 2,
+         *         "t": 2
+         *       },
          *       "axes": {
          *         "a1": 0,
          *         "a2": -90,
@@ -1997,55 +1987,31 @@ export interface components {
          *         "a5": 0,
          *         "a6": 0
          *       },
-         *       "base": {
-         *         "a": 0,
-         *         "b": 0,
-         *         "c": 0,
-         *         "x": 0,
-         *         "y": 0,
-         *         "z": 0
-         *       },
-         *       "busy": false,
-         *       "connection": "online",
-         *       "controller": {
-         *         "error": null,
-         *         "heartbeat_age_ms": 28,
-         *         "heartbeat_seq": 184,
-         *         "last_cid": 3,
-         *         "mode": "EXT",
-         *         "override_pct": 100,
-         *         "simulated": true,
-         *         "status": "idle"
-         *       },
-         *       "current_job": null,
-         *       "degraded": [],
-         *       "model": "kr3_r540",
-         *       "position": {
-         *         "a": 0,
-         *         "b": 90,
-         *         "c": 0,
-         *         "s": 2,
-         *         "t": 2,
-         *         "x": 355,
-         *         "y": 0,
-         *         "z": 625
-         *       },
-         *       "queue_length": 0,
-         *       "speed": {
-         *         "cp_acceleration_pct": 100,
-         *         "cp_velocity_m_s": 0.25,
-         *         "override_pct": 100,
-         *         "ptp_acceleration_pct": 100,
-         *         "ptp_velocity_pct": 20
-         *       },
          *       "tool": {
-         *         "a": 0,
-         *         "b": 0,
-         *         "c": 0,
          *         "x": 0,
          *         "y": 0,
-         *         "z": 0
-         *       }
+         *         "z": 0,
+         *         "a": 0,
+         *         "b": 0,
+         *         "c": 0
+         *       },
+         *       "base": {
+         *         "x": 0,
+         *         "y": 0,
+         *         "z": 0,
+         *         "a": 0,
+         *         "b": 0,
+         *         "c": 0
+         *       },
+         *       "speed": {
+         *         "override_pct": 100,
+         *         "ptp_velocity_pct": 20,
+         *         "ptp_acceleration_pct": 100,
+         *         "cp_velocity_m_s": 0.25,
+         *         "cp_acceleration_pct": 100
+         *       },
+         *       "model": "kr3_r540",
+         *       "degraded": []
          *     }
          */
         RobotState: {
@@ -2119,11 +2085,11 @@ export interface components {
         /**
          * @description The current default speeds (settable through the API).
          * @example {
-         *       "cp_acceleration_pct": 100,
-         *       "cp_velocity_m_s": 0.25,
          *       "override_pct": 100,
+         *       "ptp_velocity_pct": 20,
          *       "ptp_acceleration_pct": 100,
-         *       "ptp_velocity_pct": 20
+         *       "cp_velocity_m_s": 0.25,
+         *       "cp_acceleration_pct": 100
          *     }
          */
         SpeedSettings: {
@@ -2186,16 +2152,6 @@ export interface components {
              */
             ptp_velocity_pct?: number | null;
         };
-        /** @description The robot state changed (at most at the heartbeat rate). */
-        StateEvent: {
-            /** @description The robot state changed (at most at the heartbeat rate). */
-            data: components["schemas"]["RobotState"];
-            /**
-             * @description discriminator enum property added by openapi-typescript
-             * @enum {string}
-             */
-            type: "state";
-        };
         /**
          * @description Stop confirmation.
          * @example {
@@ -2217,12 +2173,12 @@ export interface components {
          * @description A Cartesian target; omitted components keep their current value (the
          *     previous motion's target inside a batch).
          * @example {
-         *       "a": 0,
-         *       "b": 180,
-         *       "c": 0,
          *       "x": 200,
          *       "y": 0,
-         *       "z": 70
+         *       "z": 70,
+         *       "a": 0,
+         *       "b": 180,
+         *       "c": 0
          *     }
          */
         TargetSpec: {
@@ -2270,9 +2226,7 @@ export interface components {
         /**
          * @description A thesis failure: the problem details plus `statuscode` and `position`.
          * @example {
-         *       "code": "unreachable",
-         *       "detail": "target is out of reach of the robot",
-         *       "motion": 0,
+         *       "statuscode": 20,
          *       "position": [
          *         355,
          *         0,
@@ -2281,10 +2235,12 @@ export interface components {
          *         90,
          *         0
          *       ],
-         *       "status": 422,
-         *       "statuscode": 20,
+         *       "type": "/errors#unreachable",
          *       "title": "Target unreachable",
-         *       "type": "https://github.com/kuka-bridge/kuka-bridge/blob/main/docs/errors.md#unreachable"
+         *       "status": 422,
+         *       "detail": "target is out of reach of the robot",
+         *       "code": "unreachable",
+         *       "motion": 0
          *     }
          */
         ThesisProblem: components["schemas"]["ProblemDetails"] & {
@@ -2299,6 +2255,7 @@ export interface components {
         /**
          * @description The thesis's response.
          * @example {
+         *       "statuscode": 1,
          *       "position": [
          *         200,
          *         0,
@@ -2306,8 +2263,7 @@ export interface components {
          *         0,
          *         180,
          *         0
-         *       ],
-         *       "statuscode": 1
+         *       ]
          *     }
          */
         ThesisResponse: {
@@ -2322,9 +2278,9 @@ export interface components {
         /**
          * @description A token as listed: never its secret.
          * @example {
-         *       "created_ms": 1763856000000,
          *       "name": "line-3-pc",
-         *       "role": "operator"
+         *       "role": "operator",
+         *       "created_ms": 1763856000000
          *     }
          */
         TokenInfo: {
@@ -2364,6 +2320,179 @@ export interface components {
              * @description The `.src` file.
              */
             file: string;
+        };
+        /** @description A job changed state or progressed. */
+        JobEvent: {
+            /** @description A job changed state or progressed. */
+            data: components["schemas"]["Job"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "job";
+        };
+        /** @description The robot state changed (at most at the heartbeat rate). */
+        StateEvent: {
+            /** @description The robot state changed (at most at the heartbeat rate). */
+            data: components["schemas"]["RobotState"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "state";
+        };
+        /** @description Something went wrong outside a job (channel locked, controller offline...). */
+        AlarmEvent: {
+            /** @description Something went wrong outside a job (channel locked, controller offline...). */
+            data: components["schemas"]["BridgeError"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "alarm";
+        };
+        /** @description A move job's motions as written to the controller (the planned path). */
+        PlanEvent: {
+            /** @description A move job's motions as written to the controller (the planned path). */
+            data: components["schemas"]["JobPlan"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "plan";
+        };
+        /**
+         * @description Point-to-point (synchronous axes) to a Cartesian target.
+         * @example {
+         *       "type": "ptp",
+         *       "target": {
+         *         "x": 200,
+         *         "y": 0,
+         *         "z": 200,
+         *         "a": 0,
+         *         "b": 90,
+         *         "c": 0
+         *       }
+         *     }
+         */
+        PtpMotion: {
+            /**
+             * Format: double
+             * @description % of max acceleration.
+             */
+            acceleration_pct?: number | null;
+            /**
+             * Format: double
+             * @description Approximation distance in mm.
+             */
+            approx_mm?: number | null;
+            /** @description Add to the start instead of replacing. */
+            relative?: boolean;
+            /** @description Target. */
+            target: components["schemas"]["TargetSpec"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "ptp";
+            /**
+             * Format: double
+             * @description % of max axis speed (default from config).
+             */
+            velocity_pct?: number | null;
+        };
+        /** @description Axis-specific PTP. */
+        AxisMotion: {
+            /**
+             * Format: double
+             * @description % of max acceleration.
+             */
+            acceleration_pct?: number | null;
+            /**
+             * Format: double
+             * @description Approximation distance in mm.
+             */
+            approx_mm?: number | null;
+            /** @description Target axis angles. */
+            axes: components["schemas"]["AxesSpec"];
+            /** @description Add to the start instead of replacing. */
+            relative?: boolean;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "ptp_axes";
+            /**
+             * Format: double
+             * @description % of max axis speed.
+             */
+            velocity_pct?: number | null;
+        };
+        /**
+         * @description Straight line of the TCP.
+         * @example {
+         *       "type": "lin",
+         *       "target": {
+         *         "x": 250,
+         *         "y": 100
+         *       },
+         *       "velocity_m_s": 0.1
+         *     }
+         */
+        LinMotion: {
+            /**
+             * Format: double
+             * @description % of max acceleration.
+             */
+            acceleration_pct?: number | null;
+            /**
+             * Format: double
+             * @description Approximation distance in mm.
+             */
+            approx_mm?: number | null;
+            /** @description Add to the start instead of replacing. */
+            relative?: boolean;
+            /** @description Target. */
+            target: components["schemas"]["TargetSpec"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "lin";
+            /**
+             * Format: double
+             * @description TCP speed in m/s.
+             */
+            velocity_m_s?: number | null;
+        };
+        /** @description Circular arc through `aux` to `target`. */
+        CircMotion: {
+            /**
+             * Format: double
+             * @description % of max acceleration.
+             */
+            acceleration_pct?: number | null;
+            /**
+             * Format: double
+             * @description Approximation distance in mm.
+             */
+            approx_mm?: number | null;
+            /** @description Auxiliary point. */
+            aux: components["schemas"]["AuxPoint"];
+            /** @description Add both points to the start instead of replacing. */
+            relative?: boolean;
+            /** @description End point. */
+            target: components["schemas"]["TargetSpec"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "circ";
+            /**
+             * Format: double
+             * @description TCP speed in m/s.
+             */
+            velocity_m_s?: number | null;
         };
     };
     responses: never;
@@ -2501,8 +2630,8 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
-            "4XX": {
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2510,8 +2639,8 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
-            "5XX": {
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2821,10 +2950,20 @@ export interface operations {
             query?: {
                 /** @description Comma-separated event types to receive: `job`, `state`, `alarm`, `plan` (default: all). */
                 types?: string;
+                /**
+                 * @description Replay the held job, plan and alarm events after this event id before the live
+                 *     ones (for clients that cannot send the `Last-Event-ID` header, such as a browser's
+                 *     first `EventSource` connection); `0` replays every event held. The header wins
+                 *     when both are given.
+                 */
+                last_event_id?: number;
                 /** @description The token, for clients that cannot set headers (weaker than the header: URLs are logged by proxies and kept in histories; see docs/SECURITY.md) */
                 access_token?: string;
             };
-            header?: never;
+            header?: {
+                /** @description The id of the last event received: replay the held events after it (sent by `EventSource` when it reconnects) */
+                "Last-Event-ID"?: number | null;
+            };
             path?: never;
             cookie?: never;
         };
@@ -2857,7 +2996,88 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description Unknown event type */
+            /** @description Unknown event type, or an event id that is not a number */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, … */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    listRecentEvents: {
+        parameters: {
+            query?: {
+                /** @description How many of the newest events to list, 1 to 1000 (default 100). */
+                limit?: number;
+                /** @description Comma-separated types to list: `job`, `plan`, `alarm` (default: all three). */
+                types?: string;
+                /** @description Only events after this event id (for a client polling instead of streaming). */
+                after?: number;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The newest events held, oldest first */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RecentEvent"][];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Unknown event type, or a limit outside 1 to 1000 */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -3732,8 +3952,8 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
-            "4XX": {
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3741,8 +3961,8 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
-            "5XX": {
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4210,8 +4430,8 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
-            "4XX": {
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4219,8 +4439,8 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
-            "5XX": {
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4720,8 +4940,8 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
-            "4XX": {
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4729,8 +4949,8 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
-            "5XX": {
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4996,8 +5216,8 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
-            "4XX": {
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5005,8 +5225,8 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
-            "5XX": {
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5084,6 +5304,47 @@ export interface operations {
                 };
             };
             /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getErrorCatalogue: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The catalogue: an HTML page with a section per code (`id` = the code), or with `Accept: application/json` an object of the codes */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "text/html": string;
+                    "application/json": {
+                        [key: string]: components["schemas"]["ErrorCodeInfo"];
+                    };
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, … */
             "5XX": {
                 headers: {
                     [name: string]: unknown;

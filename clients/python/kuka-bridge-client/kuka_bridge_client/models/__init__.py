@@ -18,6 +18,7 @@ from .control_state import ControlState
 from .controller_info import ControllerInfo
 from .created_token import CreatedToken
 from .error_body import ErrorBody
+from .error_code_info import ErrorCodeInfo
 from .health import Health
 from .job import Job
 from .job_event import JobEvent
@@ -45,6 +46,8 @@ from .program_info import ProgramInfo
 from .program_upload import ProgramUpload
 from .ptp_motion import PtpMotion
 from .ptp_motion_type import PtpMotionType
+from .recent_event import RecentEvent
+from .recent_event_data import RecentEventData
 from .robot_state import RobotState
 from .role import Role
 from .run_request import RunRequest
@@ -81,6 +84,7 @@ __all__ = (
     "ControlState",
     "CreatedToken",
     "ErrorBody",
+    "ErrorCodeInfo",
     "Health",
     "Job",
     "JobEvent",
@@ -108,6 +112,8 @@ __all__ = (
     "ProgramUpload",
     "PtpMotion",
     "PtpMotionType",
+    "RecentEvent",
+    "RecentEventData",
     "RobotState",
     "Role",
     "RunRequest",

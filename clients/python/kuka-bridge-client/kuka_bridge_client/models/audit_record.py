@@ -26,9 +26,9 @@ class AuditRecord:
     """ One audited request.
 
         Example:
-            {'client': '10.0.3.17', 'duration_ms': 812.4, 'jobs': [42], 'method': 'POST', 'params': {'body': {'motions':
-                [{'target': {'x': 200, 'y': 0, 'z': 100}, 'type': 'ptp'}]}}, 'path': '/api/v1/motions', 'role': 'operator',
-                'route': '/api/v1/motions', 'status': 200, 'time_ms': 1763856000123, 'who': 'line-3-pc'}
+            {'time_ms': 1763856000123, 'who': 'line-3-pc', 'role': 'operator', 'client': '10.0.3.17', 'method': 'POST',
+                'path': '/api/v1/motions', 'route': '/api/v1/motions', 'params': {'body': {'motions': [{'type': 'ptp', 'target':
+                {'x': 200, 'y': 0, 'z': 100}}]}}, 'jobs': [42], 'status': 200, 'duration_ms': 812.4}
 
         Attributes:
             client (str): Client address.

@@ -23,7 +23,7 @@ class CartesianFrame:
     """ A Cartesian frame in mm and degrees (A, B, C about Z, Y, X).
 
         Example:
-            {'a': 0.0, 'b': 0.0, 'c': 0.0, 'x': 0.0, 'y': 0.0, 'z': 100.0}
+            {'x': 0.0, 'y': 0.0, 'z': 100.0, 'a': 0.0, 'b': 0.0, 'c': 0.0}
 
         Attributes:
             a (float): A (about Z) in degrees.

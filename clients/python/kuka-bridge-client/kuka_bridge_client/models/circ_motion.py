@@ -31,8 +31,8 @@ class CircMotion:
         Attributes:
             aux (AuxPoint): Auxiliary point of a CIRC (position only, as in KRL). Example: {'x': 250.0, 'y': 0.0}.
             target (TargetSpec): A Cartesian target; omitted components keep their current value (the
-                previous motion's target inside a batch). Example: {'a': 0.0, 'b': 180.0, 'c': 0.0, 'x': 200.0, 'y': 0.0, 'z':
-                70.0}.
+                previous motion's target inside a batch). Example: {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c':
+                0.0}.
             type_ (CircMotionType):
             acceleration_pct (float | None | Unset): % of max acceleration.
             approx_mm (float | None | Unset): Approximation distance in mm.

@@ -28,7 +28,7 @@ class ControlState:
     """ Who holds control.
 
         Example:
-            {'auth': True, 'lease': None, 'you': {'name': 'line-3-pc', 'role': 'operator'}}
+            {'lease': None, 'auth': True, 'you': {'name': 'line-3-pc', 'role': 'operator'}}
 
         Attributes:
             auth (bool): Whether tokens are required (without them everyone is `anonymous`

@@ -27,7 +27,7 @@ class Health:
     """ Service health.
 
         Example:
-            {'connection': 'online', 'degraded': [], 'simulated': True, 'status': 'ok', 'version': '0.1.0'}
+            {'status': 'ok', 'version': '0.1.0', 'connection': 'online', 'simulated': True, 'degraded': []}
 
         Attributes:
             connection (Connection): Connection to the controller.

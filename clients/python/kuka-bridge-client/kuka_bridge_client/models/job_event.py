@@ -27,11 +27,11 @@ class JobEvent:
     """ A job changed state or progressed.
 
         Attributes:
-            data (Job): A job as clients see it. Example: {'axes': {'a1': -21.801, 'a2': -13.511, 'a3': 108.689, 'a4': 0.0,
-                'a5': -5.178, 'a6': -21.801}, 'cid': 1042, 'completed': 2, 'created_ms': 1795373060215, 'error': None,
-                'finished_ms': 1795373060931, 'frame': None, 'id': 7, 'motions': 2, 'operation': 'move', 'position': {'a':
-                180.0, 'b': 0.0, 'c': 180.0, 's': 6, 't': 51, 'x': 250.0, 'y': 100.0, 'z': 70.0}, 'sent_ms': 1795373060221,
-                'state': 'done'}.
+            data (Job): A job as clients see it. Example: {'id': 7, 'operation': 'move', 'state': 'done', 'motions': 2,
+                'completed': 2, 'cid': 1042, 'created_ms': 1795373060215, 'sent_ms': 1795373060221, 'finished_ms':
+                1795373060931, 'position': {'x': 250.0, 'y': 100.0, 'z': 70.0, 'a': 180.0, 'b': 0.0, 'c': 180.0, 's': 6, 't':
+                51}, 'axes': {'a1': -21.801, 'a2': -13.511, 'a3': 108.689, 'a4': 0.0, 'a5': -5.178, 'a6': -21.801}, 'frame':
+                None, 'error': None}.
             type_ (JobEventType):
      """
 

@@ -27,8 +27,8 @@ class JobPlan:
     and relative coordinates resolved: what the robot is about to do.
 
         Example:
-            {'cid': 1042, 'job': 7, 'motions': [{'target': [200.0, 0.0, 70.0, 0.0, 180.0, 0.0], 'type': 'lin'}, {'aux':
-                [250.0, 50.0, 70.0], 'target': [200.0, 100.0, 70.0, 0.0, 180.0, 0.0], 'type': 'circ'}]}
+            {'job': 7, 'cid': 1042, 'motions': [{'type': 'lin', 'target': [200.0, 0.0, 70.0, 0.0, 180.0, 0.0]}, {'type':
+                'circ', 'aux': [250.0, 50.0, 70.0], 'target': [200.0, 100.0, 70.0, 0.0, 180.0, 0.0]}]}
 
         Attributes:
             cid (int): Command id on the channel.

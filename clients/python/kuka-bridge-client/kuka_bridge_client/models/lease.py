@@ -24,8 +24,8 @@ class Lease:
     """ A live lease, as the API shows it.
 
         Example:
-            {'acquired_ms': 1763856000000, 'expires_ms': 1763856030000, 'holder': 'line-3-pc', 'id': '5f1c0a9e2b7d4c31',
-                'lease_ms': 30000, 'role': 'operator'}
+            {'id': '5f1c0a9e2b7d4c31', 'holder': 'line-3-pc', 'role': 'operator', 'acquired_ms': 1763856000000,
+                'expires_ms': 1763856030000, 'lease_ms': 30000}
 
         Attributes:
             acquired_ms (int): When control was taken (Unix ms).

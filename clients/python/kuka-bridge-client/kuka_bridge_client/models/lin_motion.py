@@ -28,12 +28,12 @@ class LinMotion:
     """ Straight line of the TCP.
 
         Example:
-            {'target': {'x': 250, 'y': 100}, 'type': 'lin', 'velocity_m_s': 0.1}
+            {'type': 'lin', 'target': {'x': 250, 'y': 100}, 'velocity_m_s': 0.1}
 
         Attributes:
             target (TargetSpec): A Cartesian target; omitted components keep their current value (the
-                previous motion's target inside a batch). Example: {'a': 0.0, 'b': 180.0, 'c': 0.0, 'x': 200.0, 'y': 0.0, 'z':
-                70.0}.
+                previous motion's target inside a batch). Example: {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c':
+                0.0}.
             type_ (LinMotionType):
             acceleration_pct (float | None | Unset): % of max acceleration.
             approx_mm (float | None | Unset): Approximation distance in mm.

@@ -30,9 +30,9 @@ class MotionBatch:
     """ A motion request: one motion or a continuous batch.
 
         Example:
-            {'motions': [{'target': {'a': 0, 'b': 180, 'c': 0, 'x': 200, 'y': 0, 'z': 100}, 'type': 'ptp'}, {'target': {'z':
-                70}, 'type': 'lin', 'velocity_m_s': 0.1}, {'approx_mm': 2, 'aux': {'x': 250, 'y': 50}, 'target': {'x': 200, 'y':
-                100}, 'type': 'circ'}, {'target': {'z': 100}, 'type': 'lin'}], 'wait': True}
+            {'motions': [{'type': 'ptp', 'target': {'x': 200, 'y': 0, 'z': 100, 'a': 0, 'b': 180, 'c': 0}}, {'type': 'lin',
+                'target': {'z': 70}, 'velocity_m_s': 0.1}, {'type': 'circ', 'aux': {'x': 250, 'y': 50}, 'target': {'x': 200,
+                'y': 100}, 'approx_mm': 2}, {'type': 'lin', 'target': {'z': 100}}], 'wait': True}
 
         Attributes:
             motions (list[AxisMotion | CircMotion | LinMotion | PtpMotion]): The motions, executed in order as one

@@ -29,9 +29,10 @@ class PluginInfo:
     """ An installed plugin, as listed by `GET /api/v1/plugins`.
 
         Example:
-            {'from_cache': True, 'load_ms': 1.2, 'name': 'draw-circle', 'routes': [{'method': 'POST', 'summary': 'Draw a
-                circle', 'url': '/api/v1/plugins/draw-circle/circle'}], 'sha256': '3f1c…', 'status': 'active', 'version':
-                '0.1.0', 'wasm_bytes': 134326}
+            {'name': 'draw-circle', 'version': '0.1.0', 'status': 'active', 'routes': [{'method': 'POST', 'url':
+                '/api/v1/plugins/draw-circle/circle', 'summary': 'Draw a circle'}], 'sha256': '3f1c…', 'wasm_bytes': 134326,
+                'load_ms': 1.2, 'from_cache': True, 'limits': {'memory_mib': 64, 'cpu_time_ms': 2000, 'request_timeout_ms':
+                120000, 'max_motions': 1000}}
 
         Attributes:
             limits (LimitsInfo): A plugin's limits, as listed.

@@ -23,7 +23,7 @@ class Position:
     """ TCP position in the base frame with Status and Turn (a KUKA E6POS without external axes).
 
         Example:
-            {'a': 0.0, 'b': 180.0, 'c': 0.0, 's': 2, 't': 2, 'x': 200.0, 'y': 0.0, 'z': 70.0}
+            {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c': 0.0, 's': 2, 't': 2}
 
         Attributes:
             a (float): A in degrees.

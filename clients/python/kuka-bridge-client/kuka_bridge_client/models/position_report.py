@@ -28,12 +28,12 @@ class PositionReport:
     """ Position with axis angles.
 
         Example:
-            {'axes': {'a1': 0.0, 'a2': -90.0, 'a3': 90.0, 'a4': 0.0, 'a5': 0.0, 'a6': 0.0}, 'position': {'a': 0.0, 'b':
-                90.0, 'c': 0.0, 's': 2, 't': 2, 'x': 355.0, 'y': 0.0, 'z': 625.0}}
+            {'position': {'x': 355.0, 'y': 0.0, 'z': 625.0, 'a': 0.0, 'b': 90.0, 'c': 0.0, 's': 2, 't': 2}, 'axes': {'a1':
+                0.0, 'a2': -90.0, 'a3': 90.0, 'a4': 0.0, 'a5': 0.0, 'a6': 0.0}}
 
         Attributes:
             position (Position): TCP position in the base frame with Status and Turn (a KUKA E6POS without external axes).
-                Example: {'a': 0.0, 'b': 180.0, 'c': 0.0, 's': 2, 't': 2, 'x': 200.0, 'y': 0.0, 'z': 70.0}.
+                Example: {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c': 0.0, 's': 2, 't': 2}.
             axes (AxisAngles | None | Unset):
      """
 

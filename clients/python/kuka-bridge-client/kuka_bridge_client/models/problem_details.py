@@ -25,9 +25,8 @@ class ProblemDetails:
     """ A problem details body (RFC 9457) with kuka-bridge extensions.
 
         Example:
-            {'axis': 5, 'code': 'software_limit', 'detail': 'axis A5 would be at 128.000° outside its software limits
-                [-120.0°, 120.0°]', 'motion': 0, 'status': 422, 'title': 'Software limit switch', 'type':
-                'https://github.com/kuka-bridge/kuka-bridge/blob/main/docs/errors.md#software_limit'}
+            {'type': '/errors#software_limit', 'title': 'Software limit switch', 'status': 422, 'detail': 'axis A5 would be
+                at 128.000° outside its software limits [-120.0°, 120.0°]', 'code': 'software_limit', 'axis': 5, 'motion': 0}
 
         Attributes:
             code (str): A stable, machine-readable error code (never renamed; see /errors). The bridge's codes:
@@ -41,7 +40,9 @@ class ProblemDetails:
             detail (str): Human explanation of this occurrence.
             status (int): HTTP status.
             title (str): Short summary of the problem type.
-            type_ (str): URI identifying the problem type (docs/errors.md anchor).
+            type_ (str): The problem type: `/errors#<code>`, a URI reference relative to the
+                request's URL; the service's error catalogue (`GET /errors`)
+                explains the code there.
             axis (int | None | Unset): Axis (1..6) for software-limit errors.
             file (None | str | Unset): For KRL program errors: the uploaded file (`src` or `dat`) of `line`.
             job_id (int | None | Unset):

@@ -28,12 +28,12 @@ class PtpMotion:
     """ Point-to-point (synchronous axes) to a Cartesian target.
 
         Example:
-            {'target': {'a': 0, 'b': 90, 'c': 0, 'x': 200, 'y': 0, 'z': 200}, 'type': 'ptp'}
+            {'type': 'ptp', 'target': {'x': 200, 'y': 0, 'z': 200, 'a': 0, 'b': 90, 'c': 0}}
 
         Attributes:
             target (TargetSpec): A Cartesian target; omitted components keep their current value (the
-                previous motion's target inside a batch). Example: {'a': 0.0, 'b': 180.0, 'c': 0.0, 'x': 200.0, 'y': 0.0, 'z':
-                70.0}.
+                previous motion's target inside a batch). Example: {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c':
+                0.0}.
             type_ (PtpMotionType):
             acceleration_pct (float | None | Unset): % of max acceleration.
             approx_mm (float | None | Unset): Approximation distance in mm.

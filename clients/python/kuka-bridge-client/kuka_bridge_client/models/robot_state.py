@@ -33,13 +33,13 @@ class RobotState:
     """ The robot's state as the service knows it.
 
         Example:
-            {'axes': {'a1': 0.0, 'a2': -90.0, 'a3': 90.0, 'a4': 0.0, 'a5': 0.0, 'a6': 0.0}, 'base': {'a': 0.0, 'b': 0.0,
-                'c': 0.0, 'x': 0.0, 'y': 0.0, 'z': 0.0}, 'busy': False, 'connection': 'online', 'controller': {'error': None,
-                'heartbeat_age_ms': 28, 'heartbeat_seq': 184, 'last_cid': 3, 'mode': 'EXT', 'override_pct': 100.0, 'simulated':
-                True, 'status': 'idle'}, 'current_job': None, 'degraded': [], 'model': 'kr3_r540', 'position': {'a': 0.0, 'b':
-                90.0, 'c': 0.0, 's': 2, 't': 2, 'x': 355.0, 'y': 0.0, 'z': 625.0}, 'queue_length': 0, 'speed':
-                {'cp_acceleration_pct': 100.0, 'cp_velocity_m_s': 0.25, 'override_pct': 100.0, 'ptp_acceleration_pct': 100.0,
-                'ptp_velocity_pct': 20.0}, 'tool': {'a': 0.0, 'b': 0.0, 'c': 0.0, 'x': 0.0, 'y': 0.0, 'z': 0.0}}
+            {'connection': 'online', 'controller': {'status': 'idle', 'mode': 'EXT', 'error': None, 'simulated': True,
+                'override_pct': 100.0, 'heartbeat_seq': 184, 'heartbeat_age_ms': 28, 'last_cid': 3}, 'busy': False,
+                'current_job': None, 'queue_length': 0, 'position': {'x': 355.0, 'y': 0.0, 'z': 625.0, 'a': 0.0, 'b': 90.0, 'c':
+                0.0, 's': 2, 't': 2}, 'axes': {'a1': 0.0, 'a2': -90.0, 'a3': 90.0, 'a4': 0.0, 'a5': 0.0, 'a6': 0.0}, 'tool':
+                {'x': 0.0, 'y': 0.0, 'z': 0.0, 'a': 0.0, 'b': 0.0, 'c': 0.0}, 'base': {'x': 0.0, 'y': 0.0, 'z': 0.0, 'a': 0.0,
+                'b': 0.0, 'c': 0.0}, 'speed': {'override_pct': 100.0, 'ptp_velocity_pct': 20.0, 'ptp_acceleration_pct': 100.0,
+                'cp_velocity_m_s': 0.25, 'cp_acceleration_pct': 100.0}, 'model': 'kr3_r540', 'degraded': []}
 
         Attributes:
             busy (bool): A job is on the controller.
@@ -51,8 +51,8 @@ class RobotState:
                 `shutting_down`) and a sentence. `/health` says `degraded` while
                 this is not empty.
             queue_length (int): Jobs waiting.
-            speed (SpeedSettings): The current default speeds (settable through the API). Example: {'cp_acceleration_pct':
-                100.0, 'cp_velocity_m_s': 0.25, 'override_pct': 100.0, 'ptp_acceleration_pct': 100.0, 'ptp_velocity_pct': 20.0}.
+            speed (SpeedSettings): The current default speeds (settable through the API). Example: {'override_pct': 100.0,
+                'ptp_velocity_pct': 20.0, 'ptp_acceleration_pct': 100.0, 'cp_velocity_m_s': 0.25, 'cp_acceleration_pct': 100.0}.
             axes (AxisAngles | None | Unset):
             base (CartesianFrame | None | Unset):
             current_job (int | None | Unset):

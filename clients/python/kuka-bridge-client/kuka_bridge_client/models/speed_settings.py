@@ -23,8 +23,8 @@ class SpeedSettings:
     """ The current default speeds (settable through the API).
 
         Example:
-            {'cp_acceleration_pct': 100.0, 'cp_velocity_m_s': 0.25, 'override_pct': 100.0, 'ptp_acceleration_pct': 100.0,
-                'ptp_velocity_pct': 20.0}
+            {'override_pct': 100.0, 'ptp_velocity_pct': 20.0, 'ptp_acceleration_pct': 100.0, 'cp_velocity_m_s': 0.25,
+                'cp_acceleration_pct': 100.0}
 
         Attributes:
             cp_acceleration_pct (float): Default LIN/CIRC acceleration in %.

@@ -27,14 +27,14 @@ class StateEvent:
     """ The robot state changed (at most at the heartbeat rate).
 
         Attributes:
-            data (RobotState): The robot's state as the service knows it. Example: {'axes': {'a1': 0.0, 'a2': -90.0, 'a3':
-                90.0, 'a4': 0.0, 'a5': 0.0, 'a6': 0.0}, 'base': {'a': 0.0, 'b': 0.0, 'c': 0.0, 'x': 0.0, 'y': 0.0, 'z': 0.0},
-                'busy': False, 'connection': 'online', 'controller': {'error': None, 'heartbeat_age_ms': 28, 'heartbeat_seq':
-                184, 'last_cid': 3, 'mode': 'EXT', 'override_pct': 100.0, 'simulated': True, 'status': 'idle'}, 'current_job':
-                None, 'degraded': [], 'model': 'kr3_r540', 'position': {'a': 0.0, 'b': 90.0, 'c': 0.0, 's': 2, 't': 2, 'x':
-                355.0, 'y': 0.0, 'z': 625.0}, 'queue_length': 0, 'speed': {'cp_acceleration_pct': 100.0, 'cp_velocity_m_s':
-                0.25, 'override_pct': 100.0, 'ptp_acceleration_pct': 100.0, 'ptp_velocity_pct': 20.0}, 'tool': {'a': 0.0, 'b':
-                0.0, 'c': 0.0, 'x': 0.0, 'y': 0.0, 'z': 0.0}}.
+            data (RobotState): The robot's state as the service knows it. Example: {'connection': 'online', 'controller':
+                {'status': 'idle', 'mode': 'EXT', 'error': None, 'simulated': True, 'override_pct': 100.0, 'heartbeat_seq': 184,
+                'heartbeat_age_ms': 28, 'last_cid': 3}, 'busy': False, 'current_job': None, 'queue_length': 0, 'position': {'x':
+                355.0, 'y': 0.0, 'z': 625.0, 'a': 0.0, 'b': 90.0, 'c': 0.0, 's': 2, 't': 2}, 'axes': {'a1': 0.0, 'a2': -90.0,
+                'a3': 90.0, 'a4': 0.0, 'a5': 0.0, 'a6': 0.0}, 'tool': {'x': 0.0, 'y': 0.0, 'z': 0.0, 'a': 0.0, 'b': 0.0, 'c':
+                0.0}, 'base': {'x': 0.0, 'y': 0.0, 'z': 0.0, 'a': 0.0, 'b': 0.0, 'c': 0.0}, 'speed': {'override_pct': 100.0,
+                'ptp_velocity_pct': 20.0, 'ptp_acceleration_pct': 100.0, 'cp_velocity_m_s': 0.25, 'cp_acceleration_pct': 100.0},
+                'model': 'kr3_r540', 'degraded': []}.
             type_ (StateEventType):
      """
 

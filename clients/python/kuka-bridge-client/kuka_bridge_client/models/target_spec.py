@@ -26,7 +26,7 @@ class TargetSpec:
     previous motion's target inside a batch).
 
         Example:
-            {'a': 0.0, 'b': 180.0, 'c': 0.0, 'x': 200.0, 'y': 0.0, 'z': 70.0}
+            {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c': 0.0}
 
         Attributes:
             a (float | None | Unset): A (about Z) in degrees.

@@ -25,9 +25,9 @@ class ThesisProblem:
     """ A thesis failure: the problem details plus `statuscode` and `position`.
 
         Example:
-            {'code': 'unreachable', 'detail': 'target is out of reach of the robot', 'motion': 0, 'position': [355.0, 0.0,
-                625.0, 0.0, 90.0, 0.0], 'status': 422, 'statuscode': 20, 'title': 'Target unreachable', 'type':
-                'https://github.com/kuka-bridge/kuka-bridge/blob/main/docs/errors.md#unreachable'}
+            {'statuscode': 20, 'position': [355.0, 0.0, 625.0, 0.0, 90.0, 0.0], 'type': '/errors#unreachable', 'title':
+                'Target unreachable', 'status': 422, 'detail': 'target is out of reach of the robot', 'code': 'unreachable',
+                'motion': 0}
 
         Attributes:
             code (str): A stable, machine-readable error code (never renamed; see /errors). The bridge's codes:
@@ -41,7 +41,9 @@ class ThesisProblem:
             detail (str): Human explanation of this occurrence.
             status (int): HTTP status.
             title (str): Short summary of the problem type.
-            type_ (str): URI identifying the problem type (docs/errors.md anchor).
+            type_ (str): The problem type: `/errors#<code>`, a URI reference relative to the
+                request's URL; the service's error catalogue (`GET /errors`)
+                explains the code there.
             position (list[float]): Last known position `[x, y, z, a, b, c]` (zeros when unknown).
             statuscode (int): Never 1.
             axis (int | None | Unset): Axis (1..6) for software-limit errors.

@@ -24,7 +24,7 @@ class ThesisResponse:
     """ The thesis's response.
 
         Example:
-            {'position': [200.0, 0.0, 70.0, 0.0, 180.0, 0.0], 'statuscode': 1}
+            {'statuscode': 1, 'position': [200.0, 0.0, 70.0, 0.0, 180.0, 0.0]}
 
         Attributes:
             position (list[float]): `[x, y, z, a, b, c]`: the robot position (for `tcp`/`gettcp`: the tool frame).

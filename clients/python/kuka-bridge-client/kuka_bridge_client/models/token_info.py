@@ -24,7 +24,7 @@ class TokenInfo:
     """ A token as listed: never its secret.
 
         Example:
-            {'created_ms': 1763856000000, 'name': 'line-3-pc', 'role': 'operator'}
+            {'name': 'line-3-pc', 'role': 'operator', 'created_ms': 1763856000000}
 
         Attributes:
             created_ms (int): When it was created (Unix ms).

@@ -17,16 +17,24 @@ from typing import cast
 def _get_kwargs(
     *,
     types: str | Unset = UNSET,
+    last_event_id_query: int | Unset = UNSET,
     access_token: str | Unset = UNSET,
+    last_event_id_header: int | None | Unset = UNSET,
 
 ) -> dict[str, Any]:
-    
+    headers: dict[str, Any] = {}
+    if not isinstance(last_event_id_header, Unset):
+        headers["Last-Event-ID"] = last_event_id_header
+
+
 
     
 
     params: dict[str, Any] = {}
 
     params["types"] = types
+
+    params["last_event_id"] = last_event_id_query
 
     params["access_token"] = access_token
 
@@ -41,6 +49,7 @@ def _get_kwargs(
     }
 
 
+    _kwargs["headers"] = headers
     return _kwargs
 
 
@@ -111,7 +120,9 @@ def sync_detailed(
     *,
     client: AuthenticatedClient,
     types: str | Unset = UNSET,
+    last_event_id_query: int | Unset = UNSET,
     access_token: str | Unset = UNSET,
+    last_event_id_header: int | None | Unset = UNSET,
 
 ) -> Response[ProblemDetails | str]:
     """ Live events (Server-Sent Events).
@@ -121,14 +132,24 @@ def sync_detailed(
     planned path of a move job (`JobPlan`, sent when its motions are written to the
     controller, before they run). A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
-    some. The stream starts with the current state, and ends when the service
-    shuts down or the caller's token is revoked.
+    some (`data:` how many). The stream starts with the current state, and ends when the
+    service shuts down or the caller's token is revoked.
+
+    Job, plan and alarm events carry an `id:` that grows by one per event; the service
+    keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
+    `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
+    missed, then the current state, then live events; if some it missed are no longer
+    held, a `lagged` event says how many. State events carry no id and are not replayed
+    (the current state replaces them). An id from before a restart of the service replays
+    every event held.
 
     **Access:** role `viewer` or higher.
 
     Args:
         types (str | Unset):
+        last_event_id_query (int | Unset):
         access_token (str | Unset):
+        last_event_id_header (int | None | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -141,7 +162,9 @@ def sync_detailed(
 
     kwargs = _get_kwargs(
         types=types,
+last_event_id_query=last_event_id_query,
 access_token=access_token,
+last_event_id_header=last_event_id_header,
 
     )
 
@@ -155,7 +178,9 @@ def sync(
     *,
     client: AuthenticatedClient,
     types: str | Unset = UNSET,
+    last_event_id_query: int | Unset = UNSET,
     access_token: str | Unset = UNSET,
+    last_event_id_header: int | None | Unset = UNSET,
 
 ) -> ProblemDetails | str | None:
     """ Live events (Server-Sent Events).
@@ -165,14 +190,24 @@ def sync(
     planned path of a move job (`JobPlan`, sent when its motions are written to the
     controller, before they run). A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
-    some. The stream starts with the current state, and ends when the service
-    shuts down or the caller's token is revoked.
+    some (`data:` how many). The stream starts with the current state, and ends when the
+    service shuts down or the caller's token is revoked.
+
+    Job, plan and alarm events carry an `id:` that grows by one per event; the service
+    keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
+    `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
+    missed, then the current state, then live events; if some it missed are no longer
+    held, a `lagged` event says how many. State events carry no id and are not replayed
+    (the current state replaces them). An id from before a restart of the service replays
+    every event held.
 
     **Access:** role `viewer` or higher.
 
     Args:
         types (str | Unset):
+        last_event_id_query (int | Unset):
         access_token (str | Unset):
+        last_event_id_header (int | None | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -186,7 +221,9 @@ def sync(
     return sync_detailed(
         client=client,
 types=types,
+last_event_id_query=last_event_id_query,
 access_token=access_token,
+last_event_id_header=last_event_id_header,
 
     ).parsed
 
@@ -194,7 +231,9 @@ async def asyncio_detailed(
     *,
     client: AuthenticatedClient,
     types: str | Unset = UNSET,
+    last_event_id_query: int | Unset = UNSET,
     access_token: str | Unset = UNSET,
+    last_event_id_header: int | None | Unset = UNSET,
 
 ) -> Response[ProblemDetails | str]:
     """ Live events (Server-Sent Events).
@@ -204,14 +243,24 @@ async def asyncio_detailed(
     planned path of a move job (`JobPlan`, sent when its motions are written to the
     controller, before they run). A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
-    some. The stream starts with the current state, and ends when the service
-    shuts down or the caller's token is revoked.
+    some (`data:` how many). The stream starts with the current state, and ends when the
+    service shuts down or the caller's token is revoked.
+
+    Job, plan and alarm events carry an `id:` that grows by one per event; the service
+    keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
+    `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
+    missed, then the current state, then live events; if some it missed are no longer
+    held, a `lagged` event says how many. State events carry no id and are not replayed
+    (the current state replaces them). An id from before a restart of the service replays
+    every event held.
 
     **Access:** role `viewer` or higher.
 
     Args:
         types (str | Unset):
+        last_event_id_query (int | Unset):
         access_token (str | Unset):
+        last_event_id_header (int | None | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -224,7 +273,9 @@ async def asyncio_detailed(
 
     kwargs = _get_kwargs(
         types=types,
+last_event_id_query=last_event_id_query,
 access_token=access_token,
+last_event_id_header=last_event_id_header,
 
     )
 
@@ -238,7 +289,9 @@ async def asyncio(
     *,
     client: AuthenticatedClient,
     types: str | Unset = UNSET,
+    last_event_id_query: int | Unset = UNSET,
     access_token: str | Unset = UNSET,
+    last_event_id_header: int | None | Unset = UNSET,
 
 ) -> ProblemDetails | str | None:
     """ Live events (Server-Sent Events).
@@ -248,14 +301,24 @@ async def asyncio(
     planned path of a move job (`JobPlan`, sent when its motions are written to the
     controller, before they run). A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
-    some. The stream starts with the current state, and ends when the service
-    shuts down or the caller's token is revoked.
+    some (`data:` how many). The stream starts with the current state, and ends when the
+    service shuts down or the caller's token is revoked.
+
+    Job, plan and alarm events carry an `id:` that grows by one per event; the service
+    keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
+    `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
+    missed, then the current state, then live events; if some it missed are no longer
+    held, a `lagged` event says how many. State events carry no id and are not replayed
+    (the current state replaces them). An id from before a restart of the service replays
+    every event held.
 
     **Access:** role `viewer` or higher.
 
     Args:
         types (str | Unset):
+        last_event_id_query (int | Unset):
         access_token (str | Unset):
+        last_event_id_header (int | None | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -269,6 +332,8 @@ async def asyncio(
     return (await asyncio_detailed(
         client=client,
 types=types,
+last_event_id_query=last_event_id_query,
 access_token=access_token,
+last_event_id_header=last_event_id_header,
 
     )).parsed

@@ -133,10 +133,10 @@ def sync_detailed(
 
     Args:
         body (MotionBatch): A motion request: one motion or a continuous batch. Example:
-            {'motions': [{'target': {'a': 0, 'b': 180, 'c': 0, 'x': 200, 'y': 0, 'z': 100}, 'type':
-            'ptp'}, {'target': {'z': 70}, 'type': 'lin', 'velocity_m_s': 0.1}, {'approx_mm': 2, 'aux':
-            {'x': 250, 'y': 50}, 'target': {'x': 200, 'y': 100}, 'type': 'circ'}, {'target': {'z':
-            100}, 'type': 'lin'}], 'wait': True}.
+            {'motions': [{'type': 'ptp', 'target': {'x': 200, 'y': 0, 'z': 100, 'a': 0, 'b': 180, 'c':
+            0}}, {'type': 'lin', 'target': {'z': 70}, 'velocity_m_s': 0.1}, {'type': 'circ', 'aux':
+            {'x': 250, 'y': 50}, 'target': {'x': 200, 'y': 100}, 'approx_mm': 2}, {'type': 'lin',
+            'target': {'z': 100}}], 'wait': True}.
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -178,10 +178,10 @@ def sync(
 
     Args:
         body (MotionBatch): A motion request: one motion or a continuous batch. Example:
-            {'motions': [{'target': {'a': 0, 'b': 180, 'c': 0, 'x': 200, 'y': 0, 'z': 100}, 'type':
-            'ptp'}, {'target': {'z': 70}, 'type': 'lin', 'velocity_m_s': 0.1}, {'approx_mm': 2, 'aux':
-            {'x': 250, 'y': 50}, 'target': {'x': 200, 'y': 100}, 'type': 'circ'}, {'target': {'z':
-            100}, 'type': 'lin'}], 'wait': True}.
+            {'motions': [{'type': 'ptp', 'target': {'x': 200, 'y': 0, 'z': 100, 'a': 0, 'b': 180, 'c':
+            0}}, {'type': 'lin', 'target': {'z': 70}, 'velocity_m_s': 0.1}, {'type': 'circ', 'aux':
+            {'x': 250, 'y': 50}, 'target': {'x': 200, 'y': 100}, 'approx_mm': 2}, {'type': 'lin',
+            'target': {'z': 100}}], 'wait': True}.
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -218,10 +218,10 @@ async def asyncio_detailed(
 
     Args:
         body (MotionBatch): A motion request: one motion or a continuous batch. Example:
-            {'motions': [{'target': {'a': 0, 'b': 180, 'c': 0, 'x': 200, 'y': 0, 'z': 100}, 'type':
-            'ptp'}, {'target': {'z': 70}, 'type': 'lin', 'velocity_m_s': 0.1}, {'approx_mm': 2, 'aux':
-            {'x': 250, 'y': 50}, 'target': {'x': 200, 'y': 100}, 'type': 'circ'}, {'target': {'z':
-            100}, 'type': 'lin'}], 'wait': True}.
+            {'motions': [{'type': 'ptp', 'target': {'x': 200, 'y': 0, 'z': 100, 'a': 0, 'b': 180, 'c':
+            0}}, {'type': 'lin', 'target': {'z': 70}, 'velocity_m_s': 0.1}, {'type': 'circ', 'aux':
+            {'x': 250, 'y': 50}, 'target': {'x': 200, 'y': 100}, 'approx_mm': 2}, {'type': 'lin',
+            'target': {'z': 100}}], 'wait': True}.
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -263,10 +263,10 @@ async def asyncio(
 
     Args:
         body (MotionBatch): A motion request: one motion or a continuous batch. Example:
-            {'motions': [{'target': {'a': 0, 'b': 180, 'c': 0, 'x': 200, 'y': 0, 'z': 100}, 'type':
-            'ptp'}, {'target': {'z': 70}, 'type': 'lin', 'velocity_m_s': 0.1}, {'approx_mm': 2, 'aux':
-            {'x': 250, 'y': 50}, 'target': {'x': 200, 'y': 100}, 'type': 'circ'}, {'target': {'z':
-            100}, 'type': 'lin'}], 'wait': True}.
+            {'motions': [{'type': 'ptp', 'target': {'x': 200, 'y': 0, 'z': 100, 'a': 0, 'b': 180, 'c':
+            0}}, {'type': 'lin', 'target': {'z': 70}, 'velocity_m_s': 0.1}, {'type': 'circ', 'aux':
+            {'x': 250, 'y': 50}, 'target': {'x': 200, 'y': 100}, 'approx_mm': 2}, {'type': 'lin',
+            'target': {'z': 100}}], 'wait': True}.
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.

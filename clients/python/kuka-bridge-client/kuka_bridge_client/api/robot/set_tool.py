@@ -120,7 +120,7 @@ def sync_detailed(
 
     Args:
         body (CartesianFrame): A Cartesian frame in mm and degrees (A, B, C about Z, Y, X).
-            Example: {'a': 0.0, 'b': 0.0, 'c': 0.0, 'x': 0.0, 'y': 0.0, 'z': 100.0}.
+            Example: {'x': 0.0, 'y': 0.0, 'z': 100.0, 'a': 0.0, 'b': 0.0, 'c': 0.0}.
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -157,7 +157,7 @@ def sync(
 
     Args:
         body (CartesianFrame): A Cartesian frame in mm and degrees (A, B, C about Z, Y, X).
-            Example: {'a': 0.0, 'b': 0.0, 'c': 0.0, 'x': 0.0, 'y': 0.0, 'z': 100.0}.
+            Example: {'x': 0.0, 'y': 0.0, 'z': 100.0, 'a': 0.0, 'b': 0.0, 'c': 0.0}.
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -189,7 +189,7 @@ async def asyncio_detailed(
 
     Args:
         body (CartesianFrame): A Cartesian frame in mm and degrees (A, B, C about Z, Y, X).
-            Example: {'a': 0.0, 'b': 0.0, 'c': 0.0, 'x': 0.0, 'y': 0.0, 'z': 100.0}.
+            Example: {'x': 0.0, 'y': 0.0, 'z': 100.0, 'a': 0.0, 'b': 0.0, 'c': 0.0}.
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -226,7 +226,7 @@ async def asyncio(
 
     Args:
         body (CartesianFrame): A Cartesian frame in mm and degrees (A, B, C about Z, Y, X).
-            Example: {'a': 0.0, 'b': 0.0, 'c': 0.0, 'x': 0.0, 'y': 0.0, 'z': 100.0}.
+            Example: {'x': 0.0, 'y': 0.0, 'z': 100.0, 'a': 0.0, 'b': 0.0, 'c': 0.0}.
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
