@@ -969,3 +969,23 @@ async fn every_operation_refuses_unknown_query_parameters() {
     assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
     t.service.shutdown().await.expect("shutdown");
 }
+
+/// A request the router refuses before any handler (a path that is not
+/// UTF-8 after percent-decoding) gets a problem whose `status` is the
+/// status the client receives, with a sentence saying what was wrong.
+#[tokio::test]
+async fn bare_refusals_say_the_status_they_answer() {
+    let t = TestService::start(Options::default()).await;
+    for path in ["/api/v1/jobs/%FF", "/api/v1/programs/%FF"] {
+        let (status, v) = t.get(path).await;
+        assert_eq!(status, 400, "{path}: {v}");
+        assert_eq!(v["status"], 400, "{path}: {v}");
+        assert_eq!(v["code"], "invalid_input", "{path}: {v}");
+        assert!(
+            v["detail"]
+                .as_str()
+                .is_some_and(|d| d.contains("malformed")),
+            "{path}: {v}"
+        );
+    }
+}

@@ -45,12 +45,12 @@ def connect(base_url: str, token: str | None = None, timeout_s: float = 120.0) -
     )
 
 
-def ok(result: T | ProblemDetails | None) -> T:
-    """The result, or :class:`ProblemError` for a problem document."""
+def ok(result: T | ProblemDetails | None) -> T | None:
+    """The result, or :class:`ProblemError` for a problem document. ``None``
+    for a documented answer without a body (204); an undocumented status
+    raises ``errors.UnexpectedStatus`` already (the client of :func:`connect`)."""
     if isinstance(result, ProblemDetails):
         raise ProblemError(result)
-    if result is None:
-        raise RuntimeError("no answer body")
     return result
 
 

@@ -549,6 +549,28 @@ impl Config {
                 bad.push(self.invalid(format!("{section}.{}", p.key), p.message));
             }
         }
+        if !cfg!(windows) {
+            for (key, path) in [
+                ("data_dir", Some(&self.data_dir)),
+                ("channel.dir", self.channel.dir.as_ref()),
+                ("log.dir", self.log.dir.as_ref()),
+                ("plugins.dir", self.plugins.dir.as_ref()),
+                (
+                    "programs.controller_dir",
+                    self.programs.controller_dir.as_ref(),
+                ),
+            ] {
+                if let Some(p) = path.filter(|p| is_windows_path(p)) {
+                    bad.push(self.invalid(
+                        key,
+                        format!(
+                            "{} is a Windows path; on this system it would become a folder of that name (give a path such as /var/lib/kuka-bridge)",
+                            p.display()
+                        ),
+                    ));
+                }
+            }
+        }
         if self.simulator.enabled
             && self.channel.offline_after_ms <= self.simulator.heartbeat_ms * 2
         {
@@ -566,6 +588,14 @@ impl Config {
             _ => Err(ConfigError::Several(bad)),
         }
     }
+}
+
+/// `C:\...`, `C:/...` or `\\server\share`: a path only Windows reads as such.
+fn is_windows_path(p: &Path) -> bool {
+    let s = p.to_string_lossy();
+    let b = s.as_bytes();
+    (b.len() >= 3 && b[0].is_ascii_alphabetic() && b[1] == b':' && (b[2] == b'\\' || b[2] == b'/'))
+        || s.starts_with(r"\\")
 }
 
 impl ServerConfig {
@@ -1024,9 +1054,14 @@ mod readme_tests {
             let which = ["Windows", "Linux"][n];
             let mut config: Config = toml::from_str(block)
                 .unwrap_or_else(|e| panic!("the {which} example does not parse: {e}"));
-            config
-                .validate()
-                .unwrap_or_else(|e| panic!("the {which} example is invalid: {e}"));
+            let checked = config.validate();
+            if which == "Windows" && !cfg!(windows) {
+                // Off Windows its drive-letter paths would become folders named `C:\...`.
+                let e = checked.expect_err("the Windows example is refused off Windows");
+                assert!(e.to_string().contains("Windows path"), "{e}");
+            } else {
+                checked.unwrap_or_else(|e| panic!("the {which} example is invalid: {e}"));
+            }
             assert!(
                 config.workspace.is_none(),
                 "{which}: no [workspace] by default"

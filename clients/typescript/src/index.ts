@@ -32,15 +32,15 @@ export function connect(baseUrl: string, token?: string) {
   });
 }
 
-/** The data of an openapi-fetch result, or a `ProblemError`. */
+/** The data of an openapi-fetch result, or a `ProblemError` (a 204 gives `undefined`). */
 export function ok<T>(result: { data?: T; error?: unknown; response: Response }): T {
   if (result.error !== undefined) {
     throw new ProblemError(result.error as ProblemDetails);
   }
-  if (result.data === undefined) {
+  if (result.data === undefined && result.response.status !== 204) {
     throw new Error(`no body (HTTP ${result.response.status})`);
   }
-  return result.data;
+  return result.data as T;
 }
 
 /** POSTs `body` to a plugin route (GET without one); its JSON, or a `ProblemError` with the plugin's own code. */

@@ -1832,6 +1832,11 @@ export interface components {
             code: components["schemas"]["ErrorCode"];
             /** @description Human explanation of this occurrence. */
             detail: string;
+            /**
+             * @description For `invalid_input` against a plugin's request schema: each violation
+             *     (at most 10).
+             */
+            errors?: components["schemas"]["SchemaViolation"][] | null;
             /** @description For KRL program errors: the uploaded file (`src` or `dat`) of `line`. */
             file?: string | null;
             job_id?: number | null;
@@ -1842,6 +1847,8 @@ export interface components {
             line?: number | null;
             /** @description Index of the failing motion in the batch. */
             motion?: number | null;
+            /** @description On a plugin route: the plugin that answered or whose request was refused. */
+            plugin?: string | null;
             /**
              * @description The request's id (also the `x-request-id` header): the service log
              *     has the request's internal details (paths, operating system errors)
@@ -2055,6 +2062,15 @@ export interface components {
             timeout_ms?: number | null;
             /** @description Wait for the program to end (default true); false answers 202 with the job. */
             wait?: boolean | null;
+        };
+        /** @description One place where a request does not match a JSON schema. */
+        SchemaViolation: {
+            /** @description The schema keyword that failed (`type`, `additionalProperties`, …). */
+            keyword: string;
+            /** @description What is wrong, as a sentence. */
+            message: string;
+            /** @description JSON Pointer to the offending value (`/x`; empty for the whole body). */
+            pointer: string;
         };
         /** @description A snapshot of the simulated controller for tests and the API. */
         SimSnapshot: {

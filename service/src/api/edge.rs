@@ -334,13 +334,19 @@ async fn problem_for_bare_errors(req: Request, next: Next) -> Response {
             "this endpoint does not accept this HTTP method; see /docs",
         ),
         s if s.is_server_error() => (ErrorCode::Internal, "the service failed to answer"),
+        StatusCode::BAD_REQUEST => (
+            ErrorCode::InvalidInput,
+            "the request is malformed (for example a path that is not valid UTF-8 after percent-decoding)",
+        ),
         _ => (ErrorCode::InvalidInput, "the request was refused"),
     };
     let error = BridgeError::new(code, detail);
     let mut out = if thesis {
         super::thesis::fail_at(&error, [0.0; 6])
     } else {
-        let body = super::problem::ProblemDetails::from_error(&error);
+        let mut body = super::problem::ProblemDetails::from_error(&error);
+        // The body says the status the client gets (a bare 400 is not the code's 422).
+        body.status = status.as_u16();
         super::problem::json_response(body.status, PROBLEM_JSON, &body)
     };
     *out.status_mut() = status;

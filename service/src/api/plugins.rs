@@ -250,7 +250,14 @@ fn plugin_response(plugin: &str, status: u16, body: String) -> Response {
     };
     // The HTTP status, the type and the plugin's name are the bridge's to
     // say: a plugin cannot make its problem contradict the response.
-    problem.insert("type".into(), json!("about:blank"));
+    // A bridge code the plugin relays (e.g. `unreachable` from a batch)
+    // links to its section of the catalogue; a plugin's own code cannot.
+    let known = problem
+        .get("code")
+        .and_then(Value::as_str)
+        .and_then(|c| super::errors::ALL.iter().find(|k| k.as_str() == c).copied());
+    let type_uri = known.map_or_else(|| "about:blank".to_string(), super::problem::type_uri);
+    problem.insert("type".into(), json!(type_uri));
     problem
         .entry("title")
         .or_insert_with(|| json!(http.canonical_reason().unwrap_or("Plugin error")));
@@ -280,7 +287,7 @@ pub(super) fn add_plugin_paths(doc: &mut Value, plugins: &[Arc<LoadedPlugin>]) {
                 "operationId": format!("plugin_{}_{index}_{}", plugin.name, route.method.to_lowercase()),
                 "responses": {
                     "200": {"description": "The plugin's answer", "content": {"application/json": {"schema": route.response_schema}}},
-                    "default": {"description": "An error of the plugin or of the bridge (plugin_timeout, plugin_trap, ...)",
+                    "default": {"description": "An error: 422 invalid_input (with `errors`: pointer, keyword, message) when the request does not match the route's schema, before the plugin runs; the plugin's own codes (passed through unchanged); or the bridge's (plugin_timeout, plugin_trap, ...)",
                         "content": {PROBLEM_JSON: {"schema": {"$ref": "#/components/schemas/ProblemDetails"}}}}
                 }
             });

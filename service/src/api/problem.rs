@@ -73,6 +73,24 @@ pub struct ProblemDetails {
     /// under it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub request_id: Option<String>,
+    /// On a plugin route: the plugin that answered or whose request was refused.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plugin: Option<String>,
+    /// For `invalid_input` against a plugin's request schema: each violation
+    /// (at most 10).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub errors: Option<Vec<SchemaViolation>>,
+}
+
+/// One place where a request does not match a JSON schema.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct SchemaViolation {
+    /// JSON Pointer to the offending value (`/x`; empty for the whole body).
+    pub pointer: String,
+    /// The schema keyword that failed (`type`, `additionalProperties`, …).
+    pub keyword: String,
+    /// What is wrong, as a sentence.
+    pub message: String,
 }
 
 impl ProblemDetails {
@@ -90,6 +108,8 @@ impl ProblemDetails {
             line: e.line,
             job_id: None,
             request_id: None,
+            plugin: None,
+            errors: None,
         }
     }
 }

@@ -51,6 +51,7 @@ from .recent_event_data import RecentEventData
 from .robot_state import RobotState
 from .role import Role
 from .run_request import RunRequest
+from .schema_violation import SchemaViolation
 from .sim_snapshot import SimSnapshot
 from .speed_settings import SpeedSettings
 from .speed_update import SpeedUpdate
@@ -117,6 +118,7 @@ __all__ = (
     "RobotState",
     "Role",
     "RunRequest",
+    "SchemaViolation",
     "SimSnapshot",
     "SpeedSettings",
     "SpeedUpdate",

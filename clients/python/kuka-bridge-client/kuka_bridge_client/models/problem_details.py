@@ -11,6 +11,8 @@ from ..types import UNSET, Unset
 from ..types import UNSET, Unset
 from typing import cast
 
+if TYPE_CHECKING:
+  from ..models.schema_violation import SchemaViolation
 
 
 
@@ -44,10 +46,14 @@ class ProblemDetails:
                 request's URL; the service's error catalogue (`GET /errors`)
                 explains the code there.
             axis (int | None | Unset): Axis (1..6) for software-limit errors.
+            errors (list[SchemaViolation] | None | Unset): For `invalid_input` against a plugin's request schema: each
+                violation
+                (at most 10).
             file (None | str | Unset): For KRL program errors: the uploaded file (`src` or `dat`) of `line`.
             job_id (int | None | Unset):
             line (int | None | Unset): For KRL program errors: the 1-based line in the uploaded file.
             motion (int | None | Unset): Index of the failing motion in the batch.
+            plugin (None | str | Unset): On a plugin route: the plugin that answered or whose request was refused.
             request_id (None | str | Unset): The request's id (also the `x-request-id` header): the service log
                 has the request's internal details (paths, operating system errors)
                 under it.
@@ -59,10 +65,12 @@ class ProblemDetails:
     title: str
     type_: str
     axis: int | None | Unset = UNSET
+    errors: list[SchemaViolation] | None | Unset = UNSET
     file: None | str | Unset = UNSET
     job_id: int | None | Unset = UNSET
     line: int | None | Unset = UNSET
     motion: int | None | Unset = UNSET
+    plugin: None | str | Unset = UNSET
     request_id: None | str | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
@@ -71,6 +79,7 @@ class ProblemDetails:
 
 
     def to_dict(self) -> dict[str, Any]:
+        from ..models.schema_violation import SchemaViolation # noqa: PLC0415
         code = self.code
 
         detail = self.detail
@@ -86,6 +95,19 @@ class ProblemDetails:
             axis = UNSET
         else:
             axis = self.axis
+
+        errors: list[dict[str, Any]] | None | Unset
+        if isinstance(self.errors, Unset):
+            errors = UNSET
+        elif isinstance(self.errors, list):
+            errors = []
+            for errors_type_0_item_data in self.errors:
+                errors_type_0_item = errors_type_0_item_data.to_dict()
+                errors.append(errors_type_0_item)
+
+
+        else:
+            errors = self.errors
 
         file: None | str | Unset
         if isinstance(self.file, Unset):
@@ -111,6 +133,12 @@ class ProblemDetails:
         else:
             motion = self.motion
 
+        plugin: None | str | Unset
+        if isinstance(self.plugin, Unset):
+            plugin = UNSET
+        else:
+            plugin = self.plugin
+
         request_id: None | str | Unset
         if isinstance(self.request_id, Unset):
             request_id = UNSET
@@ -129,6 +157,8 @@ class ProblemDetails:
         })
         if axis is not UNSET:
             field_dict["axis"] = axis
+        if errors is not UNSET:
+            field_dict["errors"] = errors
         if file is not UNSET:
             field_dict["file"] = file
         if job_id is not UNSET:
@@ -137,6 +167,8 @@ class ProblemDetails:
             field_dict["line"] = line
         if motion is not UNSET:
             field_dict["motion"] = motion
+        if plugin is not UNSET:
+            field_dict["plugin"] = plugin
         if request_id is not UNSET:
             field_dict["request_id"] = request_id
 
@@ -146,6 +178,7 @@ class ProblemDetails:
 
     @classmethod
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        from ..models.schema_violation import SchemaViolation # noqa: PLC0415
         d = dict(src_dict)
         code = d.pop("code")
 
@@ -165,6 +198,31 @@ class ProblemDetails:
             return cast(int | None | Unset, data)
 
         axis = _parse_axis(d.pop("axis", UNSET))
+
+
+        def _parse_errors(data: object) -> list[SchemaViolation] | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            try:
+                if not isinstance(data, list):
+                    raise TypeError()
+                errors_type_0 = []
+                _errors_type_0 = data
+                for errors_type_0_item_data in (_errors_type_0):
+                    errors_type_0_item = SchemaViolation.from_dict(errors_type_0_item_data)
+
+
+
+                    errors_type_0.append(errors_type_0_item)
+
+                return errors_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(list[SchemaViolation] | None | Unset, data)
+
+        errors = _parse_errors(d.pop("errors", UNSET))
 
 
         def _parse_file(data: object) -> None | str | Unset:
@@ -207,6 +265,16 @@ class ProblemDetails:
         motion = _parse_motion(d.pop("motion", UNSET))
 
 
+        def _parse_plugin(data: object) -> None | str | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(None | str | Unset, data)
+
+        plugin = _parse_plugin(d.pop("plugin", UNSET))
+
+
         def _parse_request_id(data: object) -> None | str | Unset:
             if data is None:
                 return data
@@ -224,10 +292,12 @@ class ProblemDetails:
             title=title,
             type_=type_,
             axis=axis,
+            errors=errors,
             file=file,
             job_id=job_id,
             line=line,
             motion=motion,
+            plugin=plugin,
             request_id=request_id,
         )
 

@@ -11,6 +11,8 @@ from ..types import UNSET, Unset
 from ..types import UNSET, Unset
 from typing import cast
 
+if TYPE_CHECKING:
+  from ..models.schema_violation import SchemaViolation
 
 
 
@@ -47,10 +49,14 @@ class ThesisProblem:
             position (list[float]): Last known position `[x, y, z, a, b, c]` (zeros when unknown).
             statuscode (int): Never 1.
             axis (int | None | Unset): Axis (1..6) for software-limit errors.
+            errors (list[SchemaViolation] | None | Unset): For `invalid_input` against a plugin's request schema: each
+                violation
+                (at most 10).
             file (None | str | Unset): For KRL program errors: the uploaded file (`src` or `dat`) of `line`.
             job_id (int | None | Unset):
             line (int | None | Unset): For KRL program errors: the 1-based line in the uploaded file.
             motion (int | None | Unset): Index of the failing motion in the batch.
+            plugin (None | str | Unset): On a plugin route: the plugin that answered or whose request was refused.
             request_id (None | str | Unset): The request's id (also the `x-request-id` header): the service log
                 has the request's internal details (paths, operating system errors)
                 under it.
@@ -64,10 +70,12 @@ class ThesisProblem:
     position: list[float]
     statuscode: int
     axis: int | None | Unset = UNSET
+    errors: list[SchemaViolation] | None | Unset = UNSET
     file: None | str | Unset = UNSET
     job_id: int | None | Unset = UNSET
     line: int | None | Unset = UNSET
     motion: int | None | Unset = UNSET
+    plugin: None | str | Unset = UNSET
     request_id: None | str | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
@@ -76,6 +84,7 @@ class ThesisProblem:
 
 
     def to_dict(self) -> dict[str, Any]:
+        from ..models.schema_violation import SchemaViolation # noqa: PLC0415
         code = self.code
 
         detail = self.detail
@@ -97,6 +106,19 @@ class ThesisProblem:
             axis = UNSET
         else:
             axis = self.axis
+
+        errors: list[dict[str, Any]] | None | Unset
+        if isinstance(self.errors, Unset):
+            errors = UNSET
+        elif isinstance(self.errors, list):
+            errors = []
+            for errors_type_0_item_data in self.errors:
+                errors_type_0_item = errors_type_0_item_data.to_dict()
+                errors.append(errors_type_0_item)
+
+
+        else:
+            errors = self.errors
 
         file: None | str | Unset
         if isinstance(self.file, Unset):
@@ -122,6 +144,12 @@ class ThesisProblem:
         else:
             motion = self.motion
 
+        plugin: None | str | Unset
+        if isinstance(self.plugin, Unset):
+            plugin = UNSET
+        else:
+            plugin = self.plugin
+
         request_id: None | str | Unset
         if isinstance(self.request_id, Unset):
             request_id = UNSET
@@ -142,6 +170,8 @@ class ThesisProblem:
         })
         if axis is not UNSET:
             field_dict["axis"] = axis
+        if errors is not UNSET:
+            field_dict["errors"] = errors
         if file is not UNSET:
             field_dict["file"] = file
         if job_id is not UNSET:
@@ -150,6 +180,8 @@ class ThesisProblem:
             field_dict["line"] = line
         if motion is not UNSET:
             field_dict["motion"] = motion
+        if plugin is not UNSET:
+            field_dict["plugin"] = plugin
         if request_id is not UNSET:
             field_dict["request_id"] = request_id
 
@@ -159,6 +191,7 @@ class ThesisProblem:
 
     @classmethod
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        from ..models.schema_violation import SchemaViolation # noqa: PLC0415
         d = dict(src_dict)
         code = d.pop("code")
 
@@ -183,6 +216,31 @@ class ThesisProblem:
             return cast(int | None | Unset, data)
 
         axis = _parse_axis(d.pop("axis", UNSET))
+
+
+        def _parse_errors(data: object) -> list[SchemaViolation] | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            try:
+                if not isinstance(data, list):
+                    raise TypeError()
+                errors_type_0 = []
+                _errors_type_0 = data
+                for errors_type_0_item_data in (_errors_type_0):
+                    errors_type_0_item = SchemaViolation.from_dict(errors_type_0_item_data)
+
+
+
+                    errors_type_0.append(errors_type_0_item)
+
+                return errors_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(list[SchemaViolation] | None | Unset, data)
+
+        errors = _parse_errors(d.pop("errors", UNSET))
 
 
         def _parse_file(data: object) -> None | str | Unset:
@@ -225,6 +283,16 @@ class ThesisProblem:
         motion = _parse_motion(d.pop("motion", UNSET))
 
 
+        def _parse_plugin(data: object) -> None | str | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(None | str | Unset, data)
+
+        plugin = _parse_plugin(d.pop("plugin", UNSET))
+
+
         def _parse_request_id(data: object) -> None | str | Unset:
             if data is None:
                 return data
@@ -244,10 +312,12 @@ class ThesisProblem:
             position=position,
             statuscode=statuscode,
             axis=axis,
+            errors=errors,
             file=file,
             job_id=job_id,
             line=line,
             motion=motion,
+            plugin=plugin,
             request_id=request_id,
         )
 
