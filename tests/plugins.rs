@@ -481,6 +481,22 @@ async fn request_schemas_are_enforced_before_the_plugin_runs() {
         (&native["type"], &native["title"]),
         "{v}"
     );
+    // A query parameter on a POST route (its input is the body).
+    let (status, v) = t
+        .post_json(
+            "/api/v1/plugins/draw-circle/circle?radius=9999",
+            &circle_body(),
+        )
+        .await;
+    assert_eq!(
+        (status, v["code"].as_str()),
+        (422, Some("invalid_input")),
+        "{v}"
+    );
+    assert!(
+        v["detail"].as_str().is_some_and(|d| d.contains("radius")),
+        "{v}"
+    );
     // A string for a number.
     let mut text = circle_body();
     text["x"] = json!("220");

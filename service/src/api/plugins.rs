@@ -181,6 +181,16 @@ pub(super) async fn call(
     let query: Vec<(String, String)> =
         serde_urlencoded::from_str(query.as_deref().unwrap_or(""))
             .map_err(|e| BridgeError::invalid(format!("query string: {e}")))?;
+    // A POST route's input is its JSON body: a query parameter there is
+    // refused like an undeclared one on every other endpoint.
+    if method == Method::POST && !query.is_empty() {
+        let names: Vec<&str> = query.iter().map(|(k, _)| k.as_str()).collect();
+        return Err(BridgeError::invalid(format!(
+            "POST {path} of plugin {name} takes no query parameters (its input is the JSON body); got: {}",
+            names.join(", ")
+        ))
+        .into());
+    }
     // The plugin's request schema is a contract: a request it refuses
     // never reaches the plugin (nothing runs, nothing moves).
     if let Err(refusal) = route.check_request(&body, &query) {
