@@ -620,7 +620,26 @@ async fn plugin_error_codes_reach_the_client_unchanged() {
             "{v}"
         );
         assert!(v.get("errors").is_none(), "not a schema refusal: {v}");
+        // A relayed bridge code links to its catalogue section; the plugin's own does not.
+        let expected_type = if code == "invalid_input" {
+            "/errors#invalid_input"
+        } else {
+            "about:blank"
+        };
+        assert_eq!(v["type"], expected_type, "{v}");
     }
+    // A status HTTP does not register (clients cannot type it) is the plugin's fault.
+    let (status, v) = t
+        .post_json(
+            "/api/v1/plugins/misbehave/refuse",
+            &json!({"status": 599, "code": "odd"}),
+        )
+        .await;
+    assert_eq!(
+        (status, v["code"].as_str()),
+        (502, Some("plugin_bad_response")),
+        "{v}"
+    );
 }
 
 #[tokio::test]

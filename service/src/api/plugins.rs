@@ -236,6 +236,17 @@ fn schema_refusal(plugin: &str, refusal: &Refusal) -> Response {
 /// becomes the `detail` of a `plugin_error`.
 fn plugin_response(plugin: &str, status: u16, body: String) -> Response {
     let http = StatusCode::from_u16(status).unwrap_or(StatusCode::BAD_GATEWAY);
+    // Only registered statuses: clients map them to types (Python's
+    // HTTPStatus has no 599).
+    if http.canonical_reason().is_none() {
+        let e = BridgeError::new(
+            ErrorCode::PluginBadResponse,
+            format!(
+                "plugin {plugin} answered status {status}, which is not a registered HTTP status"
+            ),
+        );
+        return Problem::from(e).into_response();
+    }
     if status < 400 {
         let mut out = Response::new(Body::from(body));
         *out.status_mut() = http;
