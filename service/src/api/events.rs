@@ -89,7 +89,12 @@ fn replay_from(headers: &HeaderMap, query: Option<u64>) -> Result<Option<u64>, P
     let Some(value) = headers.get("last-event-id") else {
         return Ok(query);
     };
-    let text = value.to_str().unwrap_or("").trim();
+    let Ok(text) = value.to_str().map(str::trim) else {
+        return Err(BridgeError::invalid(
+            "Last-Event-ID is not visible ASCII text (an event id is a number)",
+        )
+        .into());
+    };
     if text.is_empty() {
         return Ok(query);
     }
