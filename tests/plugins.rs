@@ -535,9 +535,25 @@ async fn request_schemas_are_enforced_before_the_plugin_runs() {
             "does not match the plugin's request schema",
         );
     }
+    // A body declared as something else than JSON.
     let (status, v) = t
         .post_text("/api/v1/plugins/draw-circle/circle", "x=300".into())
         .await;
+    assert_eq!(
+        (status, v["code"].as_str()),
+        (415, Some("unsupported_media_type")),
+        "{v}"
+    );
+    // A body that says it is JSON and is not.
+    let r = t
+        .http
+        .post(t.url("/api/v1/plugins/draw-circle/circle"))
+        .header("content-type", "application/json")
+        .body("x=300")
+        .send()
+        .await
+        .expect("request");
+    let (status, v) = kuka_bridge_tests::decode(r).await;
     assert_eq!(
         (status, v["code"].as_str()),
         (422, Some("invalid_input")),

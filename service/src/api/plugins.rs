@@ -128,6 +128,7 @@ pub(super) async fn call(
     Path((name, path)): Path<(String, String)>,
     method: Method,
     RawQuery(query): RawQuery,
+    headers: axum::http::HeaderMap,
     body: Body,
 ) -> Result<Response, Problem> {
     let registry = registry(&app)?;
@@ -181,6 +182,28 @@ pub(super) async fn call(
     let query: Vec<(String, String)> =
         serde_urlencoded::from_str(query.as_deref().unwrap_or(""))
             .map_err(|e| BridgeError::invalid(format!("query string: {e}")))?;
+    // A POST body is JSON, as on every other endpoint (no header: taken as JSON).
+    if method == Method::POST
+        && let Some(ct) = headers.get(axum::http::header::CONTENT_TYPE)
+    {
+        let media = ct
+            .to_str()
+            .unwrap_or("")
+            .split(';')
+            .next()
+            .unwrap_or("")
+            .trim()
+            .to_ascii_lowercase();
+        if media != "application/json" && !media.ends_with("+json") {
+            return Err(BridgeError::new(
+                ErrorCode::UnsupportedMediaType,
+                format!(
+                    "POST {path} of plugin {name} takes a JSON body (Content-Type: application/json), not {media:?}"
+                ),
+            )
+            .into());
+        }
+    }
     // A POST route's input is its JSON body: a query parameter there is
     // refused like an undeclared one on every other endpoint.
     if method == Method::POST && !query.is_empty() {
