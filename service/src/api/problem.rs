@@ -208,5 +208,10 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequestParts<S> for QueryParams<T>
 
 /// The sentence for a rejected query string.
 pub fn query_rejection(e: &QueryRejection) -> BridgeError {
-    BridgeError::invalid(format!("query string: {}", e.body_text()))
+    let text = e.body_text();
+    // axum's own wording first, then serde's (`limit: invalid digit found in string`).
+    let text = text
+        .strip_prefix("Failed to deserialize query string: ")
+        .unwrap_or(&text);
+    BridgeError::invalid(format!("query string: {text}"))
 }
