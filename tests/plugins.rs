@@ -1190,19 +1190,42 @@ async fn removing_the_python_plugin_gives_its_memory_back() {
     let rss = || rss_mib(Some(pid)).expect("VmRSS of the service");
     let http = reqwest::Client::new();
     let url = |p: &str| format!("{}{p}", service.url());
-    // Settled: the simulator is online and the first requests are served.
-    let deadline = Instant::now() + Duration::from_secs(30);
-    loop {
-        let r = http.get(url("/health")).send().await.expect("health");
-        let (_, h) = kuka_bridge_tests::decode(r).await;
-        if h["connection"] == "online" {
-            break;
-        }
-        assert!(Instant::now() < deadline, "never online: {h}");
-        tokio::time::sleep(Duration::from_millis(100)).await;
-    }
-    tokio::time::sleep(Duration::from_millis(500)).await;
-    let before = rss();
+    // Settled: the simulator is online, and the resident memory no longer
+    // grows (two readings 200 ms apart within 0.5 MiB).
+    kuka_bridge_tests::wait_for(
+        Duration::from_secs(30),
+        "the simulator online",
+        async || {
+            let r = http
+                .get(url("/health"))
+                .send()
+                .await
+                .map_err(|e| e.to_string())?;
+            let (_, h) = kuka_bridge_tests::decode(r).await;
+            (h["connection"] == "online")
+                .then_some(())
+                .ok_or_else(|| h.to_string())
+        },
+    )
+    .await;
+    let mut last = (Instant::now(), rss());
+    let before = kuka_bridge_tests::wait_for(
+        kuka_bridge_tests::WAIT,
+        "the memory to settle",
+        async || {
+            let now = rss();
+            if last.0.elapsed() < Duration::from_millis(200) {
+                return Err(format!("{now:.1} MiB"));
+            }
+            let (_, prev) = std::mem::replace(&mut last, (Instant::now(), now));
+            if (now - prev).abs() < 0.5 {
+                Ok(now)
+            } else {
+                Err(format!("{prev:.1} -> {now:.1} MiB"))
+            }
+        },
+    )
+    .await;
 
     let r = http
         .put(url("/api/v1/plugins/py-square"))
@@ -1238,17 +1261,15 @@ async fn removing_the_python_plugin_gives_its_memory_back() {
     // This measures the right process: the plugin did take memory.
     assert!(installed - before > 10.0, "{}", figures(rss()));
     // The memory goes back off the request's path (a blocking thread).
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        let after = rss();
-        if after <= before + 20.0 {
-            break;
-        }
-        assert!(
-            Instant::now() < deadline,
-            "the memory of a removed plugin stays: {}",
-            figures(after)
-        );
-        tokio::time::sleep(Duration::from_millis(200)).await;
-    }
+    kuka_bridge_tests::wait_for(
+        kuka_bridge_tests::WAIT,
+        "the memory of the removed plugin",
+        async || {
+            let after = rss();
+            (after <= before + 20.0)
+                .then_some(())
+                .ok_or_else(|| figures(after))
+        },
+    )
+    .await;
 }

@@ -105,7 +105,12 @@ pub(crate) fn finish(doc: &mut Value) {
 /// runs with `--require-auth`: each secured operation also lists the empty
 /// requirement (`{}`), so generated clients work with and without one.
 fn optional_auth(op: &mut Map<String, Value>) {
-    if let Some(list) = op.get_mut("security").and_then(Value::as_array_mut)
+    add_empty_requirement(op.get_mut("security"));
+}
+
+/// Appends `{}` to a non-empty list of security requirements that lacks it.
+fn add_empty_requirement(security: Option<&mut Value>) {
+    if let Some(list) = security.and_then(Value::as_array_mut)
         && !list.is_empty()
         && !list
             .iter()
@@ -116,14 +121,7 @@ fn optional_auth(op: &mut Map<String, Value>) {
 }
 
 fn info_and_servers(doc: &mut Value) {
-    if let Some(list) = doc.get_mut("security").and_then(Value::as_array_mut)
-        && !list.is_empty()
-        && !list
-            .iter()
-            .any(|r| r.as_object().is_some_and(Map::is_empty))
-    {
-        list.push(json!({}));
-    }
+    add_empty_requirement(doc.get_mut("security"));
     if let Some(license) = doc
         .pointer_mut("/info/license")
         .and_then(Value::as_object_mut)
