@@ -223,3 +223,56 @@ fn service_commands_off_windows_say_what_to_run_instead() {
         "{help}"
     );
 }
+
+/// `kuka-bridge krl check`: one `file:line:column: message` per problem,
+/// exit code 1 when any file has one, 0 when none; folders are walked;
+/// `--simulator` adds the checks a simulated controller needs.
+#[test]
+fn krl_check_lints_files_and_folders() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let good = dir.path().join("good.src");
+    std::fs::write(
+        &good,
+        "DEF good( )\nDECL INT i\nSPTP XHOME WITH $VEL_AXIS[1] = SVEL_JOINT(100.0)\nGOTO done\ni = 1\ndone:\nEND\n",
+    )
+    .expect("write");
+    // Windows-1252 in a comment, as KSS writes it.
+    std::fs::write(
+        dir.path().join("good.dat"),
+        b"DEFDAT good\n;Gr\xFC\xDFe\nGLOBAL INT counter=0\nENDDAT\n",
+    )
+    .expect("write");
+    let bad = dir.path().join("sub").join("bad.SRC");
+    std::fs::create_dir_all(bad.parent().expect("parent")).expect("mkdir");
+    std::fs::write(&bad, "DEF bad()\n  x = 1\n  DECL INT x\nEND\n").expect("write");
+
+    let run = |args: &[&std::ffi::OsStr]| {
+        let out = Command::new(cli())
+            .arg("krl")
+            .arg("check")
+            .args(args)
+            .output()
+            .expect("run the CLI");
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+        )
+    };
+    let (code, out) = run(&[good.as_os_str()]);
+    assert_eq!((code, out.as_str()), (Some(0), ""));
+    let (code, out) = run(&[dir.path().as_os_str()]);
+    assert_eq!(code, Some(1), "{out}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 1, "{out}");
+    assert!(
+        lines[0].starts_with(&format!("{}:3:", bad.display())) && lines[0].contains("declaration"),
+        "{out}"
+    );
+    // With --simulator the good module is outside what the simulator runs.
+    let (code, out) = run(&["--simulator".as_ref(), good.as_os_str()]);
+    assert_eq!(code, Some(1), "{out}");
+    assert!(
+        out.starts_with(&format!("{}:3:", good.display())) && out.contains("program_unsupported"),
+        "{out}"
+    );
+}

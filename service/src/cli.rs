@@ -54,6 +54,9 @@ enum Cmd {
     DefaultConfig,
     /// Print the OpenAPI document.
     Openapi,
+    /// KRL tools.
+    #[command(subcommand)]
+    Krl(KrlCmd),
     /// Manage the Windows service (install, uninstall, start, stop, status).
     #[cfg(windows)]
     #[command(subcommand)]
@@ -66,6 +69,24 @@ enum Cmd {
         /// Whatever followed `service`.
         #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
         args: Vec<String>,
+    },
+}
+
+/// `kuka-bridge krl …`.
+#[derive(Debug, Subcommand)]
+enum KrlCmd {
+    /// Check KRL files (.src, .sub, .dat; folders: every KRL file under
+    /// them) as a controller parses them: one `file:line:column: message`
+    /// per problem, exit code 1 if any file has one.
+    Check {
+        /// Files or folders.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Also check each module (.src with its .dat) as the service does
+        /// before running it on a simulated controller: declared names and
+        /// the KRL the simulator executes.
+        #[arg(long)]
+        simulator: bool,
     },
 }
 
@@ -428,6 +449,26 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
         }),
         Cmd::Token(cmd) => Ok(token_command(cmd)?),
         Cmd::DefaultConfig => Ok(write_out(&toml::to_string_pretty(&Config::default())?)?),
+        Cmd::Krl(KrlCmd::Check { files, simulator }) => {
+            let report = crate::krl_check::run(&files, simulator);
+            let mut out = report.problems.join("\n");
+            if !out.is_empty() {
+                out.push('\n');
+            }
+            write_out(&out)?;
+            eprintln!(
+                "{} KRL file(s) checked, {} with problems",
+                report.files, report.failed
+            );
+            if report.failed > 0 {
+                return Err(Failure {
+                    code: 1,
+                    error: anyhow::anyhow!("KRL check failed"),
+                    logged: true,
+                });
+            }
+            Ok(())
+        }
         Cmd::Openapi => Ok(write_out(&format!(
             "{}\n",
             serde_json::to_string_pretty(&crate::api::openapi())?

@@ -53,13 +53,16 @@ pub struct Routine {
     pub end_line: u32,
 }
 
-/// A routine parameter `name:IN` or `name:OUT`.
+/// A routine parameter `name:IN`, `name:OUT` or an array `name[]:OUT`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Param {
     /// Its name.
     pub name: String,
     /// `OUT` (by reference) rather than `IN` (by value).
     pub out: bool,
+    /// Array dimensions written as `name[]` (1) or `name[,]` (2); 0 for a
+    /// scalar. KRL passes arrays by reference.
+    pub array_dims: usize,
 }
 
 /// One statement and its line.
@@ -249,6 +252,39 @@ pub enum StmtKind {
     WaitSec(Expr),
     /// `WAIT FOR cond`.
     WaitFor(Expr),
+    /// `GOTO label` (KRL allows jumps within a routine's block).
+    Goto(String),
+    /// `label:` on a line of its own, the target of a `GOTO`.
+    Label(String),
+    /// `CHANNEL :name …` (a $CUSTOM.DAT-style channel declaration).
+    Channel {
+        /// The channel's name (without the `:`).
+        name: String,
+    },
+    /// `IMPORT type name IS /R1/module..name`.
+    Import {
+        /// The local name.
+        name: String,
+    },
+    /// `ANIN ON|OFF …` / `ANOUT ON|OFF …`: cyclic analog I/O.
+    AnalogCyclic {
+        /// `ANIN` rather than `ANOUT`.
+        input: bool,
+        /// `ON` rather than `OFF`.
+        on: bool,
+    },
+    /// A spline motion outside a spline block (KSS 8.3+ single
+    /// `SPTP`/`SLIN`/`SCIRC`, and their `_REL` forms), as inline forms
+    /// write them: `SPTP XHOME WITH $VEL_AXIS[1] = SVEL_JOINT(100.0)`.
+    SplineMotion {
+        /// The motion (its `kind` is never `Spl`).
+        point: SplinePoint,
+        /// A `_REL` form.
+        rel: bool,
+        /// Reference of a `_REL` motion: `#BASE` or `#TOOL` (upper case,
+        /// no `#`).
+        rel_frame: Option<String>,
+    },
     /// A motion statement.
     Motion {
         /// PTP, LIN, CIRC or a relative form.
@@ -270,6 +306,8 @@ pub enum StmtKind {
         ptp: bool,
         /// `WITH` assignments of the whole block.
         with: Vec<(Expr, Expr)>,
+        /// `TRIGGER WHEN PATH …` statements inside the block.
+        triggers: Vec<Stmt>,
         /// Its points.
         points: Vec<SplinePoint>,
         /// Approximation of the whole block (`C_SPL`).
@@ -369,6 +407,9 @@ pub enum Expr {
     Field(Box<Expr>, String),
     /// A function call.
     Call(String, Vec<Expr>),
+    /// An argument left out of a call (`f(a,,3)`) or an index left out of
+    /// an array reference (`X[1,]`, a row of a 2-dimensional array).
+    Omitted,
     /// `{[TYPE:] NAME value, …}`.
     Struct {
         /// The optional type prefix.

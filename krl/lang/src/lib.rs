@@ -33,6 +33,7 @@
 //! shipped code puts parentheses around every comparison it combines.
 
 pub mod ast;
+pub mod check;
 pub mod lexer;
 pub mod limits;
 pub mod parser;

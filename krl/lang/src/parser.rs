@@ -48,6 +48,8 @@ pub fn parse_dat(text: &str) -> Result<DatFile, SyntaxError> {
             | StmtKind::Enum { .. }
             | StmtKind::Signal { .. }
             | StmtKind::Ext { .. }
+            | StmtKind::Channel { .. }
+            | StmtKind::Import { .. }
             | StmtKind::Assign { .. } => {}
             _ => {
                 return Err(SyntaxError {
@@ -264,7 +266,12 @@ impl Parser {
         let kind = if self.eat_kw("DEF") {
             RoutineKind::Def
         } else if self.eat_kw("DEFFCT") {
-            RoutineKind::DefFct(self.ident()?)
+            let mut ty = self.ident()?;
+            // `DEFFCT CHAR[128] name()`: a function returning a string.
+            if !self.dims()?.is_empty() {
+                ty.push_str("[]");
+            }
+            RoutineKind::DefFct(ty)
         } else if self.is_kw("DEFDAT") {
             return Err(self.error_here("DEFDAT belongs in the .dat file"));
         } else {
@@ -276,6 +283,7 @@ impl Parser {
         if !self.is_sym(")") {
             loop {
                 let pname = self.name()?;
+                let array_dims = self.param_dims()?;
                 let mut out = false;
                 if self.eat_sym(":") {
                     if self.eat_kw("OUT") {
@@ -284,7 +292,11 @@ impl Parser {
                         self.expect_kw("IN")?;
                     }
                 }
-                params.push(Param { name: pname, out });
+                params.push(Param {
+                    name: pname,
+                    out,
+                    array_dims,
+                });
                 if !self.eat_sym(",") {
                     break;
                 }
@@ -297,6 +309,7 @@ impl Parser {
             RoutineKind::DefFct(_) => ("ENDFCT", "DEFFCT"),
         };
         let (body, _) = self.block(&[closer], opener, line)?;
+        check_declaration_section(&body)?;
         let end_line = self.line();
         self.bump();
         self.end_of_statement()?;
@@ -421,12 +434,32 @@ impl Parser {
             "WAIT" => self.wait(),
             "PTP" | "PTP_REL" | "LIN" | "LIN_REL" | "CIRC" | "CIRC_REL" => self.motion(&word),
             "SPLINE" | "PTP_SPLINE" => self.spline(line, &word),
-            "SPL" | "SLIN" | "SCIRC" | "SPTP" => Err(self.error_here(format!(
-                "{word} is a spline point and belongs inside SPLINE … ENDSPLINE"
-            ))),
+            "SPTP" | "SLIN" | "SCIRC" | "SPTP_REL" | "SLIN_REL" | "SCIRC_REL" => {
+                self.spline_motion(line, &word)
+            }
+            "SPL" => {
+                Err(self.error_here("SPL is a spline point and belongs inside SPLINE … ENDSPLINE"))
+            }
             "INTERRUPT" => self.interrupt(line),
             "TRIGGER" => self.trigger(),
-            "GOTO" => Err(self.error_here("GOTO and labels are not supported")),
+            "GOTO" => {
+                self.bump();
+                let label = self.name()?;
+                self.end_of_statement()?;
+                Ok(StmtKind::Goto(label))
+            }
+            "CONST" => self.decl_rest(false),
+            "CHANNEL" => self.channel(),
+            "IMPORT" => self.import(),
+            "ANIN" | "ANOUT" => self.analog(&word),
+            _ if matches!(self.peek_at(1), Tok::Sym(":"))
+                && matches!(self.peek_at(2), Tok::Newline | Tok::Eof) =>
+            {
+                let label = self.name()?;
+                self.bump();
+                self.end_of_statement()?;
+                Ok(StmtKind::Label(label))
+            }
             "DEF" | "DEFFCT" => {
                 Err(self.error_here("a routine cannot start inside another routine (missing END?)"))
             }
@@ -438,17 +471,86 @@ impl Parser {
         }
     }
 
+    /// `GLOBAL` before a declaration: `GLOBAL DECL …`, and in `.dat`
+    /// files also without `DECL`: `GLOBAL INT x`, `GLOBAL CONST …`,
+    /// `GLOBAL SIGNAL …`, `GLOBAL STRUC …`, `GLOBAL ENUM …`.
     fn global_decl(&mut self) -> Result<StmtKind, SyntaxError> {
         self.bump();
-        if self.eat_kw("DECL") {
+        if self.eat_kw("DECL") || self.is_kw("CONST") {
             self.decl_rest(true)
-        } else if self.is_kw("STRUC") || self.is_kw("ENUM") || self.is_kw("INTERRUPT") {
+        } else if self.is_kw("STRUC")
+            || self.is_kw("ENUM")
+            || self.is_kw("INTERRUPT")
+            || self.is_kw("SIGNAL")
+        {
             self.statement_kind()
         } else if self.is_kw("DEF") || self.is_kw("DEFFCT") {
             Err(self.error_here("a routine cannot start inside another routine (missing END?)"))
+        } else if matches!(self.peek(), Tok::Ident(_)) && matches!(self.peek_at(1), Tok::Ident(_)) {
+            self.decl_rest(true)
         } else {
-            Err(self.unexpected("DECL, STRUC, ENUM or INTERRUPT after GLOBAL"))
+            Err(self.unexpected("DECL, a type, STRUC, ENUM, SIGNAL or INTERRUPT after GLOBAL"))
         }
+    }
+
+    /// `CHANNEL :name …`: the channel's name; the rest of the line is the
+    /// device's parameters.
+    fn channel(&mut self) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        self.eat_sym(":");
+        let name = self.name()?;
+        self.skip_to_line_end();
+        Ok(StmtKind::Channel { name })
+    }
+
+    /// `IMPORT type name IS /R1/module..name`: the local name; the path
+    /// is not KRL expression syntax and is skipped.
+    fn import(&mut self) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        self.ident()?;
+        let name = self.name()?;
+        self.dims()?;
+        self.expect_kw("IS")?;
+        self.skip_to_line_end();
+        Ok(StmtKind::Import { name })
+    }
+
+    /// `ANIN ON|OFF …` / `ANOUT ON|OFF …`.
+    fn analog(&mut self, word: &str) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let on = if self.eat_kw("ON") {
+            true
+        } else if self.eat_kw("OFF") {
+            false
+        } else {
+            return Err(self.unexpected(&format!("ON or OFF after {word}")));
+        };
+        self.skip_to_line_end();
+        Ok(StmtKind::AnalogCyclic {
+            input: word == "ANIN",
+            on,
+        })
+    }
+
+    /// Skips the rest of the line and its end.
+    fn skip_to_line_end(&mut self) {
+        while !matches!(self.peek(), Tok::Newline | Tok::Eof) {
+            self.bump();
+        }
+        self.bump();
+    }
+
+    /// `[]` or `[,]` after a parameter's name: the array's dimensions.
+    fn param_dims(&mut self) -> Result<usize, SyntaxError> {
+        if !self.eat_sym("[") {
+            return Ok(0);
+        }
+        let mut dims = 1;
+        while self.eat_sym(",") {
+            dims += 1;
+        }
+        self.expect_sym("]")?;
+        Ok(dims)
     }
 
     fn struc(&mut self) -> Result<StmtKind, SyntaxError> {
@@ -690,19 +792,14 @@ impl Parser {
             None
         };
         let approx = self.approx(&["C_DIS", "C_PTP", "C_VEL", "C_ORI"])?;
-        let mut rel_frame = None;
-        if matches!(
+        let rel_frame = if matches!(
             kind,
             MotionKind::PtpRel | MotionKind::LinRel | MotionKind::CircRel
         ) {
-            // Optional reference system of a relative motion.
-            if let Tok::Enum(e) = self.peek()
-                && (e.eq_ignore_ascii_case("BASE") || e.eq_ignore_ascii_case("TOOL"))
-            {
-                rel_frame = Some(e.to_ascii_uppercase());
-                self.bump();
-            }
-        }
+            self.rel_frame()
+        } else {
+            None
+        };
         self.end_of_statement()?;
         Ok(StmtKind::Motion {
             kind,
@@ -720,6 +817,7 @@ impl Parser {
         let with = self.with_clause()?;
         self.end_of_statement()?;
         let mut points = Vec::new();
+        let mut triggers = Vec::new();
         loop {
             self.skip_newlines();
             let pline = self.line();
@@ -738,6 +836,13 @@ impl Parser {
             };
             let kind = match pword.as_str() {
                 "ENDSPLINE" => break,
+                "TRIGGER" => {
+                    // A spline trigger belongs to the next point.
+                    self.expr_nodes = 0;
+                    let kind = self.trigger()?;
+                    triggers.push(Stmt { line: pline, kind });
+                    continue;
+                }
                 "SPL" => SplinePointKind::Spl,
                 "SLIN" => SplinePointKind::Slin,
                 "SCIRC" => SplinePointKind::Scirc,
@@ -751,31 +856,9 @@ impl Parser {
             self.bump();
             // Each point is a line of its own: its own size limit.
             self.expr_nodes = 0;
-            let first = self.expr()?;
-            let (aux, target) = if kind == SplinePointKind::Scirc {
-                self.expect_sym(",")?;
-                (Some(first), self.expr()?)
-            } else {
-                (None, first)
-            };
-            let ca = if kind == SplinePointKind::Scirc && self.eat_sym(",") {
-                self.expect_kw("CA")?;
-                Some(self.expr()?)
-            } else {
-                None
-            };
-            let with = self.with_clause()?;
-            let approx = self.approx(&["C_SPL"])?;
+            let point = self.spline_point(kind, pline, &["C_SPL"])?;
             self.end_of_statement()?;
-            points.push(SplinePoint {
-                kind,
-                aux,
-                target,
-                with,
-                ca,
-                approx,
-                line: pline,
-            });
+            points.push(point);
         }
         self.bump();
         let approx = self.approx(&["C_SPL"])?;
@@ -790,9 +873,76 @@ impl Parser {
         Ok(StmtKind::Spline {
             ptp,
             with,
+            triggers,
             points,
             approx,
         })
+    }
+
+    /// A spline motion after its keyword: `[aux,] target [, CA angle]
+    /// [WITH …] [approximation]`.
+    fn spline_point(
+        &mut self,
+        kind: SplinePointKind,
+        line: u32,
+        approximations: &[&str],
+    ) -> Result<SplinePoint, SyntaxError> {
+        let first = self.expr()?;
+        let (aux, target) = if kind == SplinePointKind::Scirc {
+            self.expect_sym(",")?;
+            (Some(first), self.expr()?)
+        } else {
+            (None, first)
+        };
+        let ca = if kind == SplinePointKind::Scirc && self.eat_sym(",") {
+            self.expect_kw("CA")?;
+            Some(self.expr()?)
+        } else {
+            None
+        };
+        let with = self.with_clause()?;
+        let approx = self.approx(approximations)?;
+        Ok(SplinePoint {
+            kind,
+            aux,
+            target,
+            with,
+            ca,
+            approx,
+            line,
+        })
+    }
+
+    /// A single spline motion outside a block (KSS 8.3+): `SPTP`, `SLIN`,
+    /// `SCIRC` and their `_REL` forms.
+    fn spline_motion(&mut self, line: u32, word: &str) -> Result<StmtKind, SyntaxError> {
+        self.bump();
+        let rel = word.ends_with("_REL");
+        let kind = match word.trim_end_matches("_REL") {
+            "SPTP" => SplinePointKind::Sptp,
+            "SLIN" => SplinePointKind::Slin,
+            _ => SplinePointKind::Scirc,
+        };
+        let point = self.spline_point(kind, line, &["C_SPL", "C_DIS", "C_PTP"])?;
+        let rel_frame = if rel { self.rel_frame() } else { None };
+        self.end_of_statement()?;
+        Ok(StmtKind::SplineMotion {
+            point,
+            rel,
+            rel_frame,
+        })
+    }
+
+    /// The optional `#BASE`/`#TOOL` of a relative motion.
+    fn rel_frame(&mut self) -> Option<String> {
+        if let Tok::Enum(e) = self.peek()
+            && (e.eq_ignore_ascii_case("BASE") || e.eq_ignore_ascii_case("TOOL"))
+        {
+            let frame = e.to_ascii_uppercase();
+            self.bump();
+            return Some(frame);
+        }
+        None
     }
 
     fn interrupt(&mut self, line: u32) -> Result<StmtKind, SyntaxError> {
@@ -925,8 +1075,14 @@ impl Parser {
     }
 
     fn decl_rest(&mut self, mut global: bool) -> Result<StmtKind, SyntaxError> {
-        global |= self.eat_kw("GLOBAL");
-        self.eat_kw("CONST");
+        // `DECL GLOBAL CONST`, `DECL CONST GLOBAL`, `CONST INT`, …
+        loop {
+            if self.eat_kw("GLOBAL") {
+                global = true;
+            } else if !self.eat_kw("CONST") {
+                break;
+            }
+        }
         let ty = self.ident()?;
         let mut vars = Vec::new();
         loop {
@@ -1093,7 +1249,8 @@ impl Parser {
                 let mut deepest = depth;
                 if !self.is_sym("]") {
                     loop {
-                        let (i, d) = self.sub_expr()?;
+                        // `X[1,]`: a left-out index (a row of the array).
+                        let (i, d) = self.argument("]")?;
                         deepest = deepest.max(d);
                         idx.push(i);
                         if !self.eat_sym(",") {
@@ -1147,7 +1304,8 @@ impl Parser {
                     let mut deepest = 0;
                     if !self.is_sym(")") {
                         loop {
-                            let (a, d) = self.sub_expr()?;
+                            // `f(a,,3)`: a left-out argument.
+                            let (a, d) = self.argument(")")?;
                             deepest = deepest.max(d);
                             args.push(a);
                             if !self.eat_sym(",") {
@@ -1164,6 +1322,15 @@ impl Parser {
         };
         self.bump();
         Ok((leaf, self.node(0)?))
+    }
+
+    /// An argument or index, or [`Expr::Omitted`] when the next token is
+    /// `,` or `close`.
+    fn argument(&mut self, close: &str) -> Result<(Expr, usize), SyntaxError> {
+        if self.is_sym(",") || self.is_sym(close) {
+            return Ok((Expr::Omitted, self.node(0)?));
+        }
+        self.sub_expr()
     }
 
     /// `{[TYPE:] NAME value, …}` after the `{`.
@@ -1196,4 +1363,76 @@ impl Parser {
         }
         Ok((Expr::Struct { ty, fields }, self.node(deepest)?))
     }
+}
+
+/// Whether a statement is a declaration (it belongs in the routine's
+/// declaration section).
+fn is_declaration(k: &StmtKind) -> bool {
+    matches!(
+        k,
+        StmtKind::Decl { .. }
+            | StmtKind::Struc { .. }
+            | StmtKind::Enum { .. }
+            | StmtKind::Signal { .. }
+            | StmtKind::Ext { .. }
+            | StmtKind::Channel { .. }
+            | StmtKind::Import { .. }
+    )
+}
+
+/// KRL's rule for a routine body: declarations come first, before the
+/// first statement, and never inside a control block; a KRC refuses the
+/// module otherwise ("DECL not allowed here").
+fn check_declaration_section(body: &[Stmt]) -> Result<(), SyntaxError> {
+    let mut first_statement: Option<u32> = None;
+    for s in body {
+        if is_declaration(&s.kind) {
+            if let Some(at) = first_statement {
+                return Err(SyntaxError {
+                    line: s.line,
+                    col: 1,
+                    message: format!(
+                        "a declaration after the first statement (line {at}): KRL allows declarations only at the top of a routine"
+                    ),
+                });
+            }
+        } else {
+            first_statement.get_or_insert(s.line);
+            no_nested_declaration(&s.kind)?;
+        }
+    }
+    Ok(())
+}
+
+fn no_nested_declaration(k: &StmtKind) -> Result<(), SyntaxError> {
+    let blocks: Vec<&[Stmt]> = match k {
+        StmtKind::If {
+            then_body,
+            else_body,
+            ..
+        } => vec![then_body, else_body],
+        StmtKind::While { body, .. }
+        | StmtKind::For { body, .. }
+        | StmtKind::Loop { body }
+        | StmtKind::Repeat { body, .. } => vec![body],
+        StmtKind::Switch { cases, default, .. } => cases
+            .iter()
+            .map(|(_, b)| b.as_slice())
+            .chain(default.as_deref())
+            .collect(),
+        _ => Vec::new(),
+    };
+    for b in blocks {
+        for s in b {
+            if is_declaration(&s.kind) {
+                return Err(SyntaxError {
+                    line: s.line,
+                    col: 1,
+                    message: "a declaration inside a control block: KRL allows declarations only at the top of a routine".into(),
+                });
+            }
+            no_nested_declaration(&s.kind)?;
+        }
+    }
+    Ok(())
 }

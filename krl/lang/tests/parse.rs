@@ -37,13 +37,13 @@ fn the_thesis_upload_example_parses() {
 const BIG: &str = r#"&ACCESS RVP
 &REL 1
 DEF draw(  )
-;FOLD INI
-  BAS (#INITMOV,0 )
-;ENDFOLD (INI)
 DECL E6POS p
 DECL INT i, n[4]
 REAL r
 DECL GLOBAL CONST INT kMax = 3
+;FOLD INI
+  BAS (#INITMOV,0 )
+;ENDFOLD (INI)
 INTERRUPT DECL 3 WHEN $STOPMESS==TRUE DO IR_STOPM ( )
 INTERRUPT ON 3
 $ADVANCE = 3
@@ -160,8 +160,138 @@ fn mistakes_are_refused_with_their_line() {
     assert!(msg.contains("ENDIF"), "{msg}");
     let (line, _) = src_error("x = 1\n");
     assert_eq!(line, 1);
-    let (line, _) = src_error("DEF a()\n  GOTO lbl\nEND\n");
+    let (line, _) = src_error("DEF a()\n  GOTO\nEND\n");
     assert_eq!(line, 2);
+    // What a KRC refuses although it reads like KRL.
+    let (line, msg) = src_error("DEF a()\n  DECL INT i\n  i = 1\n  DECL REAL r\nEND\n");
+    assert_eq!(line, 4, "{msg}");
+    assert!(msg.contains("first statement (line 3)"), "{msg}");
+    let (line, msg) = src_error("DEF a()\n  IF TRUE THEN\n    DECL INT i\n  ENDIF\nEND\n");
+    assert_eq!(line, 3, "{msg}");
+    let (line, msg) = src_error("DEF a(this_parameter_name_is_too_long[]:OUT)\nEND\n");
+    assert_eq!(line, 1, "{msg}");
+    assert!(msg.contains("24"), "{msg}");
+    let (line, msg) = src_error("DEF a()\n  SPTP XHOME C_VEL\nEND\n");
+    assert_eq!(line, 2, "{msg}");
+    let (line, _) = src_error("DEF a()\n  SCIRC {X 1}\nEND\n");
+    assert_eq!(line, 2);
+}
+
+/// The KSS 8.x constructs real programs use that the first front end
+/// refused (issue 20): each as written in public KUKA code.
+#[test]
+fn real_kss8_constructs_parse() {
+    let src = r#"DEF demo( )
+DECL INT i, answer
+DECL CHAR msg[128]
+DECL REAL grid[3,4]
+EXT MsgNotify(CHAR[]:IN, INT:IN, INT:IN)
+;FOLD SPTP HOME Vel=100 % DEFAULT ;%{PE}
+SPTP XHOME WITH $VEL_AXIS[1] = SVEL_JOINT(100.0), $TOOL = STOOL2(FHOME), $BASE = SBASE(FHOME.BASE_NO), $APO = SAPO_PTP(PDEFAULT)
+;ENDFOLD
+SLIN XP1 WITH $VEL = SVEL_CP(2.0, , LCPDAT1), $ORI_TYPE = SORI_TYP(LCPDAT1) C_SPL
+SCIRC XP2, XP3, CA 90.0 C_SPL
+SLIN_REL {Z 10} C_SPL #TOOL
+SPTP {A1 0}
+answer = MsgNotify(msg[], , 26)
+grid[1,] = grid[2,]
+GOTO done
+i = 1
+done:
+ANOUT ON A1 = 0.5 * $VEL_ACT DELAY = -0.2
+ANOUT OFF A1
+SPLINE
+  SPL XP1
+  TRIGGER WHEN PATH = -20 ONSTART DELAY = 0 DO $OUT[1] = TRUE
+  SLIN XP2
+ENDSPLINE
+END
+
+DEF sub(t[]:OUT, m[,]:IN)
+  DECL INT t[]
+END
+
+DEFFCT CHAR[128] name_of(x:IN)
+  DECL INT x
+  RETURN "x"
+ENDFCT
+"#;
+    let f = parse_src(src).expect("parses");
+    let body = &f.routines[0].body;
+    let kinds: Vec<&StmtKind> = body.iter().map(|s| &s.kind).collect();
+    let single: Vec<(SplinePointKind, bool, usize)> = kinds
+        .iter()
+        .filter_map(|k| match k {
+            StmtKind::SplineMotion { point, rel, .. } => Some((point.kind, *rel, point.with.len())),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        single,
+        [
+            (SplinePointKind::Sptp, false, 4),
+            (SplinePointKind::Slin, false, 2),
+            (SplinePointKind::Scirc, false, 0),
+            (SplinePointKind::Slin, true, 0),
+            (SplinePointKind::Sptp, false, 0),
+        ]
+    );
+    assert!(body.iter().any(|s| s.kind == StmtKind::Goto("done".into())));
+    assert!(
+        body.iter()
+            .any(|s| s.kind == StmtKind::Label("done".into()) && s.line == 17)
+    );
+    let call = body
+        .iter()
+        .find_map(|s| match &s.kind {
+            StmtKind::Assign {
+                value: Expr::Call(n, args),
+                ..
+            } if n == "MsgNotify" => Some(args.clone()),
+            _ => None,
+        })
+        .expect("the call");
+    assert_eq!(call[1], Expr::Omitted);
+    assert!(body.iter().any(|s| matches!(&s.kind,
+        StmtKind::Assign { target: Expr::Index(_, idx), .. } if idx.len() == 2 && idx[1] == Expr::Omitted)));
+    assert!(body.iter().any(
+        |s| matches!(&s.kind, StmtKind::Spline { triggers, points, .. } if triggers.len() == 1 && points.len() == 2)
+    ));
+    let sub = &f.routines[1];
+    assert_eq!((sub.params[0].array_dims, sub.params[0].out), (1, true));
+    assert_eq!(sub.params[1].array_dims, 2);
+    assert_eq!(
+        f.routines[2].kind,
+        kuka_krl::RoutineKind::DefFct("CHAR[]".into())
+    );
+}
+
+/// `.dat` globals as KUKA's own files write them: without `DECL`.
+#[test]
+fn dat_globals_without_decl_parse() {
+    let d = parse_dat(
+        "DEFDAT  $CUSTOM PUBLIC
+GLOBAL INT counter=0
+GLOBAL CONST REAL k=1.5
+DECL CONST GLOBAL INT m=2
+GLOBAL SIGNAL gripper $OUT[3]
+GLOBAL E6POS xp={X 1}
+CHANNEL :SER_3 SER_3 3
+GLOBAL STRUC pair INT a, b
+ENDDAT
+",
+    )
+    .expect("parses");
+    let globals = d
+        .items
+        .iter()
+        .filter(|s| matches!(s.kind, StmtKind::Decl { global: true, .. }))
+        .count();
+    assert_eq!(globals, 4);
+    assert!(d.items.iter().any(|s| s.kind
+        == StmtKind::Channel {
+            name: "SER_3".into()
+        }));
 }
 
 #[test]

@@ -1,13 +1,15 @@
 //! A compile-time check the KRC does and the simulator needs too: every
 //! variable a program uses is declared (in its routine, as a parameter,
-//! in the program's `.dat`, or predefined). The simulator has no
-//! `$config.dat`, so the only predefined user-level name is `XHOME`; a
-//! real controller knows more, which is why the service runs this check
-//! only when it drives the simulator.
+//! in the program's `.dat`, or predefined: [`KRC_GLOBALS`], the user-level
+//! globals every KSS 8.x controller declares in `$config.dat`. The service
+//! runs this check only when it drives a simulator (a real controller
+//! may have more globals, from its own `$config.dat` and other modules).
+//! Of those globals the native simulator knows only `XHOME`: the subset
+//! check refuses the others as unsupported, not as undeclared.
 
 use std::collections::HashSet;
 
-use kuka_krl::{Expr, Program, Routine, Stmt, StmtKind};
+use kuka_krl::{Expr, Program, Routine, SplinePoint, Stmt, StmtKind};
 
 /// A variable used but not declared.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -19,12 +21,40 @@ pub struct Undeclared {
     pub name: String,
 }
 
-/// Names every program may use without declaring them.
-const PREDEFINED: [&str; 1] = ["XHOME"];
+/// Globals every KSS 8.x controller declares in `$config.dat` (tool, base
+/// and load tables and their names, the motion parameter records the
+/// inline forms use, the home positions), upper case. Programs use them
+/// without declaring them.
+pub const KRC_GLOBALS: [&str; 24] = [
+    "XHOME",
+    "XHOME1",
+    "XHOME2",
+    "XHOME3",
+    "XHOME4",
+    "XHOME5",
+    "FHOME",
+    "TOOL_DATA",
+    "BASE_DATA",
+    "LOAD_DATA",
+    "TOOL_NAME",
+    "BASE_NAME",
+    "TOOL_TYPE",
+    "BASE_TYPE",
+    "MACHINE_DEF",
+    "MACHINE_TOOL_DAT",
+    "MACHINE_FRAME_DAT",
+    "PDAT_ACT",
+    "FDAT_ACT",
+    "LDAT_ACT",
+    "PDEFAULT",
+    "LDEFAULT",
+    "DEF_FLT_PTP",
+    "DEF_FLT_CP",
+];
 
 /// Checks every routine of `program`.
 pub fn check_names(program: &Program) -> Result<(), Undeclared> {
-    let mut globals: HashSet<String> = PREDEFINED.iter().map(|s| s.to_string()).collect();
+    let mut globals: HashSet<String> = KRC_GLOBALS.iter().map(|s| s.to_string()).collect();
     if let Some(dat) = &program.dat {
         declared(&dat.items, &mut globals);
     }
@@ -167,29 +197,38 @@ fn walk_stmt(s: &Stmt, scope: &Scope<'_>) -> Result<(), Undeclared> {
             aux.iter().chain(ca.iter()).try_for_each(e)?;
             e(target)
         }
-        StmtKind::Spline { points, with, .. } => {
+        StmtKind::Spline {
+            points,
+            with,
+            triggers,
+            ..
+        } => {
             for (t, v) in with {
                 e(t)?;
                 e(v)?;
             }
-            for p in points {
-                let pe = |x: &Expr| walk_expr(x, p.line, scope);
-                p.aux.iter().chain(p.ca.iter()).try_for_each(pe)?;
-                pe(&p.target)?;
-                for (t, v) in &p.with {
-                    pe(t)?;
-                    pe(v)?;
-                }
-            }
-            Ok(())
+            walk_block(triggers, scope)?;
+            points.iter().try_for_each(|p| walk_point(p, scope))
         }
         StmtKind::InterruptDecl { when, action, .. } => {
             e(when)?;
             walk_stmt(action, scope)
         }
+        StmtKind::SplineMotion { point, .. } => walk_point(point, scope),
         StmtKind::Trigger { action } => walk_stmt(action, scope),
         _ => Ok(()),
     }
+}
+
+/// A spline point's (or single spline motion's) targets and `WITH` list.
+fn walk_point(p: &SplinePoint, scope: &Scope<'_>) -> Result<(), Undeclared> {
+    let pe = |x: &Expr| walk_expr(x, p.line, scope);
+    p.aux.iter().chain(p.ca.iter()).try_for_each(pe)?;
+    pe(&p.target)?;
+    p.with.iter().try_for_each(|(t, v)| {
+        pe(t)?;
+        pe(v)
+    })
 }
 
 fn walk_expr(x: &Expr, line: u32, scope: &Scope<'_>) -> Result<(), Undeclared> {

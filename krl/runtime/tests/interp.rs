@@ -639,9 +639,51 @@ fn statements_outside_the_subset_are_refused_with_their_line() {
         err,
         RunError::Unsupported(Unsupported { line: 3, .. })
     ));
-    // GOTO does not even parse.
-    let e = Program::parse("DEF f()\n  GOTO here\nEND\n", None, None).expect_err("GOTO");
-    assert_eq!(e.line(), Some(2));
+    // Real KSS 8.x syntax parses but is outside what the simulator runs.
+    let u = refused("DEF f()\n  GOTO here\n  here:\nEND\n");
+    assert_eq!((u.line, u.what.as_str()), (2, "GOTO and labels"));
+    let u = refused("DEF f()\n  SPTP XHOME WITH $TOOL = STOOL2(FHOME)\nEND\n");
+    assert_eq!(u.line, 2);
+    assert!(u.what.contains("$TOOL"), "{}", u.what);
+    let u = refused("DEF f()\n  SLIN_REL {X 10}\nEND\n");
+    assert!(u.what.contains("relative spline"), "{}", u.what);
+    let u = refused("DEF f()\n  $TOOL = TOOL_DATA[1]\nEND\n");
+    assert!(u.what.contains("TOOL_DATA"), "{}", u.what);
+    let u = refused(
+        "DEF f()\n  DECL INT i\n  i = g(1, )\nEND\nDEFFCT INT g(a:IN, b:IN)\n  DECL INT a, b\n  RETURN a\nENDFCT\n",
+    );
+    assert!(u.what.contains("left-out"), "{}", u.what);
+    let u = refused(
+        "DEF f()\n  SPLINE\n    SPL {X 1}\n    TRIGGER WHEN PATH = 0 DELAY = 0 DO $OUT[1] = TRUE\n    SPL {X 2}\n  ENDSPLINE\nEND\n",
+    );
+    assert_eq!(u.line, 4);
+}
+
+#[test]
+fn a_single_spline_motion_runs_like_a_block_of_one() {
+    let single = run_src(
+        "DEF f()\n  SLIN {X 300, Y 0, Z 300, A 0, B 90, C 0}\nEND\n",
+        None,
+        "f",
+    )
+    .expect("runs");
+    let block = run_src(
+        "DEF f()\n  SPLINE\n    SLIN {X 300, Y 0, Z 300, A 0, B 90, C 0}\n  ENDSPLINE\nEND\n",
+        None,
+        "f",
+    )
+    .expect("runs");
+    let motions = |steps: Vec<Step>| {
+        steps
+            .into_iter()
+            .map(|s| match s {
+                Step::Move { motion, .. } => motion,
+                other => panic!("a motion, not {other:?}"),
+            })
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(single.len(), 1);
+    assert_eq!(motions(single), motions(block));
 }
 
 #[test]

@@ -243,7 +243,8 @@ fn krl_formats(src: &SrcFile) -> BTreeMap<String, BTreeSet<Format>> {
             | Expr::Bool(_)
             | Expr::Str(_)
             | Expr::Enum(_)
-            | Expr::Var(_) => {}
+            | Expr::Var(_)
+            | Expr::Omitted => {}
         }
     }
     fn block(b: &[Stmt], out: &mut BTreeMap<String, BTreeSet<Format>>) {

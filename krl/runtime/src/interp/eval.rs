@@ -34,6 +34,7 @@ impl<'a> Interp<'a> {
             Expr::Struct { ty, fields } => self.eval_struct(ty.as_deref(), fields),
             Expr::Unary(op, x) => self.eval_unary(*op, x),
             Expr::Binary(op, a, b) => self.eval_binary(*op, a, b),
+            Expr::Omitted => Err(self.err("a left-out argument or index has no value")),
         }
     }
 

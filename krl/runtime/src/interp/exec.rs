@@ -244,6 +244,11 @@ impl<'a> Interp<'a> {
                 ..
             } => self.exec_motion(*kind, aux.as_ref(), target, approx.is_some()),
             StmtKind::Spline { points, approx, .. } => self.exec_spline(points, approx.is_some()),
+            // A single SPTP/SLIN/SCIRC plays as a spline block of one point
+            // (check_subset refuses the _REL forms).
+            StmtKind::SplineMotion { point, .. } => {
+                self.exec_spline(std::slice::from_ref(point), point.approx.is_some())
+            }
             _ => self.exec_other(s),
         }
     }

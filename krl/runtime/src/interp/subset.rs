@@ -2,11 +2,12 @@
 //! the whole program before anything runs; the subset is listed in the
 //! [module documentation](super).
 
-use kuka_krl::{BinOp, Expr, Program, RoutineKind, SplinePointKind, Stmt, StmtKind};
+use kuka_krl::{BinOp, Expr, Program, RoutineKind, SplinePoint, SplinePointKind, Stmt, StmtKind};
 
 use super::operators::BUILTINS;
 use super::values::template;
 use super::{SYS_READ_ONLY, SYS_WRITE, Unsupported, describe};
+use crate::names::KRC_GLOBALS;
 
 /// Refuses, before anything runs, every statement outside the subset.
 ///
@@ -265,20 +266,23 @@ impl Checker {
                 self.expr(target, l)
             }
             StmtKind::Spline {
-                ptp, points, with, ..
+                ptp,
+                points,
+                with,
+                triggers,
+                ..
             } => {
                 if !with.is_empty() {
                     return self.refuse(l, "WITH after SPLINE (put WITH on the points)");
                 }
+                if let Some(t) = triggers.first() {
+                    return self.refuse(t.line, "TRIGGER in a spline block");
+                }
                 for p in points {
-                    let pl = p.line;
-                    if p.ca.is_some() {
-                        return self.refuse(pl, "SCIRC with CA (circular angle)");
-                    }
                     let is_sptp = p.kind == SplinePointKind::Sptp;
                     if *ptp && !is_sptp {
                         return self.refuse(
-                            pl,
+                            p.line,
                             format!(
                                 "{} inside PTP_SPLINE",
                                 format!("{:?}", p.kind).to_uppercase()
@@ -286,27 +290,26 @@ impl Checker {
                         );
                     }
                     if !*ptp && is_sptp {
-                        return self.refuse(pl, "SPTP inside a SPLINE block");
+                        return self.refuse(p.line, "SPTP inside a SPLINE block");
                     }
-                    for (t, v) in &p.with {
-                        let root = root_name(t).unwrap_or("").to_ascii_uppercase();
-                        if !(root == "$VEL" || root == "$ACC") {
-                            return self.refuse(
-                                pl,
-                                format!(
-                                    "WITH {} (only $VEL and $ACC are supported in WITH)",
-                                    describe(t)
-                                ),
-                            );
-                        }
-                        self.lvalue(t, pl)?;
-                        self.expr(v, pl)?;
-                    }
-                    self.exprs(&p.aux, pl)?;
-                    self.expr(&p.target, pl)?;
+                    self.spline_point(p)?;
                 }
                 Ok(())
             }
+            StmtKind::SplineMotion { rel: true, .. } => self.refuse(
+                l,
+                "a relative spline motion (SPTP_REL, SLIN_REL, SCIRC_REL)",
+            ),
+            StmtKind::SplineMotion { point, .. } => {
+                if point.approx.as_deref().is_some_and(|a| a != "C_SPL") {
+                    return self.refuse(l, "a single spline motion approximated other than C_SPL");
+                }
+                self.spline_point(point)
+            }
+            StmtKind::Goto(_) | StmtKind::Label(_) => self.refuse(l, "GOTO and labels"),
+            StmtKind::Channel { .. } => self.refuse(l, "CHANNEL"),
+            StmtKind::Import { .. } => self.refuse(l, "IMPORT"),
+            StmtKind::AnalogCyclic { .. } => self.refuse(l, "ANIN/ANOUT"),
             StmtKind::InterruptDecl { prio, .. } if is_stopm_decl(&s.kind) => self.expr(prio, l),
             StmtKind::InterruptSwitch {
                 prio: Some(Expr::Int(p)),
@@ -319,9 +322,47 @@ impl Checker {
         }
     }
 
+    /// A spline point's CA, `WITH` list and points.
+    fn spline_point(&self, p: &SplinePoint) -> Result<(), Unsupported> {
+        let pl = p.line;
+        if p.ca.is_some() {
+            return self.refuse(pl, "SCIRC with CA (circular angle)");
+        }
+        for (t, v) in &p.with {
+            let root = root_name(t).unwrap_or("").to_ascii_uppercase();
+            if !(root == "$VEL" || root == "$ACC") {
+                return self.refuse(
+                    pl,
+                    format!(
+                        "WITH {} (only $VEL and $ACC are supported in WITH)",
+                        describe(t)
+                    ),
+                );
+            }
+            self.lvalue(t, pl)?;
+            self.expr(v, pl)?;
+        }
+        self.exprs(&p.aux, pl)?;
+        self.expr(&p.target, pl)
+    }
+
+    /// A `$config.dat` global other than `XHOME`: the simulator has none.
+    fn krc_global(&self, upper: &str, l: u32) -> Result<(), Unsupported> {
+        if upper != "XHOME" && KRC_GLOBALS.contains(&upper) {
+            return self.refuse(
+                l,
+                format!(
+                    "the controller global {upper} (from $config.dat; the simulator has only XHOME)"
+                ),
+            );
+        }
+        Ok(())
+    }
+
     fn lvalue(&self, e: &Expr, l: u32) -> Result<(), Unsupported> {
         if let Some(root) = root_name(e) {
             let up = root.to_ascii_uppercase();
+            self.krc_global(&up, l)?;
             if up.starts_with('$') {
                 if SYS_READ_ONLY.contains(&up.as_str()) {
                     return self.refuse(l, format!("assigning {up}"));
@@ -352,7 +393,7 @@ impl Checker {
                 {
                     return self.refuse(l, format!("the system variable {up}"));
                 }
-                Ok(())
+                self.krc_global(&up, l)
             }
             Expr::Index(b, i) => {
                 self.expr(b, l)?;
@@ -372,6 +413,7 @@ impl Checker {
                 self.expr(b, l)
             }
             Expr::Int(_) | Expr::Real(_) | Expr::Bool(_) | Expr::Str(_) | Expr::Enum(_) => Ok(()),
+            Expr::Omitted => self.refuse(l, "a left-out argument or array index"),
         }
     }
 }

@@ -1,0 +1,131 @@
+//! `kuka-bridge krl check FILES…`: a KRL linter on the command line. Each
+//! file is parsed as a controller loads it (`.src`/`.sub`/`.dat`, ANSI or
+//! UTF-8); with `--simulator`, a module (`.src` with its `.dat` beside it)
+//! is also checked the way the service checks an upload it will run on a
+//! simulated controller (declared names, the simulator's KRL subset).
+//! Every problem is one `file:line:column: message` line on stdout.
+
+use std::path::{Path, PathBuf};
+
+use kuka_krl::check::{FileKind, check, decode};
+
+/// What a check of some files found.
+#[derive(Debug, Default)]
+pub struct Report {
+    /// `file:line:column: message` lines, in file order.
+    pub problems: Vec<String>,
+    /// Files checked.
+    pub files: usize,
+    /// Files with at least one problem.
+    pub failed: usize,
+}
+
+/// Checks every file (directories: every KRL file under them).
+pub fn run(paths: &[PathBuf], simulator: bool) -> Report {
+    let mut files = Vec::new();
+    let mut report = Report::default();
+    for p in paths {
+        if p.is_dir() {
+            collect(p, &mut files, &mut report);
+        } else {
+            files.push(p.clone());
+        }
+    }
+    for f in files {
+        report.files += 1;
+        let before = report.problems.len();
+        check_one(&f, simulator, &mut report.problems);
+        if report.problems.len() > before {
+            report.failed += 1;
+        }
+    }
+    report
+}
+
+fn collect(dir: &Path, out: &mut Vec<PathBuf>, report: &mut Report) {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) => {
+            report
+                .problems
+                .push(format!("{}: cannot read the folder: {e}", dir.display()));
+            report.failed += 1;
+            return;
+        }
+    };
+    let mut paths: Vec<PathBuf> = entries.flatten().map(|e| e.path()).collect();
+    paths.sort();
+    for p in paths {
+        if p.is_dir() {
+            collect(&p, out, report);
+        } else if FileKind::from_path(&p).is_some() {
+            out.push(p);
+        }
+    }
+}
+
+fn check_one(path: &Path, simulator: bool, problems: &mut Vec<String>) {
+    let shown = path.display();
+    let Some(kind) = FileKind::from_path(path) else {
+        problems.push(format!("{shown}: not a KRL file (.src, .sub or .dat)"));
+        return;
+    };
+    let bytes = match std::fs::read(path) {
+        Ok(b) => b,
+        Err(e) => {
+            problems.push(format!("{shown}: cannot read the file: {e}"));
+            return;
+        }
+    };
+    let text = decode(&bytes);
+    if let Err(e) = check(kind, &text) {
+        problems.push(format!("{shown}:{}:{}: {}", e.line, e.col, e.message));
+        return;
+    }
+    if simulator && kind == FileKind::Src {
+        simulator_check(path, &text, problems);
+    }
+}
+
+/// The `.dat` beside a `.src` (same stem, any case), if there is one.
+fn sibling_dat(src: &Path) -> Option<PathBuf> {
+    let stem = src.file_stem()?.to_str()?.to_ascii_lowercase();
+    let dir = src.parent().filter(|d| !d.as_os_str().is_empty());
+    let entries = std::fs::read_dir(dir.unwrap_or(Path::new("."))).ok()?;
+    entries.flatten().map(|e| e.path()).find(|p| {
+        FileKind::from_path(p) == Some(FileKind::Dat)
+            && p.file_stem()
+                .and_then(|s| s.to_str())
+                .is_some_and(|s| s.eq_ignore_ascii_case(&stem))
+    })
+}
+
+fn simulator_check(src_path: &Path, src: &str, problems: &mut Vec<String>) {
+    let shown = src_path.display();
+    let dat_path = sibling_dat(src_path);
+    let dat_bytes = dat_path.as_ref().and_then(|p| std::fs::read(p).ok());
+    let dat = dat_bytes.as_deref().map(decode);
+    let program = match kuka_krl::Program::parse(src, dat.as_deref(), None) {
+        Ok(p) => p,
+        Err(kuka_krl::ProgramError::Dat(e)) => {
+            let file = dat_path.as_deref().unwrap_or(src_path).display();
+            problems.push(format!("{file}:{}:{}: {}", e.line, e.col, e.message));
+            return;
+        }
+        Err(e) => {
+            problems.push(format!("{shown}:{}: {e}", e.line().unwrap_or(1)));
+            return;
+        }
+    };
+    if let Err(u) = kuka_krl_runtime::names::check_names(&program) {
+        problems.push(format!(
+            "{shown}:{}: the variable {} is not declared",
+            u.line, u.name
+        ));
+    } else if let Err(u) = kuka_krl_runtime::interp::check_subset(&program) {
+        problems.push(format!(
+            "{shown}:{}: the simulator does not run {} (program_unsupported)",
+            u.line, u.what
+        ));
+    }
+}
