@@ -329,8 +329,15 @@ pub enum StmtKind {
         /// The interrupt, or all.
         prio: Option<Expr>,
     },
-    /// `TRIGGER WHEN DISTANCE|PATH = v DELAY = d DO stmt [PRIO = p]`.
+    /// `TRIGGER WHEN DISTANCE|PATH = v [ONSTART] DELAY = d DO stmt [PRIO = p]`.
     Trigger {
+        /// `PATH` (a distance in mm along the path) rather than `DISTANCE`
+        /// (0 = the motion's start point, 1 = its end point).
+        path: bool,
+        /// The `DISTANCE`/`PATH` value.
+        at: Expr,
+        /// `DELAY` in ms.
+        delay: Expr,
         /// The action.
         action: Box<Stmt>,
     },

@@ -979,15 +979,19 @@ impl Parser {
     fn trigger(&mut self) -> Result<StmtKind, SyntaxError> {
         self.bump();
         self.expect_kw("WHEN")?;
-        if !(self.eat_kw("DISTANCE") || self.eat_kw("PATH")) {
+        let path = if self.eat_kw("PATH") {
+            true
+        } else if self.eat_kw("DISTANCE") {
+            false
+        } else {
             return Err(self.unexpected("DISTANCE or PATH"));
-        }
+        };
         self.expect_sym("=")?;
-        self.expr()?;
+        let at = self.expr()?;
         self.eat_kw("ONSTART");
         self.expect_kw("DELAY")?;
         self.expect_sym("=")?;
-        self.expr()?;
+        let delay = self.expr()?;
         self.expect_kw("DO")?;
         let action = Box::new(self.action()?);
         if self.eat_kw("PRIO") {
@@ -995,7 +999,12 @@ impl Parser {
             self.expr()?;
         }
         self.end_of_statement()?;
-        Ok(StmtKind::Trigger { action })
+        Ok(StmtKind::Trigger {
+            path,
+            at,
+            delay,
+            action,
+        })
     }
 
     /// An assignment or a call (the body of a statement line, of a

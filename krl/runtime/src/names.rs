@@ -215,7 +215,13 @@ fn walk_stmt(s: &Stmt, scope: &Scope<'_>) -> Result<(), Undeclared> {
             walk_stmt(action, scope)
         }
         StmtKind::SplineMotion { point, .. } => walk_point(point, scope),
-        StmtKind::Trigger { action } => walk_stmt(action, scope),
+        StmtKind::Trigger {
+            at, delay, action, ..
+        } => {
+            e(at)?;
+            e(delay)?;
+            walk_stmt(action, scope)
+        }
         _ => Ok(()),
     }
 }

@@ -29,7 +29,12 @@ impl<'a> Interp<'a> {
             Expr::Bool(b) => Ok(Value::Bool(*b)),
             Expr::Str(s) => Ok(Value::Str(s.clone())),
             Expr::Enum(s) => Ok(Value::Enum(s.to_ascii_uppercase())),
-            Expr::Var(_) | Expr::Index(..) | Expr::Field(..) => self.eval_place(e),
+            Expr::Var(_) | Expr::Index(..) | Expr::Field(..) => {
+                if self.hosted.is_some() && reads_actual_position(e) {
+                    self.host_advance_stop()?;
+                }
+                self.eval_place(e)
+            }
             Expr::Call(name, args) => self.eval_call(name, args),
             Expr::Struct { ty, fields } => self.eval_struct(ty.as_deref(), fields),
             Expr::Unary(op, x) => self.eval_unary(*op, x),
@@ -72,6 +77,11 @@ impl<'a> Interp<'a> {
                 vals.push(self.eval(a)?);
             }
             return builtin(&up, &vals).map_err(|m| self.err(m));
+        }
+        if self.harness.is_some()
+            && let Some(v) = self.kinematic_function(&up, args)?
+        {
+            return Ok(v);
         }
         let routine = self.routine(name)?;
         if routine.kind == RoutineKind::Def {
@@ -118,5 +128,15 @@ impl<'a> Interp<'a> {
     pub(super) fn eval_bool(&mut self, e: &Expr) -> Result<bool, RunError> {
         let v = self.eval(e)?;
         v.bool().map_err(|m| self.err(m))
+    }
+}
+
+/// Whether `e` reads `$POS_ACT` or `$AXIS_ACT` (or a part of them): an
+/// advance-run stop on a KRC.
+fn reads_actual_position(e: &Expr) -> bool {
+    match e {
+        Expr::Var(n) => n.eq_ignore_ascii_case("$POS_ACT") || n.eq_ignore_ascii_case("$AXIS_ACT"),
+        Expr::Index(b, _) | Expr::Field(b, _) => reads_actual_position(b),
+        _ => false,
     }
 }

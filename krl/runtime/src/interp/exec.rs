@@ -185,6 +185,9 @@ impl<'a> Interp<'a> {
                 self.globals.insert("$ERR".into(), err_value(1, line));
                 Ok(Flow::Next)
             }
+            // RESUME unwinds to the statement of the routine that declared
+            // the interrupt; that routine goes on after it.
+            Err(RunError::Resumed { depth }) if self.frames.len() <= depth => Ok(Flow::Next),
             r => r,
         };
         self.nesting -= 1;
@@ -202,6 +205,14 @@ impl<'a> Interp<'a> {
         let l = s.line;
         match &s.kind {
             StmtKind::Decl { ty, vars, .. } => self.exec_decl(ty, vars),
+            StmtKind::InterruptDecl { prio, when, action } if self.hosted.is_some() => {
+                self.declare_interrupt(prio, when, action)?;
+                Ok(Flow::Next)
+            }
+            StmtKind::InterruptSwitch { action, prio } if self.hosted.is_some() => {
+                self.switch_interrupt(action, prio.as_ref())?;
+                Ok(Flow::Next)
+            }
             // Only the standard stop-message interrupt passes check_subset.
             StmtKind::Ext { .. }
             | StmtKind::InterruptDecl { .. }
@@ -262,6 +273,14 @@ impl<'a> Interp<'a> {
                     .insert(name.to_ascii_uppercase(), Value::Unset(Scalar::Enum));
             }
             StmtKind::OnErrorProceed if self.harness.is_some() => self.error_proceed = true,
+            StmtKind::Trigger {
+                path,
+                at,
+                delay,
+                action,
+            } if self.hosted.is_some() => self.trigger(*path, at, delay, action)?,
+            StmtKind::Brake if self.hosted.is_some() => self.host_wait(super::Wait::Brake)?,
+            StmtKind::Resume if self.hosted.is_some() => self.resume()?,
             _ => {
                 return Err(Unsupported {
                     line: s.line,
@@ -303,6 +322,8 @@ impl<'a> Interp<'a> {
             self.bas(args)?;
         } else if self.harness.is_some() && name.eq_ignore_ascii_case("CWRITE") {
             self.cwrite(args)?;
+        } else if self.harness.is_some() && name.eq_ignore_ascii_case("SWRITE") {
+            self.swrite(args)?;
         } else if self.harness.is_some() && name.eq_ignore_ascii_case("ERR_CLEAR") {
             match args {
                 [Expr::Var(v)] if v.eq_ignore_ascii_case("$ERR") => {
@@ -477,6 +498,15 @@ impl<'a> Interp<'a> {
     }
 
     fn exec_wait_for(&mut self, e: &Expr) -> Result<Flow, RunError> {
+        if self.hosted.is_some() {
+            // An advance-run stop (unless after CONTINUE), then the
+            // condition is checked every cycle.
+            self.host_advance_stop()?;
+            while !self.eval_bool(e)? {
+                self.host_wait(super::Wait::Cycle)?;
+            }
+            return Ok(Flow::Next);
+        }
         if !self.eval_bool(e)? {
             return Err(self.err(
                 "WAIT FOR: the condition is FALSE and nothing in the simulator can change it (the program would wait forever)",

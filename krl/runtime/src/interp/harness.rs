@@ -129,6 +129,9 @@ pub(super) struct Harness {
     pub(super) files: BTreeMap<String, String>,
     pub(super) open: BTreeMap<i64, OpenFile>,
     next_handle: i64,
+    /// Hosted mode: the folder the file functions work in (real files);
+    /// `None`: the in-memory `files` only.
+    pub(super) root: Option<std::path::PathBuf>,
 }
 
 #[derive(Debug)]
@@ -137,7 +140,16 @@ pub(super) struct OpenFile {
     write: bool,
     /// Read position (bytes).
     pos: usize,
+    /// The real file while it is open (hosted mode): locked, as an open
+    /// file is on a KRC's Windows — the service cannot replace it.
+    file: Option<std::fs::File>,
 }
+
+/// Most files a program may hold open at once (hosted mode); KUKA
+/// documents no figure, this keeps a leaking program visible.
+const MAX_OPEN_FILES: usize = 10;
+/// `MSG_NO` of `krl_fopen` when [`MAX_OPEN_FILES`] are open.
+const MSG_NO_TOO_MANY: i64 = -5;
 
 /// `$ERR` of the harness.
 pub(super) fn err_value(number: i64, line: u32) -> Value {
@@ -173,6 +185,7 @@ impl<'a> Interp<'a> {
             files,
             open: BTreeMap::new(),
             next_handle: 1,
+            root: None,
         });
         self.max_statements = HARNESS_MAX_STATEMENTS;
         self.max_evaluations = HARNESS_MAX_EVALUATIONS;
@@ -239,6 +252,30 @@ impl<'a> Interp<'a> {
                 "CWRITE takes a channel, a STATE_T, a MODUS_T and a command with its arguments",
             ));
         };
+        if self.hosted.is_some()
+            && matches!(channel, Expr::Var(n) if n.eq_ignore_ascii_case("$CMD"))
+        {
+            let st = self.out_place(st, "the state (STATE_T)")?;
+            self.eval(md)?;
+            if !rest.is_empty() {
+                return Err(self.err("CWRITE($CMD, …) takes one command"));
+            }
+            let text = self.eval_text(func)?;
+            let taken = self.host_command(&text)?;
+            let status = Value::Struct(
+                "STATE_T".into(),
+                vec![
+                    (
+                        "RET1".into(),
+                        Value::Enum(if taken { "CMD_OK" } else { "CMD_REJ" }.into()),
+                    ),
+                    ("HITS".into(), Value::Int(0)),
+                    ("LENGTH".into(), Value::Int(0)),
+                    ("MSG_NO".into(), Value::Int(if taken { 0 } else { 1 })),
+                ],
+            );
+            return self.write_place(&st, status);
+        }
         if !matches!(channel, Expr::Var(n) if n.eq_ignore_ascii_case("$FCT_CALL")) {
             return Err(Unsupported {
                 line: self.line,
@@ -313,6 +350,27 @@ impl<'a> Interp<'a> {
         let mode = self.eval_text(mode)?.to_ascii_lowercase();
         let handle = self.out_place(handle, "the handle")?;
         let hs = self.harness_mut()?;
+        let mut file = None;
+        if let Some(root) = hs.root.clone() {
+            // Only names in the folder itself, as KRL's UserFiles root.
+            if name.is_empty() || name.contains(['/', '\\', ':']) || name.contains("..") {
+                return Ok(MSG_NO_OPEN);
+            }
+            if hs.open.len() >= MAX_OPEN_FILES {
+                return Ok(MSG_NO_TOO_MANY);
+            }
+            match open_real(&root.join(&name), &mode) {
+                Ok((f, text)) => {
+                    if let Some(text) = text {
+                        hs.files.insert(name.clone(), text);
+                    } else {
+                        hs.files.remove(&name);
+                    }
+                    file = Some(f);
+                }
+                Err(_) => return Ok(MSG_NO_OPEN),
+            }
+        }
         match mode.as_str() {
             "r" if !hs.files.contains_key(&name) => return Ok(MSG_NO_OPEN),
             "r" => {}
@@ -332,6 +390,7 @@ impl<'a> Interp<'a> {
                 name,
                 write: mode != "r",
                 pos: 0,
+                file,
             },
         );
         self.write_place(&handle, Value::Int(h))?;
@@ -398,10 +457,137 @@ impl<'a> Interp<'a> {
             text.push('\n');
         }
         let hs = self.harness_mut()?;
-        let Some(f) = hs.open.get(&h).filter(|f| f.write) else {
+        let Some(f) = hs.open.get_mut(&h).filter(|f| f.write) else {
             return Ok(MSG_NO_HANDLE);
         };
+        if let Some(file) = f.file.as_mut() {
+            use std::io::Write as _;
+            if file.write_all(text.as_bytes()).is_err() {
+                return Ok(MSG_NO_HANDLE);
+            }
+        }
         hs.files.entry(f.name.clone()).or_default().push_str(&text);
         Ok(0)
     }
+
+    /// `SWRITE(buf[], st, offset, format, values…)`: formats into the CHAR
+    /// array from `offset` (0-based, advanced past the text); `%d`/`%i`,
+    /// `%s`, `%f`, `%x` and `%c` with an optional width and precision.
+    pub(super) fn swrite(&mut self, args: &[Expr]) -> Result<(), RunError> {
+        let [buf, st, off, fmt, values @ ..] = args else {
+            return Err(self.err("SWRITE takes a CHAR array, a STATE_T, an offset and a format"));
+        };
+        let buf = self.out_place(buf, "the buffer")?;
+        let st = self.out_place(st, "the state (STATE_T)")?;
+        let off_place = self.out_place(off, "the offset")?;
+        let offset = self.eval_int(off)?;
+        let fmt = self.eval_text(fmt)?;
+        let mut vals = Vec::with_capacity(values.len());
+        for v in values {
+            vals.push(self.eval(v)?);
+        }
+        let text = format_krl(&fmt, &vals).map_err(|m| self.err(format!("SWRITE: {m}")))?;
+        let mut chars = self.read_place(&buf)?;
+        let Value::Array(dims, elems) = &mut chars else {
+            return Err(self.err("SWRITE: the buffer must be a CHAR array"));
+        };
+        if dims.len() != 1 {
+            return Err(self.err("SWRITE: the buffer must be a CHAR array"));
+        }
+        let start = usize::try_from(offset).unwrap_or(0);
+        let mut written = 0;
+        for (slot, b) in elems.iter_mut().skip(start).zip(text.bytes()) {
+            *slot = Value::Char(b);
+            written += 1;
+        }
+        self.write_place(&buf, chars)?;
+        self.write_place(&off_place, Value::Int(offset + written as i64))?;
+        let status = Value::Struct(
+            "STATE_T".into(),
+            vec![
+                ("RET1".into(), Value::Enum("CMD_OK".into())),
+                ("HITS".into(), Value::Int(vals.len() as i64)),
+                ("LENGTH".into(), Value::Int(written as i64)),
+                ("MSG_NO".into(), Value::Int(0)),
+            ],
+        );
+        self.write_place(&st, status)
+    }
+}
+
+/// Opens a real file as `krl_fopen` does, locked while open (shared for
+/// reading, exclusive for writing); for `"r"` also its text (Windows-1252
+/// or UTF-8 as the KRC reads it).
+fn open_real(
+    path: &std::path::Path,
+    mode: &str,
+) -> std::io::Result<(std::fs::File, Option<String>)> {
+    use std::io::Read as _;
+    let mut opts = std::fs::OpenOptions::new();
+    match mode {
+        "r" => opts.read(true),
+        "w" => opts.write(true).create(true).truncate(true),
+        "a" => opts.append(true).create(true),
+        _ => return Err(std::io::Error::other("unknown mode")),
+    };
+    let mut f = opts.open(path)?;
+    if mode == "r" {
+        f.lock_shared()?;
+        let mut bytes = Vec::new();
+        f.read_to_end(&mut bytes)?;
+        let text = kuka_krl::check::decode(&bytes).into_owned();
+        Ok((f, Some(text)))
+    } else {
+        f.lock()?;
+        Ok((f, None))
+    }
+}
+
+/// KRL's `SWRITE` formats: `%[width][.precision](d|i|s|f|x|c)` and `%%`.
+fn format_krl(fmt: &str, vals: &[Value]) -> Result<String, String> {
+    let mut out = String::new();
+    let mut args = vals.iter();
+    let mut chars = fmt.chars().peekable();
+    while let Some(c) = chars.next() {
+        if c != '%' {
+            out.push(c);
+            continue;
+        }
+        if chars.peek() == Some(&'%') {
+            chars.next();
+            out.push('%');
+            continue;
+        }
+        let mut spec = String::new();
+        let conv = loop {
+            match chars.next() {
+                Some(d) if d.is_ascii_digit() || d == '.' || d == '-' || d == '+' => spec.push(d),
+                Some(k) => break k,
+                None => return Err("the format ends inside a conversion".into()),
+            }
+        };
+        let (width, precision) = match spec.split_once('.') {
+            Some((w, p)) => (w.parse::<usize>().ok(), p.parse::<usize>().ok()),
+            None => (spec.parse::<usize>().ok(), None),
+        };
+        let v = args.next().ok_or_else(|| format!("no value for %{conv}"))?;
+        let text = match conv {
+            'd' | 'i' => v.int()?.to_string(),
+            'x' | 'X' => format!("{:X}", v.int()?),
+            'f' => format!("{:.*}", precision.unwrap_or(6), v.num()?),
+            'c' => match v {
+                Value::Char(b) => char::from(*b).to_string(),
+                v => char::from(u8::try_from(v.int()?).map_err(|_| "%c needs a character")?)
+                    .to_string(),
+            },
+            's' => text_of(v)?,
+            other => return Err(format!("the conversion %{other} is not supported")),
+        };
+        let w = width.unwrap_or(0);
+        if text.len() < w {
+            out.push_str(&" ".repeat(w - text.len()));
+        }
+        out.push_str(&text);
+    }
+    Ok(out)
 }

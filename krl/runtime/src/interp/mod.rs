@@ -91,6 +91,7 @@ mod decl;
 mod eval;
 mod exec;
 mod harness;
+mod host;
 mod motion;
 mod operators;
 mod splines;
@@ -106,6 +107,7 @@ use kuka_krl::{Expr, Program, Routine};
 use kuka_protocol::SpeedRecord;
 
 pub use harness::Globals;
+pub use host::{Cancelled, Host, TriggerAt, Turn, Wait};
 pub use subset::check_subset;
 
 use harness::Harness;
@@ -186,6 +188,17 @@ pub enum RunError {
         line: u32,
         /// What limit, as a sentence with its name.
         message: String,
+    },
+    /// Hosted mode: the host cancelled the run ([`Cancelled`]).
+    #[error("the program was cancelled")]
+    Cancelled,
+    /// Hosted mode, internal: `RESUME` unwinding to the routine that
+    /// declared the interrupt (`depth` frames active there). Never
+    /// returned by a run.
+    #[error("RESUME outside the routine that declared the interrupt")]
+    Resumed {
+        /// Frames active in the declaring routine.
+        depth: usize,
     },
     /// The program did not end within the statement, evaluation or step
     /// limit (an endless loop, or a cyclic program meant to run until
@@ -346,6 +359,40 @@ pub fn run_with_files(
     })
 }
 
+/// Runs `entry` on a [`Host`], a KRC-like runtime (see the `host`
+/// module's documentation): with the test harness's controller
+/// environment and file functions (on the files in `root`), without limits
+/// on statements or time (a controller program runs until it is
+/// cancelled), waiting where a KRC waits. Returns the globals when the
+/// routine ends; [`RunError::Cancelled`] when the host cancelled it.
+pub fn run_hosted(
+    program: &Program,
+    entry: &str,
+    start: &Start<'_>,
+    host: Box<dyn Host + Send + '_>,
+    root: std::path::PathBuf,
+) -> Result<Globals, RunError> {
+    let routine = entry_routine(program, entry)?;
+    let mut it = Interp::new(program, start);
+    it.enable_harness(BTreeMap::new());
+    if let Some(h) = it.harness.as_mut() {
+        h.root = Some(root);
+    }
+    it.max_statements = u64::MAX;
+    it.max_evaluations = u64::MAX;
+    it.hosted = Some(host::Hosted::new(host));
+    let r = it.run_entry(routine);
+    // Files a cancelled program left open are closed (their locks go).
+    if let Some(h) = it.harness.as_mut() {
+        h.open.clear();
+    }
+    r?;
+    Ok(Globals {
+        vars: it.globals,
+        open_files: Vec::new(),
+    })
+}
+
 fn entry_routine<'p>(program: &'p Program, entry: &str) -> Result<&'p Routine, RunError> {
     program.routine(entry).ok_or_else(|| RunError::Runtime {
         line: 0,
@@ -393,6 +440,11 @@ struct Interp<'a> {
     harness: Option<Harness>,
     /// `ON_ERROR_PROCEED` guards the next statement (harness only).
     error_proceed: bool,
+    /// Hosted mode ([`run_hosted`]): the host and the interrupts,
+    /// triggers and waits it drives.
+    hosted: Option<host::Hosted<'a>>,
+    /// The `.dat` items are being executed (no host turns yet).
+    initializing: bool,
 }
 
 impl<'a> Interp<'a> {
@@ -467,16 +519,23 @@ impl<'a> Interp<'a> {
             routines,
             harness: None,
             error_proceed: false,
+            hosted: None,
+            initializing: false,
         }
     }
 
     /// Executes the `.dat` items, then `routine` (no arguments).
     fn run_entry(&mut self, routine: &'a Routine) -> Result<(), RunError> {
+        self.initializing = true;
         if let Some(dat) = &self.program.dat {
             for s in &dat.items {
-                self.exec(s)?;
+                if let Err(e) = self.exec(s) {
+                    self.initializing = false;
+                    return Err(e);
+                }
             }
         }
+        self.initializing = false;
         self.call_routine(routine, &[])?;
         Ok(())
     }
@@ -499,6 +558,9 @@ impl<'a> Interp<'a> {
                 ),
                 steps: std::mem::take(&mut self.steps),
             });
+        }
+        if self.hosted.is_some() && !self.initializing {
+            self.host_statement()?;
         }
         Ok(())
     }
@@ -556,6 +618,9 @@ impl<'a> Interp<'a> {
     }
 
     fn push(&mut self, step: Step) -> Result<(), RunError> {
+        if self.hosted.is_some() {
+            return self.host_step(step);
+        }
         if self.steps.len() >= MAX_STEPS {
             return Err(RunError::TooLong {
                 line: self.line,

@@ -83,6 +83,7 @@ impl<'a> Interp<'a> {
             | RunError::TooLong { message, .. }
             | RunError::Limit { message, .. } => message,
             RunError::Unsupported(u) => u.what,
+            other => other.to_string(),
         };
         match name {
             "$VEL" => {
