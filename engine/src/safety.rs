@@ -297,6 +297,10 @@ impl Safety {
             Err(PrepareError::Run(RunError::TooLong { steps, .. })) => (steps, false),
             // Beyond the simulator's subset: only a real KRC can run it.
             Err(PrepareError::Run(RunError::Unsupported(_))) => return Ok(unchecked),
+            // Hosted-mode outcomes: an unhosted dry run never returns them.
+            Err(PrepareError::Run(RunError::Cancelled | RunError::Resumed { .. })) => {
+                return Ok(unchecked);
+            }
             // Too deep or too large for the interpreter (kuka_krl_runtime::interp's
             // limits): refused like a program that does not parse.
             Err(PrepareError::Run(RunError::Limit { line, message })) => {

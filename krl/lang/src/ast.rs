@@ -252,6 +252,9 @@ pub enum StmtKind {
     WaitSec(Expr),
     /// `WAIT FOR cond`.
     WaitFor(Expr),
+    /// `CONFIRM m`: acknowledges the message with index `m` (KSS's
+    /// message system; `CONFIRM 0` acknowledges all that may be).
+    Confirm(Expr),
     /// `GOTO label` (KRL allows jumps within a routine's block).
     Goto(String),
     /// `label:` on a line of its own, the target of a `GOTO`.

@@ -442,6 +442,12 @@ impl Parser {
             }
             "INTERRUPT" => self.interrupt(line),
             "TRIGGER" => self.trigger(),
+            "CONFIRM" => {
+                self.bump();
+                let message = self.expr()?;
+                self.end_of_statement()?;
+                Ok(StmtKind::Confirm(message))
+            }
             "GOTO" => {
                 self.bump();
                 let label = self.name()?;
@@ -562,11 +568,24 @@ impl Parser {
             let fname = self.name()?;
             let dims = self.dims()?;
             fields.push((ty.clone(), fname, dims));
-            if !self.eat_sym(",") {
-                break;
+            let comma = self.eat_sym(",");
+            // After a comma, a run of names: pairs (`REAL c`, `T1 a T2 b`)
+            // start with a type; an odd run (`b REAL c`) with a member.
+            let mut run = 0;
+            while matches!(self.peek_at(run), Tok::Ident(_)) {
+                run += 1;
             }
-            if matches!(self.peek(), Tok::Ident(_)) && matches!(self.peek_at(1), Tok::Ident(_)) {
+            let member_first = comma && run % 2 == 1;
+            if !member_first
+                && matches!(self.peek(), Tok::Ident(_))
+                && matches!(self.peek_at(1), Tok::Ident(_))
+            {
+                // The next member type. Real files (kuka_kvp_hw_interface,
+                // KRL_utils) omit the comma before it; accepted, as the
+                // type name ends the previous member unambiguously.
                 ty = self.ident()?;
+            } else if !comma {
+                break;
             }
         }
         self.end_of_statement()?;
@@ -1072,7 +1091,12 @@ impl Parser {
         if self.eat_sym("[") {
             if !self.is_sym("]") {
                 loop {
-                    dims.push(self.expr()?);
+                    // `REAL t[,]`: a parameter's array type, sizes omitted.
+                    if self.is_sym(",") || self.is_sym("]") {
+                        dims.push(Expr::Omitted);
+                    } else {
+                        dims.push(self.expr()?);
+                    }
                     if !self.eat_sym(",") {
                         break;
                     }

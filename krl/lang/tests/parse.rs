@@ -315,3 +315,29 @@ fn program_checks_name_the_problem() {
     .expect_err("dat stmt");
     assert_eq!(e.line(), Some(2));
 }
+
+/// Constructs found in the public corpus (tests/corpus): `CONFIRM`, a
+/// parameter's array type with omitted sizes in its declaration, and a
+/// STRUC whose members of a new type follow without a comma.
+#[test]
+fn corpus_constructs_parse() {
+    let src = r#"DEF matrix(t[,]:OUT)
+  REAL t[,]
+  STRUC PAIR INT a, b REAL c
+  CONFIRM 0
+  t[1,1] = 0
+END
+"#;
+    let f = parse_src(src).expect("parses");
+    let body = &f.routines[0].body;
+    assert!(body.iter().any(|s| matches!(&s.kind,
+        StmtKind::Decl { vars, .. } if vars[0].dims == [Expr::Omitted, Expr::Omitted])));
+    assert!(body.iter().any(|s| matches!(&s.kind,
+        StmtKind::Struc { fields, .. } if fields.len() == 3 && fields[2].0 == "REAL")));
+    assert!(
+        body.iter()
+            .any(|s| s.kind == StmtKind::Confirm(Expr::Int(0)))
+    );
+    // A comma alone still needs a member after it.
+    assert!(parse_src("DEF a()\nSTRUC P INT x,\nEND\n").is_err());
+}

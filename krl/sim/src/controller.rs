@@ -110,6 +110,10 @@ fn prepare(
                 | RunError::TooLong { line, .. }
                 | RunError::Limit { line, .. },
             ) => (ResultCode::RuntimeError, *line),
+            // Hosted-mode outcomes: an unhosted run never returns them.
+            PrepareError::Run(RunError::Cancelled | RunError::Resumed { .. }) => {
+                (ResultCode::RuntimeError, 0)
+            }
         }
     })
 }

@@ -44,6 +44,9 @@ impl<'a> Interp<'a> {
         args: &[Expr],
     ) -> Result<Option<Value>, RunError> {
         let call_line = self.line;
+        if let Some(h) = self.hosted.as_mut() {
+            h.host.called(&r.name);
+        }
         // Separate functions: their frames are gone while the body runs.
         // Binding evaluates the arguments: a level of its own.
         self.enter()?;

@@ -24,8 +24,9 @@ const MSG_NO_HANDLE: i64 = -3;
 const MSG_NO_EOF: i64 = -4;
 
 /// Global variables after [`run_with_files`](super::run_with_files)
-/// (names are case-insensitive).
-#[derive(Debug, Clone)]
+/// (names are case-insensitive); in hosted mode, the variables a turn
+/// hands to the host.
+#[derive(Debug, Clone, Default)]
 pub struct Globals {
     pub(super) vars: HashMap<String, Value>,
     pub(super) open_files: Vec<String>,
@@ -117,6 +118,88 @@ impl Globals {
         }
     }
 
+    /// Sets an INT variable (a host's system variable such as `$ROB_TIMER`).
+    pub fn set_int(&mut self, name: &str, v: i64) {
+        self.vars.insert(name.to_ascii_uppercase(), Value::Int(v));
+    }
+
+    /// Sets a BOOL variable.
+    pub fn set_bool(&mut self, name: &str, v: bool) {
+        self.vars.insert(name.to_ascii_uppercase(), Value::Bool(v));
+    }
+
+    /// Sets a REAL variable.
+    pub fn set_real(&mut self, name: &str, v: f64) {
+        self.vars.insert(name.to_ascii_uppercase(), Value::Real(v));
+    }
+
+    /// Sets an ENUM variable (`value` without `#`).
+    pub fn set_enum(&mut self, name: &str, value: &str) {
+        self.vars.insert(
+            name.to_ascii_uppercase(),
+            Value::Enum(value.to_ascii_uppercase()),
+        );
+    }
+
+    /// Sets a CHAR array of `len` characters to `text`, padded with spaces
+    /// (as `$PRO_NAME1`).
+    pub fn set_chars(&mut self, name: &str, text: &str, len: usize) {
+        let mut chars: Vec<Value> = text.bytes().take(len).map(Value::Char).collect();
+        chars.resize(len, Value::Char(b' '));
+        self.vars
+            .insert(name.to_ascii_uppercase(), Value::Array(vec![len], chars));
+    }
+
+    /// Sets an E6AXIS variable (`$AXIS_ACT`).
+    pub fn set_axes(&mut self, name: &str, axes: &kuka_kinematics::Axes) {
+        self.vars
+            .insert(name.to_ascii_uppercase(), super::values::axis_value(axes));
+    }
+
+    /// Sets a REAL array.
+    pub fn set_reals(&mut self, name: &str, values: &[f64]) {
+        self.vars.insert(
+            name.to_ascii_uppercase(),
+            Value::Array(
+                vec![values.len()],
+                values.iter().map(|v| Value::Real(*v)).collect(),
+            ),
+        );
+    }
+
+    /// Sets a structure of REAL components (`$VEL_MA`: `CP`, `ORI1`, `ORI2`).
+    pub fn set_real_struct(&mut self, name: &str, ty: &str, fields: &[(&str, f64)]) {
+        self.vars.insert(
+            name.to_ascii_uppercase(),
+            super::values::real_struct(ty, fields),
+        );
+    }
+
+    /// Sets a BOOL array of `len` elements, all `v`, unless it exists.
+    pub fn ensure_bools(&mut self, name: &str, len: usize, v: bool) {
+        self.vars
+            .entry(name.to_ascii_uppercase())
+            .or_insert_with(|| Value::Array(vec![len], vec![Value::Bool(v); len]));
+    }
+
+    /// Adds every variable of `other` this set does not have (a module
+    /// that starts later brings its own `.dat` globals).
+    pub fn merge_missing(&mut self, other: Globals) {
+        for (k, v) in other.vars {
+            self.vars.entry(k).or_insert(v);
+        }
+    }
+
+    /// Whether the variable exists.
+    pub fn has(&self, name: &str) -> bool {
+        self.vars.contains_key(&name.to_ascii_uppercase())
+    }
+
+    /// The text of a CHAR array up to its first 0 or unset element.
+    pub fn text(&self, name: &str) -> Option<String> {
+        text_of(self.vars.get(&name.to_ascii_uppercase())?).ok()
+    }
+
     /// Files that were still open when [`run_with_files`](super::run_with_files) ended.
     pub fn open_files(&self) -> &[String] {
         &self.open_files
@@ -132,6 +215,9 @@ pub(super) struct Harness {
     /// Hosted mode: the folder the file functions work in (real files);
     /// `None`: the in-memory `files` only.
     pub(super) root: Option<std::path::PathBuf>,
+    /// `RET1` of a file function that succeeded (`DATA_OK`; a simulated
+    /// KSS variant answers `CMD_OK`).
+    pub(super) success: String,
 }
 
 #[derive(Debug)]
@@ -186,6 +272,7 @@ impl<'a> Interp<'a> {
             open: BTreeMap::new(),
             next_handle: 1,
             root: None,
+            success: "DATA_OK".into(),
         });
         self.max_statements = HARNESS_MAX_STATEMENTS;
         self.max_evaluations = HARNESS_MAX_EVALUATIONS;
@@ -297,6 +384,9 @@ impl<'a> Interp<'a> {
             }
         }
         let func = self.eval_text(func)?;
+        if let Some(h) = self.hosted.as_mut() {
+            h.host.file_call(&func);
+        }
         let msg_no = match func.to_ascii_lowercase().as_str() {
             "krl_fopen" => self.krl_fopen(rest)?,
             "krl_fgets" => self.krl_fgets(rest)?,
@@ -327,11 +417,18 @@ impl<'a> Interp<'a> {
                 .into());
             }
         };
-        let ret1 = if msg_no == 0 { "DATA_OK" } else { "CMD_ABORT" };
+        let ret1 = if msg_no == 0 {
+            self.harness
+                .as_ref()
+                .map_or("DATA_OK", |h| h.success.as_str())
+        } else {
+            "CMD_ABORT"
+        }
+        .to_string();
         let status = Value::Struct(
             "STATE_T".into(),
             vec![
-                ("RET1".into(), Value::Enum(ret1.into())),
+                ("RET1".into(), Value::Enum(ret1)),
                 ("HITS".into(), Value::Int(0)),
                 ("LENGTH".into(), Value::Int(0)),
                 ("MSG_NO".into(), Value::Int(msg_no)),

@@ -93,6 +93,13 @@ pub trait Host {
     /// `CWRITE($CMD, …, text)`: program control (`RUN`, `STOP`, `CANCEL`,
     /// `RESET`); whether the command was taken.
     fn command(&mut self, vars: &mut Globals, text: &str) -> bool;
+    /// A routine is called (for the host's statistics, e.g. statements
+    /// per pass of a Submit loop).
+    fn called(&mut self, _routine: &str) {}
+    /// A file function runs through `CWRITE($FCT_CALL, …)` (`krl_fopen`,
+    /// `krl_fgets` …, as written in the program), for the host's
+    /// statistics (file operations per motion).
+    fn file_call(&mut self, _function: &str) {}
 }
 
 /// A declared interrupt.

@@ -359,6 +359,16 @@ pub fn run_with_files(
     })
 }
 
+/// The file functions of a hosted run.
+#[derive(Debug, Clone)]
+pub struct HostedFiles {
+    /// The folder `CWRITE($FCT_CALL, …)` opens bare names in.
+    pub root: std::path::PathBuf,
+    /// `RET1` of a file function that succeeded: `DATA_OK` (KUKA's text
+    /// and working code), or `CMD_OK` to simulate a KSS that answers so.
+    pub success: String,
+}
+
 /// Runs `entry` on a [`Host`], a KRC-like runtime (see the `host`
 /// module's documentation): with the test harness's controller
 /// environment and file functions (on the files in `root`), without limits
@@ -370,13 +380,14 @@ pub fn run_hosted(
     entry: &str,
     start: &Start<'_>,
     host: Box<dyn Host + Send + '_>,
-    root: std::path::PathBuf,
+    files: HostedFiles,
 ) -> Result<Globals, RunError> {
     let routine = entry_routine(program, entry)?;
     let mut it = Interp::new(program, start);
     it.enable_harness(BTreeMap::new());
     if let Some(h) = it.harness.as_mut() {
-        h.root = Some(root);
+        h.root = Some(files.root);
+        h.success = files.success;
     }
     it.max_statements = u64::MAX;
     it.max_evaluations = u64::MAX;

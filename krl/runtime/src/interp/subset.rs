@@ -307,6 +307,7 @@ impl Checker {
                 self.spline_point(point)
             }
             StmtKind::Goto(_) | StmtKind::Label(_) => self.refuse(l, "GOTO and labels"),
+            StmtKind::Confirm(_) => self.refuse(l, "CONFIRM (the message system)"),
             StmtKind::Channel { .. } => self.refuse(l, "CHANNEL"),
             StmtKind::Import { .. } => self.refuse(l, "IMPORT"),
             StmtKind::AnalogCyclic { .. } => self.refuse(l, "ANIN/ANOUT"),

@@ -1,0 +1,268 @@
+//! The running runtime: a thread that advances the controller clock, and
+//! the handle the service and tests hold (snapshot, trace, statistics,
+//! shutdown).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use kuka_kinematics::Axes;
+use serde::Serialize;
+
+use crate::config::KrcConfig;
+use crate::scheduler::Scheduler;
+
+/// Errors starting the runtime.
+#[derive(Debug, thiserror::Error)]
+pub enum KrcError {
+    /// The channel folder cannot be created.
+    #[error("channel directory {path}")]
+    Channel {
+        /// The folder.
+        path: String,
+        /// Cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The KRL program cannot be loaded or started.
+    #[error("KRL program: {0}")]
+    Program(String),
+    /// The thread could not be spawned.
+    #[error("cannot start the runtime thread")]
+    Thread(#[source] std::io::Error),
+}
+
+/// A snapshot of the runtime.
+#[derive(Debug, Clone, Serialize)]
+pub struct KrcSnapshot {
+    /// Controller clock in ms (`$ROB_TIMER`).
+    pub time_ms: i64,
+    /// Current axis angles.
+    pub axes: Axes,
+    /// Current TCP `[x, y, z, a, b, c]` with the last motion's tool and base.
+    pub pose: [f64; 6],
+    /// The robot is moving.
+    pub moving: bool,
+    /// `$PRO_STATE1` without `#`.
+    pub pro_state: String,
+    /// `$PRO_NAME1` (the selected module).
+    pub pro_name: String,
+    /// Errors that stopped a robot program, oldest first.
+    pub robot_errors: Vec<String>,
+    /// The error that stopped the Submit interpreter, if any.
+    pub submit_error: Option<String>,
+    /// `$CMD` commands the program sent, oldest first.
+    pub commands: Vec<String>,
+}
+
+/// Cost figures of the program in the runtime (docs/BENCHMARKS.md).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct KrcStats {
+    /// Interpreter cycles run.
+    pub cycles: u64,
+    /// Cycles in which the robot stood still.
+    pub standstill_cycles: u64,
+    /// Seconds of simulated motion.
+    pub moving_s: f64,
+    /// Motions completed.
+    pub motions_done: u64,
+    /// Motions that started from a standstill (exact stops before them).
+    pub chains_started: u64,
+    /// Controller time (ms, `$ROB_TIMER`) of the cycle in which the last
+    /// motion from a standstill started.
+    pub last_chain_start_ms: Option<i64>,
+    /// Completed passes of `kb_submit_cycle`.
+    pub passes: u64,
+    /// Statements of the longest pass.
+    pub pass_statements_max: u64,
+    /// Median statements per pass.
+    pub pass_statements_p50: u64,
+    /// 99th percentile of statements per pass.
+    pub pass_statements_p99: u64,
+    /// Passes that needed more statements than one cycle's Submit budget
+    /// ([`KrcConfig::submit_budget`](crate::KrcConfig::submit_budget)):
+    /// wherever they start, they cannot finish within one cycle.
+    pub passes_overrun: u64,
+    /// File functions the program called through `CWRITE($FCT_CALL, …)`,
+    /// by name (`krl_fgets` …).
+    pub file_calls: std::collections::BTreeMap<String, u64>,
+    /// Motion errors, `line: error`.
+    pub motion_errors: Vec<String>,
+}
+
+struct Shared {
+    scheduler: Mutex<Scheduler>,
+    shutdown: AtomicBool,
+}
+
+/// A running KRC-like runtime. Dropping it stops the thread.
+pub struct KrcController {
+    shared: Arc<Shared>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl KrcController {
+    /// Loads the KRL program, boots the interpreters and starts the clock.
+    pub fn start(config: KrcConfig) -> Result<Self, KrcError> {
+        std::fs::create_dir_all(&config.channel_dir).map_err(|source| KrcError::Channel {
+            path: config.channel_dir.display().to_string(),
+            source,
+        })?;
+        let _ = std::fs::create_dir_all(&config.program_dir);
+        let time_scale = config.time_scale;
+        let cycle = config.cycle;
+        let mut scheduler = Scheduler::new(config).map_err(KrcError::Program)?;
+        scheduler.boot().map_err(KrcError::Program)?;
+        let shared = Arc::new(Shared {
+            scheduler: Mutex::new(scheduler),
+            shutdown: AtomicBool::new(false),
+        });
+        let s = shared.clone();
+        let thread = std::thread::Builder::new()
+            .name("krc-clock".into())
+            .spawn(move || clock(&s, cycle, time_scale))
+            .map_err(KrcError::Thread)?;
+        Ok(KrcController {
+            shared,
+            thread: Some(thread),
+        })
+    }
+
+    fn lock(&self) -> MutexGuard<'_, Scheduler> {
+        self.shared
+            .scheduler
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The runtime's state now.
+    pub fn snapshot(&self) -> KrcSnapshot {
+        let s = self.lock();
+        let p = s.exec.pose();
+        KrcSnapshot {
+            time_ms: s.t_ms,
+            axes: s.exec.axes,
+            pose: [p.x, p.y, p.z, p.a, p.b, p.c],
+            moving: s.exec.moving(),
+            pro_state: format!("{:?}", s.pro_state).to_ascii_uppercase(),
+            pro_name: s.pro_name.clone(),
+            robot_errors: s.counters.robot_errors.clone(),
+            submit_error: s.counters.submit_error.clone(),
+            commands: s.counters.commands.clone(),
+        }
+    }
+
+    /// The cost figures so far.
+    pub fn stats(&self) -> KrcStats {
+        let s = self.lock();
+        let p = s.passes.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        let mut sorted = p.statements.clone();
+        sorted.sort_unstable();
+        let pct = |q: f64| {
+            if sorted.is_empty() {
+                0
+            } else {
+                sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+            }
+        };
+        let p99 = pct(0.99);
+        KrcStats {
+            cycles: s.counters.cycles,
+            standstill_cycles: s.counters.standstill_cycles,
+            moving_s: s.exec.moving_s,
+            motions_done: s.exec.motions_done,
+            chains_started: s.exec.chains_started,
+            last_chain_start_ms: s.counters.last_chain_start_ms,
+            passes: p.statements.len() as u64,
+            pass_statements_max: sorted.last().copied().unwrap_or(0),
+            pass_statements_p50: pct(0.5),
+            pass_statements_p99: p99,
+            file_calls: s
+                .file_calls
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .clone(),
+            passes_overrun: sorted
+                .iter()
+                .filter(|n| **n > s.config.submit_budget)
+                .count() as u64,
+            motion_errors: s
+                .exec
+                .failures
+                .iter()
+                .map(|f| format!("line {}: {}", f.line, f.error))
+                .collect(),
+        }
+    }
+
+    /// Runs cycles until `done` holds for the snapshot or `limit` of
+    /// simulated time passed; whether it held. For tests and benchmarks
+    /// with `time_scale` 0 this runs as fast as the host allows.
+    pub fn wait_until(&self, limit: Duration, mut done: impl FnMut(&KrcSnapshot) -> bool) -> bool {
+        let start = self.lock().t_ms;
+        let limit_ms = limit.as_millis() as i64;
+        loop {
+            let snap = self.snapshot();
+            if done(&snap) {
+                return true;
+            }
+            if snap.time_ms - start > limit_ms || self.shared.shutdown.load(Ordering::Relaxed) {
+                return false;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+
+    /// Runs `f` between two cycles, with the controller time (ms) of the
+    /// last one: nothing runs on the controller meanwhile, so a command
+    /// file written in `f` appears at a known time.
+    pub fn between_cycles<R>(&self, f: impl FnOnce(i64) -> R) -> R {
+        let s = self.lock();
+        f(s.t_ms)
+    }
+
+    /// Stops the clock and the interpreters (open files are closed).
+    pub fn shutdown(mut self) {
+        self.stop();
+    }
+
+    fn stop(&mut self) {
+        self.shared.shutdown.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+        self.lock().stop_all();
+    }
+}
+
+impl Drop for KrcController {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+/// The clock thread: a cycle, then wait for its simulated time to pass
+/// in wall time (scaled).
+fn clock(shared: &Shared, cycle: Duration, time_scale: f64) {
+    let started = Instant::now();
+    let mut simulated = Duration::ZERO;
+    while !shared.shutdown.load(Ordering::Relaxed) {
+        shared
+            .scheduler
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .cycle();
+        simulated += cycle;
+        if time_scale > 0.0 {
+            let due = started + simulated.div_f64(time_scale);
+            let now = Instant::now();
+            if due > now {
+                std::thread::sleep(due - now);
+            }
+        } else {
+            // As fast as possible, but let others take the lock.
+            std::thread::yield_now();
+        }
+    }
+}

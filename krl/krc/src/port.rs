@@ -1,0 +1,172 @@
+//! The interpreters' side of the scheduler: each interpreter thread holds
+//! a [`Port`], the [`Host`] its interpreter hands control to. A turn moves
+//! the shared globals to the scheduler and blocks until the scheduler
+//! hands them back: only one interpreter runs at a time.
+
+use std::collections::BTreeMap;
+use std::sync::mpsc::{Receiver, Sender};
+use std::sync::{Arc, Mutex};
+
+use kuka_krl_runtime::interp::{Cancelled, Globals, Host, RunError, Step, TriggerAt, Turn, Wait};
+
+/// Which interpreter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Who {
+    /// The robot interpreter (`kb_main`, `kbu<n>`).
+    Robot,
+    /// The Submit interpreter (`sps.sub`).
+    Submit,
+}
+
+/// What an interpreter thread tells the scheduler.
+pub(crate) enum Msg {
+    /// The interpreter gives control back: its globals and what it waits
+    /// for (`None`: its statement budget for this cycle is used up).
+    Yield {
+        vars: Globals,
+        wait: Option<Wait>,
+        /// The turn's generation (a thread of a cancelled program is
+        /// ignored).
+        generation: u64,
+    },
+    /// A motion for the robot.
+    Motion {
+        step: Step,
+        triggers: Vec<TriggerAt>,
+    },
+    /// `RESUME`: drop what was planned ahead.
+    Discard,
+    /// `CWRITE($CMD, …)`.
+    Command(String),
+    /// The interpreter's routine ended (or failed, or was cancelled).
+    Ended {
+        who: Who,
+        result: Result<(), RunError>,
+        generation: u64,
+    },
+}
+
+/// The scheduler's answer to a [`Msg::Yield`].
+pub(crate) struct Resume {
+    pub(crate) vars: Globals,
+    pub(crate) ready: bool,
+    pub(crate) new_cycle: bool,
+    pub(crate) fired: Vec<u64>,
+    /// End the run (`CANCEL`, shutdown).
+    pub(crate) cancel: bool,
+}
+
+/// Statistics of the Submit loop's passes.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct PassStats {
+    /// Statements of each completed pass of `kb_submit_cycle`.
+    pub(crate) statements: Vec<u64>,
+    current_statements: u64,
+    started: bool,
+}
+
+impl PassStats {
+    fn pass_starts(&mut self) {
+        if self.started {
+            self.statements.push(self.current_statements);
+        }
+        self.started = true;
+        self.current_statements = 0;
+    }
+}
+
+/// An interpreter's [`Host`].
+pub(crate) struct Port {
+    pub(crate) who: Who,
+    pub(crate) generation: u64,
+    pub(crate) tx: Sender<Msg>,
+    pub(crate) rx: Receiver<Resume>,
+    pub(crate) budget: u64,
+    pub(crate) left: u64,
+    /// The Submit loop's pass statistics (Submit port only).
+    pub(crate) passes: Option<Arc<Mutex<PassStats>>>,
+    /// File functions called, by name (lower case).
+    pub(crate) file_calls: Arc<Mutex<BTreeMap<String, u64>>>,
+}
+
+impl Port {
+    fn turn(&mut self, vars: &mut Globals, wait: Option<Wait>) -> Result<Turn, Cancelled> {
+        let sent = self.tx.send(Msg::Yield {
+            vars: std::mem::take(vars),
+            wait,
+            generation: self.generation,
+        });
+        if sent.is_err() {
+            return Err(Cancelled);
+        }
+        let r = self.rx.recv().map_err(|_| Cancelled)?;
+        if r.cancel {
+            return Err(Cancelled);
+        }
+        *vars = r.vars;
+        if r.new_cycle {
+            self.left = self.budget;
+        }
+        Ok(Turn {
+            ready: r.ready,
+            new_cycle: r.new_cycle,
+            fired: r.fired,
+        })
+    }
+}
+
+impl Host for Port {
+    fn statement(&mut self, vars: &mut Globals) -> Result<Turn, Cancelled> {
+        if let Some(p) = &self.passes {
+            let mut p = p.lock().unwrap_or_else(|e| e.into_inner());
+            p.current_statements += 1;
+        }
+        if self.left > 0 {
+            self.left -= 1;
+            return Ok(Turn {
+                ready: true,
+                ..Turn::default()
+            });
+        }
+        let mut t = self.turn(vars, None)?;
+        t.ready = true;
+        Ok(t)
+    }
+
+    fn wait(&mut self, vars: &mut Globals, what: Wait) -> Result<Turn, Cancelled> {
+        // The Submit interpreter has no advance run and moves nothing.
+        if self.who == Who::Submit && matches!(what, Wait::Advance | Wait::Standstill | Wait::Brake)
+        {
+            return Ok(Turn {
+                ready: true,
+                ..Turn::default()
+            });
+        }
+        self.turn(vars, Some(what))
+    }
+
+    fn queue_motion(&mut self, step: Step, triggers: Vec<TriggerAt>) {
+        let _ = self.tx.send(Msg::Motion { step, triggers });
+    }
+
+    fn discard_motions(&mut self) {
+        let _ = self.tx.send(Msg::Discard);
+    }
+
+    fn command(&mut self, _vars: &mut Globals, text: &str) -> bool {
+        self.tx.send(Msg::Command(text.to_string())).is_ok()
+    }
+
+    fn called(&mut self, routine: &str) {
+        if let Some(p) = &self.passes
+            && routine.eq_ignore_ascii_case("kb_submit_cycle")
+        {
+            p.lock().unwrap_or_else(|e| e.into_inner()).pass_starts();
+        }
+    }
+
+    fn file_call(&mut self, function: &str) {
+        let mut calls = self.file_calls.lock().unwrap_or_else(|e| e.into_inner());
+        *calls.entry(function.to_ascii_lowercase()).or_insert(0) += 1;
+    }
+}
