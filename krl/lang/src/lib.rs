@@ -21,8 +21,15 @@
 //! (INT, REAL, strings, `'B…'`/`'H…'`, `#ENUM`, `TRUE`/`FALSE`, structure
 //! values `{[TYPE:] X 1, …}`), the operators `+ - * /`, comparisons,
 //! `NOT AND OR EXOR`, `B_NOT B_AND B_OR B_EXOR` and the geometric `:`.
-//! Not covered: `GOTO` and labels, `IMPORT`, `ANIN`/`ANOUT`, `ENDFOLD`
-//! outside comments.
+//! Also read, as real KSS 8.x files write them (the public corpus in
+//! `tests/corpus/`, 364 files, is the test): single spline motions
+//! outside a block (`SPTP`/`SLIN`/`SCIRC` and `_REL`), array parameters
+//! (`DEF f(t[]:OUT)`, `REAL t[,]`), omitted arguments and indices
+//! (`f(a,,3)`, `X[1,]`), `.dat` globals without `DECL` (`GLOBAL INT x`,
+//! `GLOBAL CONST`, `GLOBAL SIGNAL`), `DEFFCT CHAR[128] f()`, `GOTO` and
+//! labels, `CHANNEL`, `IMPORT`, `ANIN`/`ANOUT ON|OFF`, `CONFIRM`, STRUC
+//! members of a new type without a comma. Refused as a KRC refuses them:
+//! a declaration after the first statement, names over 24 characters.
 //!
 //! Work is bounded for every input: the lexer is linear, and the parser
 //! refuses expressions and blocks nested beyond the [`limits`] (with the
