@@ -113,7 +113,7 @@ impl TestService {
 
     /// Waits until the controller is online (if a simulator runs).
     pub async fn wait_online(&self) {
-        if self.service.sim.is_none() {
+        if self.service.sim.is_none() && self.service.krc.is_none() {
             return;
         }
         self.wait_connection("online").await;

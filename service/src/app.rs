@@ -7,7 +7,10 @@ use std::net::SocketAddr;
 use std::sync::Arc;
 use std::time::Duration;
 
+use kuka_krc::{KrcConfig, KrcController};
 use kuka_sim::{SimConfig, SimController};
+
+use crate::config::SimulatorKind;
 use tokio::sync::{oneshot, watch};
 use tokio::task::JoinHandle;
 
@@ -28,6 +31,9 @@ pub enum AppError {
     /// The simulator could not start.
     #[error("simulated controller")]
     Sim(#[from] kuka_sim::SimError),
+    /// The KRC-like runtime did not start.
+    #[error("KRC-like runtime")]
+    Krc(#[from] kuka_krc::KrcError),
     /// The listen address is unavailable.
     #[error("cannot listen on {addr}")]
     Bind {
@@ -75,8 +81,10 @@ pub struct Service {
     pub addr: SocketAddr,
     /// The engine.
     pub engine: Engine,
-    /// The embedded simulator (in `--simulate` mode).
+    /// The embedded native simulator (`--simulate` / `--simulate native`).
     pub sim: Option<Arc<SimController>>,
+    /// The embedded KRC-like runtime (`--simulate krc`).
+    pub krc: Option<Arc<KrcController>>,
     /// True when requests need a token.
     pub auth: bool,
     /// True when serving HTTPS.
@@ -104,7 +112,22 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
     let model = config.robot_model()?;
     let dir = config.channel_dir();
     let lock = ServiceLock::acquire(&dir)?;
-    let sim = if config.simulator.enabled {
+    let krc = if config.simulator.enabled && config.simulator.kind == SimulatorKind::Krc {
+        let mut kc = KrcConfig::new(&dir);
+        if let Some(d) = config.program_dir() {
+            kc.program_dir = d;
+        }
+        if let Some(m) = &model {
+            kc.model = m.clone();
+        }
+        kc.time_scale = config.simulator.time_scale;
+        kc.cycle = Duration::from_millis(config.simulator.cycle_ms);
+        kc.submit_budget = config.simulator.submit_budget;
+        Some(Arc::new(KrcController::start(kc)?))
+    } else {
+        None
+    };
+    let sim = if config.simulator.enabled && config.simulator.kind == SimulatorKind::Native {
         let mut sc = SimConfig::new(&dir);
         if let Some(d) = config.program_dir() {
             sc.program_dir = d;
@@ -163,6 +186,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
     let router = crate::api::app(crate::api::AppState {
         engine: engine.clone(),
         sim: sim.clone(),
+        krc: krc.clone(),
         request_timeout: Duration::from_millis(config.server.request_timeout_ms),
         openapi: Arc::default(),
         closing: closing_rx,
@@ -181,11 +205,12 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         .await
         .map_err(AppError::Serve)
     });
-    tracing::info!(%addr, channel = %dir.display(), simulated = sim.is_some(), auth = access.enabled, https, "kuka-bridge listening");
+    tracing::info!(%addr, channel = %dir.display(), simulated = sim.is_some() || krc.is_some(), krc_runtime = krc.is_some(), auth = access.enabled, https, "kuka-bridge listening");
     Ok(Service {
         addr,
         engine,
         sim,
+        krc,
         auth: access.enabled,
         tls: https,
         admin_token_file,
@@ -303,6 +328,12 @@ impl Service {
         if let Some(sim) = self.sim.take() {
             match Arc::try_unwrap(sim) {
                 Ok(sim) => sim.shutdown(),
+                Err(shared) => drop(shared),
+            }
+        }
+        if let Some(krc) = self.krc.take() {
+            match Arc::try_unwrap(krc) {
+                Ok(krc) => krc.shutdown(),
                 Err(shared) => drop(shared),
             }
         }

@@ -283,9 +283,11 @@ struct RunArgs {
     /// Configuration file (TOML); every key is optional.
     #[arg(long, short, env = "KUKA_BRIDGE_CONFIG")]
     config: Option<PathBuf>,
-    /// Embed the simulated controller (no robot needed).
-    #[arg(long)]
-    simulate: bool,
+    /// Embed a simulated controller (no robot needed): `native` (the
+    /// default: instant answers) or `krc` (the shipped KRL program in the
+    /// KRC-like runtime, with its 12 ms Submit cycle).
+    #[arg(long, value_name = "KIND", num_args = 0..=1, default_missing_value = "native", require_equals = false)]
+    simulate: Option<crate::config::SimulatorKind>,
     /// Listen address, e.g. 0.0.0.0:8080 or localhost:8080 (default
     /// 127.0.0.1:8080); a host name is resolved once, at start.
     #[arg(long, value_parser = crate::config::resolve_listen)]
@@ -319,9 +321,14 @@ struct SimArgs {
     /// Simulated seconds per wall second (0 = instant).
     #[arg(long, default_value_t = 1.0)]
     time_scale: f64,
-    /// Heartbeat period in ms.
+    /// Heartbeat period in ms (native only; the KRL program's is in
+    /// `kb_main.dat`).
     #[arg(long, default_value_t = 50)]
     heartbeat_ms: u64,
+    /// Which simulated controller: `native` or `krc` (the shipped KRL
+    /// program in the KRC-like runtime).
+    #[arg(long, value_name = "KIND", default_value = "native")]
+    kind: crate::config::SimulatorKind,
 }
 
 /// Logging for commands that are not the service itself: the console, and
@@ -378,6 +385,7 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
             let rt = tokio::runtime::Runtime::new().context("cannot start the async runtime")?;
             rt.block_on(async move {
                 let simulated = config.simulator.enabled;
+                let kind = config.simulator.kind;
                 let service = crate::app::start(config).await?;
                 let stop = shutdown_signal();
                 let url = service.base_url();
@@ -404,7 +412,11 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
                 }
                 if simulated {
                     say!(
-                        "  Controller:   simulated ({})",
+                        "  Controller:   simulated, {} ({})",
+                        match kind {
+                            crate::config::SimulatorKind::Native => "native",
+                            crate::config::SimulatorKind::Krc => "the shipped KRL program in the KRC-like runtime",
+                        },
                         service
                             .engine
                             .state()
@@ -424,19 +436,37 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
             if !(args.time_scale.is_finite() && args.time_scale >= 0.0) {
                 return Err(anyhow::anyhow!("--time-scale must be ≥ 0").into());
             }
-            let mut sc = kuka_sim::SimConfig::new(&args.channel_dir);
-            sc.model = model;
-            sc.time_scale = args.time_scale;
-            sc.heartbeat = std::time::Duration::from_millis(args.heartbeat_ms.max(1));
-            let sim = kuka_sim::SimController::start(sc)?;
-            say!("simulated controller on {}", args.channel_dir.display());
             let rt = tokio::runtime::Builder::new_current_thread()
                 .enable_all()
                 .build()?;
-            rt.block_on(async {
-                let _ = tokio::signal::ctrl_c().await;
-            });
-            sim.shutdown();
+            match args.kind {
+                crate::config::SimulatorKind::Native => {
+                    let mut sc = kuka_sim::SimConfig::new(&args.channel_dir);
+                    sc.model = model;
+                    sc.time_scale = args.time_scale;
+                    sc.heartbeat = std::time::Duration::from_millis(args.heartbeat_ms.max(1));
+                    let sim = kuka_sim::SimController::start(sc)?;
+                    say!("simulated controller on {}", args.channel_dir.display());
+                    rt.block_on(async {
+                        let _ = tokio::signal::ctrl_c().await;
+                    });
+                    sim.shutdown();
+                }
+                crate::config::SimulatorKind::Krc => {
+                    let mut kc = kuka_krc::KrcConfig::new(&args.channel_dir);
+                    kc.model = model;
+                    kc.time_scale = args.time_scale;
+                    let krc = kuka_krc::KrcController::start(kc)?;
+                    say!(
+                        "KRC-like runtime (the shipped KRL program) on {}",
+                        args.channel_dir.display()
+                    );
+                    rt.block_on(async {
+                        let _ = tokio::signal::ctrl_c().await;
+                    });
+                    krc.shutdown();
+                }
+            }
             Ok(())
         }
         #[cfg(windows)]
@@ -523,7 +553,7 @@ fn build_config(args: RunArgs) -> anyhow::Result<Config> {
         Some(path) => Config::load(path)?,
         None => Config::default(),
     };
-    let from_flags = args.simulate
+    let from_flags = args.simulate.is_some()
         || args.listen.is_some()
         || args.channel_dir.is_some()
         || args.data_dir.is_some()
@@ -536,8 +566,9 @@ fn build_config(args: RunArgs) -> anyhow::Result<Config> {
             None => "command-line options".into(),
         };
     }
-    if args.simulate {
+    if let Some(kind) = args.simulate {
         config.simulator.enabled = true;
+        config.simulator.kind = kind;
     }
     if let Some(l) = args.listen {
         config.server.listen = l;

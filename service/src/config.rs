@@ -181,10 +181,32 @@ pub struct RobotConfig {
 pub struct SimulatorConfig {
     /// Run the simulated controller inside the service.
     pub enabled: bool,
+    /// Which simulated controller: `native` (a Rust model of the KRL
+    /// program's behaviour; instant answers) or `krc` (the KRC-like runtime
+    /// running the shipped KRL program itself, with the Submit cycle).
+    pub kind: SimulatorKind,
+    /// `krc` only: the interpreter cycle in ms (a KRC: 12).
+    pub cycle_ms: u64,
+    /// `krc` only: statements the Submit interpreter runs per cycle (an
+    /// assumption: KUKA publishes no figure; docs/CONTROLLER.md).
+    pub submit_budget: u64,
     /// Simulated seconds per wall second (1 = real time, 0 = instant).
     pub time_scale: f64,
     /// Heartbeat period (ms).
     pub heartbeat_ms: u64,
+}
+
+/// The simulated controller `run --simulate` embeds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum SimulatorKind {
+    /// The native simulator (`krl/sim`): answers as soon as a command file
+    /// appears; the default.
+    #[default]
+    Native,
+    /// The KRC-like runtime (`krl/krc`): the shipped KRL program on a
+    /// simulated controller clock.
+    Krc,
 }
 
 /// Log files: rolled daily, old ones deleted.
@@ -338,6 +360,9 @@ impl Default for SimulatorConfig {
     fn default() -> Self {
         SimulatorConfig {
             enabled: false,
+            kind: SimulatorKind::Native,
+            cycle_ms: 12,
+            submit_budget: 500,
             time_scale: 1.0,
             heartbeat_ms: 50,
         }
@@ -789,7 +814,14 @@ impl SimulatorConfig {
     /// Every problem of this section (keys without the `simulator.` prefix).
     pub fn problems(&self) -> Vec<Problem> {
         let mut bad = Vec::new();
-        check_minimums(&mut bad, &[("heartbeat_ms", self.heartbeat_ms, 1)]);
+        check_minimums(
+            &mut bad,
+            &[
+                ("heartbeat_ms", self.heartbeat_ms, 1),
+                ("cycle_ms", self.cycle_ms, 1),
+                ("submit_budget", self.submit_budget, 1),
+            ],
+        );
         if !(self.time_scale.is_finite() && self.time_scale >= 0.0) {
             bad.push(Problem::new(
                 "time_scale",

@@ -214,6 +214,13 @@ impl KrcController {
         }
     }
 
+    /// A global variable of the running program in the interpreter's debug
+    /// form, read between two cycles (diagnostics); `None` when it does
+    /// not exist.
+    pub fn variable(&self, name: &str) -> Option<String> {
+        self.lock().vars.as_ref()?.describe(name)
+    }
+
     /// Runs `f` between two cycles, with the controller time (ms) of the
     /// last one: nothing runs on the controller meanwhile, so a command
     /// file written in `f` appears at a known time.

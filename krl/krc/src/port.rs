@@ -42,6 +42,8 @@ pub(crate) enum Msg {
     Ended {
         who: Who,
         result: Result<(), RunError>,
+        /// The globals as the program left them (not when cancelled).
+        vars: Option<Globals>,
         generation: u64,
     },
 }

@@ -83,6 +83,9 @@ pub(crate) struct Scheduler {
     fired: Vec<u64>,
     commands: VecDeque<String>,
     generation: u64,
+    /// The robot program reached its END while the robot still moves:
+    /// `$PRO_STATE1` becomes `#P_END` when the last motion is done.
+    end_pending: bool,
 }
 
 impl Scheduler {
@@ -110,6 +113,7 @@ impl Scheduler {
             fired: Vec::new(),
             commands: VecDeque::new(),
             generation: 0,
+            end_pending: false,
         })
     }
 
@@ -130,6 +134,7 @@ impl Scheduler {
         let robot = self.spawn(Who::Robot, program, entry)?;
         self.robot = Some(robot);
         self.pro_state = ProState::Active;
+        self.end_pending = false;
         self.pro_name = entry.to_ascii_uppercase();
         self.await_first(Who::Robot);
         Ok(())
@@ -193,11 +198,11 @@ impl Scheduler {
                         override_pct: 100.0,
                     },
                 };
-                let result =
-                    run_hosted(&program, &entry, &start, Box::new(port), files).map(|_| ());
+                let (result, vars) = run_hosted(&program, &entry, &start, Box::new(port), files);
                 let _ = tx.send(Msg::Ended {
                     who,
                     result,
+                    vars,
                     generation,
                 });
             })
@@ -299,9 +304,10 @@ impl Scheduler {
                 Msg::Ended {
                     who: w,
                     result,
+                    vars,
                     generation: g,
                 } => {
-                    self.ended(w, result, g);
+                    self.ended(w, result, vars, g);
                     if g == generation {
                         return;
                     }
@@ -322,12 +328,23 @@ impl Scheduler {
         }
     }
 
-    fn ended(&mut self, who: Who, result: Result<(), RunError>, generation: u64) {
+    fn ended(
+        &mut self,
+        who: Who,
+        result: Result<(), RunError>,
+        vars: Option<Globals>,
+        generation: u64,
+    ) {
         let current = self
             .interpreter(who)
             .is_some_and(|i| i.generation == generation);
         if !current {
             return;
+        }
+        // The program held the shared globals when it ended: they live on
+        // (a KRC's .dat globals outlast the program that wrote them).
+        if self.vars.is_none() {
+            self.vars = vars;
         }
         let finished = match who {
             Who::Robot => self.robot.take(),
@@ -337,7 +354,13 @@ impl Scheduler {
             let _ = t.join();
         }
         match (who, result) {
-            (Who::Robot, Ok(())) => self.pro_state = ProState::End,
+            (Who::Robot, Ok(())) => {
+                if self.exec.idle() {
+                    self.pro_state = ProState::End;
+                } else {
+                    self.end_pending = true;
+                }
+            }
             (Who::Robot, Err(RunError::Cancelled)) => self.pro_state = ProState::Free,
             (Who::Robot, Err(e)) => {
                 tracing::warn!(program = %self.pro_name, error = %e, "KRC runtime: the robot program stopped with an error");
@@ -375,6 +398,7 @@ impl Scheduler {
             }
         }
         self.exec.discard();
+        self.end_pending = false;
         self.pro_state = ProState::Free;
         self.pro_name.clear();
     }
@@ -487,6 +511,10 @@ impl Scheduler {
         }
         let fired = self.exec.advance(dt);
         self.fired.extend(fired);
+        if self.end_pending && self.exec.idle() {
+            self.end_pending = false;
+            self.pro_state = ProState::End;
+        }
         self.sync_sysvars();
         // The robot interpreter (unless its program is stopped).
         if self.pro_state == ProState::Active

@@ -155,3 +155,63 @@ fn the_shipped_program_answers_through_the_channel_files() {
     );
     krc.shutdown();
 }
+
+/// An uploaded module: the Submit side makes kb_main leave, selects
+/// `kbu1` with `RUN /R1/kbu1()` (the public path form), waits for its end
+/// and selects kb_main again; the answer comes when kb_main is back.
+#[test]
+fn an_uploaded_module_runs_and_kb_main_comes_back() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    std::fs::create_dir_all(dir.path().join("programs")).expect("program folder");
+    std::fs::write(
+        dir.path().join("programs/kbu1.src"),
+        "DEF kbu1()\n  PTP {A1 10}\nEND\n",
+    )
+    .expect("module written");
+    assert!(krc.wait_until(Duration::from_secs(2), |_| state(dir.path()).is_some()));
+    let r = round_trip(&krc, dir.path(), 1, Command::Run(1), 30);
+    let snap = krc.snapshot();
+    assert_eq!(r.code, ResultCode::Ok, "{r:?}\n{snap:?}");
+    // The answer carries where the module left the robot: its last motion
+    // was finished before the program state became #P_END.
+    assert!((r.axes[0] - 10.0).abs() < 1e-3, "{r:?}");
+    assert!(
+        snap.commands.iter().any(|c| c == "RUN /R1/kbu1()"),
+        "{snap:?}"
+    );
+    assert_eq!(
+        snap.commands.last().map(String::as_str),
+        Some("RUN /R1/kb_main()")
+    );
+    assert_eq!(
+        (snap.pro_name.as_str(), snap.pro_state.as_str()),
+        ("KB_MAIN", "ACTIVE")
+    );
+    assert!(
+        snap.robot_errors.is_empty() && snap.submit_error.is_none(),
+        "{snap:?}"
+    );
+    // The globals of the .dat files outlived the programs that ended.
+    assert_eq!(krc.variable("KB_RS").as_deref(), Some("Int(0)"));
+    // And the next command is served.
+    let r = round_trip(&krc, dir.path(), 2, Command::GetPosition, 5);
+    assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+    krc.shutdown();
+}
+
+/// A KSS whose file functions answer `#CMD_OK` (CONTROLLER.md A1): the
+/// program accepts either value.
+#[test]
+fn the_program_works_with_a_kss_answering_cmd_ok() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut c = KrcConfig::new(dir.path());
+    c.time_scale = 0.0;
+    c.fct_success = "CMD_OK".into();
+    let krc = KrcController::start(c).expect("the runtime starts");
+    assert!(krc.wait_until(Duration::from_secs(2), |_| state(dir.path()).is_some()));
+    let r = round_trip(&krc, dir.path(), 1, Command::GetPosition, 5);
+    assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+    assert!(krc.snapshot().submit_error.is_none());
+    krc.shutdown();
+}

@@ -44,6 +44,8 @@ pub struct AppState {
     pub engine: Engine,
     /// The embedded simulator, in `--simulate` mode.
     pub sim: Option<Arc<kuka_sim::SimController>>,
+    /// The embedded KRC-like runtime, in `--simulate krc` mode.
+    pub krc: Option<Arc<kuka_krc::KrcController>>,
     /// Longest a synchronous request waits beyond its job's own timeout.
     pub request_timeout: Duration,
     /// The OpenAPI document of the built-in routes (plugin routes are added
@@ -139,7 +141,7 @@ async fn health(State(app): State<AppState>) -> axum::Json<Health> {
         },
         version: env!("CARGO_PKG_VERSION"),
         connection: state.connection,
-        simulated: app.sim.is_some(),
+        simulated: app.sim.is_some() || app.krc.is_some(),
         degraded: state.degraded,
     })
 }

@@ -26,11 +26,12 @@ pub struct TraceQuery {
 
 fn sim(app: &AppState) -> Result<&kuka_sim::SimController, Problem> {
     app.sim.as_deref().ok_or_else(|| {
-        BridgeError::new(
-            ErrorCode::NotFound,
-            "the service is not running the simulated controller (start it with `run --simulate`)",
-        )
-        .into()
+        let detail = if app.krc.is_some() {
+            "the KRC-like runtime (`--simulate krc`) keeps no trace yet: the simulator endpoints serve the native simulator (`--simulate native`)"
+        } else {
+            "the service is not running the simulated controller (start it with `run --simulate`)"
+        };
+        BridgeError::new(ErrorCode::NotFound, detail).into()
     })
 }
 

@@ -195,6 +195,12 @@ impl Globals {
         self.vars.contains_key(&name.to_ascii_uppercase())
     }
 
+    /// A variable's value as the interpreter holds it (debug form), for
+    /// diagnostics; `None` when it does not exist.
+    pub fn describe(&self, name: &str) -> Option<String> {
+        Some(format!("{:?}", self.vars.get(&name.to_ascii_uppercase())?))
+    }
+
     /// The text of a CHAR array up to its first 0 or unset element.
     pub fn text(&self, name: &str) -> Option<String> {
         text_of(self.vars.get(&name.to_ascii_uppercase())?).ok()

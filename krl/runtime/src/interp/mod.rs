@@ -373,16 +373,21 @@ pub struct HostedFiles {
 /// module's documentation): with the test harness's controller
 /// environment and file functions (on the files in `root`), without limits
 /// on statements or time (a controller program runs until it is
-/// cancelled), waiting where a KRC waits. Returns the globals when the
-/// routine ends; [`RunError::Cancelled`] when the host cancelled it.
+/// cancelled), waiting where a KRC waits. Returns how the routine ended
+/// ([`RunError::Cancelled`] when the host cancelled it) and the globals
+/// as the program left them, whether it ended or failed (`None` when
+/// cancelled: the host holds them then, as it did at the last turn).
 pub fn run_hosted(
     program: &Program,
     entry: &str,
     start: &Start<'_>,
     host: Box<dyn Host + Send + '_>,
     files: HostedFiles,
-) -> Result<Globals, RunError> {
-    let routine = entry_routine(program, entry)?;
+) -> (Result<(), RunError>, Option<Globals>) {
+    let routine = match entry_routine(program, entry) {
+        Ok(r) => r,
+        Err(e) => return (Err(e), None),
+    };
     let mut it = Interp::new(program, start);
     it.enable_harness(BTreeMap::new());
     if let Some(h) = it.harness.as_mut() {
@@ -397,11 +402,14 @@ pub fn run_hosted(
     if let Some(h) = it.harness.as_mut() {
         h.open.clear();
     }
-    r?;
-    Ok(Globals {
-        vars: it.globals,
-        open_files: Vec::new(),
-    })
+    let globals = match r {
+        Err(RunError::Cancelled) => None,
+        _ => Some(Globals {
+            vars: it.globals,
+            open_files: Vec::new(),
+        }),
+    };
+    (r, globals)
 }
 
 fn entry_routine<'p>(program: &'p Program, entry: &str) -> Result<&'p Routine, RunError> {

@@ -1,0 +1,149 @@
+//! The service over HTTP against the shipped KRL program: `--simulate krc`
+//! embeds the KRC-like runtime (`krl/krc`), which runs `krl/KRC/` itself —
+//! the Submit side reads the command file, `kb_main` moves the robot — on
+//! a simulated controller clock. The thesis endpoints, a v1 batch and an
+//! uploaded program, as a user would send them.
+
+use std::time::Duration;
+
+use kuka_bridge::config::SimulatorKind;
+use kuka_bridge_tests::{Options, TestService, assert_close, thesis_position, wait_for};
+use serde_json::json;
+
+async fn start() -> TestService {
+    TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.simulator.kind = SimulatorKind::Krc;
+            // The KRL program's own heartbeat (kb_hb_ms = 100 ms of
+            // controller time): well inside offline_after_ms.
+        }),
+        ..Options::default()
+    })
+    .await
+}
+
+#[tokio::test]
+async fn thesis_endpoints_drive_the_shipped_krl_program() {
+    let t = start().await;
+    assert!(t.service.sim.is_none() && t.service.krc.is_some());
+    let (status, health) = t.get("/health").await;
+    assert_eq!(
+        (status, health["simulated"].as_bool()),
+        (200, Some(true)),
+        "{health}"
+    );
+
+    let (status, v) = t.post("/krl/getpos").await;
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["statuscode"], 1, "{v}");
+    let p = thesis_position(&v);
+    assert_close(p[0], 355.0, 0.01, "home x");
+    assert_close(p[2], 625.0, 0.01, "home z");
+
+    // The pen-down pose with A5 negative (Status 6): the KRL program keeps
+    // the current Status when none is given, and at home (A5 = 0) that is
+    // Status 2, A5 ≥ 0, which this pose only reaches with A4 beyond its
+    // limit (docs/CONTROLLER.md, "The KRC-like runtime").
+    let (status, v) = t.post("/krl/ptp?x=200&y=0&z=70&a=0&b=180&c=0&s=6").await;
+    assert_eq!((status, &v["statuscode"]), (200, &json!(1)), "{v}");
+    let p = thesis_position(&v);
+    assert_close(p[0], 200.0, 0.01, "x");
+    assert_close(p[2], 70.0, 0.01, "z");
+
+    let (status, v) = t.post("/krl/linmov?x=250&y=100").await;
+    assert_eq!((status, &v["statuscode"]), (200, &json!(1)), "{v}");
+    let q = thesis_position(&v);
+    assert_close(q[0], 250.0, 0.01, "x");
+    assert_close(q[1], 100.0, 0.01, "y");
+    assert_close(q[2], 70.0, 0.01, "z kept");
+
+    // The runtime really moved: its axes are where the answer says.
+    let krc = t.service.krc.as_ref().expect("krc");
+    let snap = krc.snapshot();
+    assert!(
+        snap.robot_errors.is_empty() && snap.submit_error.is_none(),
+        "{snap:?}"
+    );
+    assert_close(snap.pose[0], 250.0, 0.01, "runtime x");
+    assert_close(snap.pose[1], 100.0, 0.01, "runtime y");
+    assert!(krc.stats().motions_done >= 2, "{:?}", krc.stats());
+    t.service.shutdown().await.expect("shutdown");
+}
+
+#[tokio::test]
+async fn a_v1_batch_plays_as_one_blended_chain_on_the_krl_program() {
+    let t = start().await;
+    let krc = t.service.krc.clone().expect("krc");
+    let (s, v) = t
+        .motions(json!([
+            {"type": "ptp", "target": {"x": 200, "y": 0, "z": 70, "a": 0, "b": 180, "c": 0, "s": 6}}
+        ]))
+        .await;
+    assert_eq!(s, 200, "{v}");
+    let before = krc.stats();
+    let (s, v) = t
+        .motions(json!([
+            {"type": "lin", "target": {"x": 250}, "velocity_m_s": 0.1, "approx_mm": 2},
+            {"type": "lin", "target": {"y": 50}, "velocity_m_s": 0.1, "approx_mm": 2},
+            {"type": "lin", "target": {"x": 200}, "velocity_m_s": 0.1, "approx_mm": 2},
+            {"type": "lin", "target": {"y": 0}, "velocity_m_s": 0.1}
+        ]))
+        .await;
+    assert_eq!(s, 200, "{v}");
+    assert_eq!(v["state"], "done", "{v}");
+    assert_eq!(v["completed"], 4, "{v}");
+    assert_close(v["position"]["x"].as_f64().expect("x"), 200.0, 0.01, "x");
+    assert_close(v["position"]["y"].as_f64().expect("y"), 0.0, 0.01, "y");
+    let after = krc.stats();
+    assert_eq!(after.motions_done - before.motions_done, 4, "{after:?}");
+    assert_eq!(
+        after.chains_started - before.chains_started,
+        1,
+        "the approximated square plays without exact stops: {after:?}"
+    );
+    // 4 × 50 mm at 0.1 m/s: at least 2 s of simulated motion.
+    assert!(after.moving_s - before.moving_s >= 2.0, "{after:?}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+#[tokio::test]
+async fn an_uploaded_program_runs_through_the_krl_program_and_its_run_command() {
+    let t = start().await;
+    let src = "&ACCESS RVP\nDEF wave()\n  DECL INT i\n  FOR i = 1 TO 3\n    PTP {A1 amp * i}\n  ENDFOR\n  PTP {A1 0}\nEND\n";
+    let dat = "DEFDAT wave\n  DECL REAL amp = 10.0\nENDDAT\n";
+    let (status, v) = t
+        .post_json(
+            "/api/v1/programs",
+            &json!({"name": "wave", "src": src, "dat": dat}),
+        )
+        .await;
+    assert_eq!(status, 201, "{v}");
+    let krc = t.service.krc.clone().expect("krc");
+    let (status, job) = t.post_json("/api/v1/programs/wave/run", &json!({})).await;
+    assert_eq!(status, 200, "{job}");
+    assert_eq!(job["state"], "done", "{job}\n{:?}", krc.snapshot());
+    // The Submit side selected the module through $CMD with the public
+    // RUN path, and the robot interpreter ran it to A1 = 0 again.
+    let snap = krc.snapshot();
+    assert!(
+        snap.commands.iter().any(|c| c.starts_with("RUN /R1/kbu")),
+        "{snap:?}"
+    );
+    assert!(snap.axes[0].abs() < 0.01, "{snap:?}");
+    // kb_main is selected again afterwards, ready for the next command.
+    let (status, v) = wait_for(
+        Duration::from_secs(10),
+        "getpos after the program",
+        async || {
+            let (s, v) = t.post("/krl/getpos").await;
+            if s == 200 {
+                Ok((s, v))
+            } else {
+                Err(format!("{s} {v}"))
+            }
+        },
+    )
+    .await;
+    assert_eq!((status, &v["statuscode"]), (200, &json!(1)), "{v}");
+    t.service.shutdown().await.expect("shutdown");
+}
