@@ -40,11 +40,10 @@ async fn thesis_endpoints_drive_the_shipped_krl_program() {
     assert_close(p[0], 355.0, 0.01, "home x");
     assert_close(p[2], 625.0, 0.01, "home z");
 
-    // The pen-down pose with A5 negative (Status 6): the KRL program keeps
-    // the current Status when none is given, and at home (A5 = 0) that is
-    // Status 2, A5 ≥ 0, which this pose only reaches with A4 beyond its
-    // limit (docs/CONTROLLER.md, "The KRC-like runtime").
-    let (status, v) = t.post("/krl/ptp?x=200&y=0&z=70&a=0&b=180&c=0&s=6").await;
+    // The thesis's pen-down pose without Status: from home (A5 = 0 exactly,
+    // Status bit 2 undefined) it needs A5 < 0 (docs/CONTROLLER.md
+    // changelog, 2026-11-26).
+    let (status, v) = t.post("/krl/ptp?x=200&y=0&z=70&a=0&b=180&c=0").await;
     assert_eq!((status, &v["statuscode"]), (200, &json!(1)), "{v}");
     let p = thesis_position(&v);
     assert_close(p[0], 200.0, 0.01, "x");
@@ -76,7 +75,7 @@ async fn a_v1_batch_plays_as_one_blended_chain_on_the_krl_program() {
     let krc = t.service.krc.clone().expect("krc");
     let (s, v) = t
         .motions(json!([
-            {"type": "ptp", "target": {"x": 200, "y": 0, "z": 70, "a": 0, "b": 180, "c": 0, "s": 6}}
+            {"type": "ptp", "target": {"x": 200, "y": 0, "z": 70, "a": 0, "b": 180, "c": 0}}
         ]))
         .await;
     assert_eq!(s, 200, "{v}");

@@ -30,6 +30,13 @@ pub struct KrcConfig {
     /// pass that needs more than one whole slice counts as an overrun. KUKA publishes no figure: an assumption, to be changed
     /// when measured on a controller.
     pub submit_budget: u64,
+    /// Most passes of the Submit loop begun in one cycle (0 = no limit).
+    /// A real Submit loop may run a short pass several times per cycle;
+    /// they would see the same `$ROB_TIMER` and do nothing new, so the
+    /// runtime runs one (default) and spends no time on the rest. It
+    /// changes how often an idle loop looks at the command file (once a
+    /// cycle), not what a pass costs.
+    pub submit_passes_per_cycle: u32,
     /// Statements the robot interpreter may run per cycle.
     pub robot_budget: u64,
     /// Simulated seconds per wall-clock second: 1.0 = real time, 0 = as
@@ -67,6 +74,7 @@ impl KrcConfig {
             start_axes: None,
             cycle: Duration::from_millis(12),
             submit_budget: 500,
+            submit_passes_per_cycle: 1,
             robot_budget: 5_000,
             time_scale: 1.0,
             plan: PlanSettings::default(),

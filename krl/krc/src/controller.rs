@@ -11,7 +11,7 @@ use kuka_kinematics::Axes;
 use serde::Serialize;
 
 use crate::config::KrcConfig;
-use crate::scheduler::Scheduler;
+use crate::scheduler::{KrcTraceSample, Scheduler};
 
 /// Errors starting the runtime.
 #[derive(Debug, thiserror::Error)]
@@ -219,6 +219,31 @@ impl KrcController {
     /// not exist.
     pub fn variable(&self, name: &str) -> Option<String> {
         self.lock().vars.as_ref()?.describe(name)
+    }
+
+    /// The executed path since the start (or the last [`clear_trace`]),
+    /// oldest first: a sample per cycle in motion, stops marked.
+    ///
+    /// [`clear_trace`]: KrcController::clear_trace
+    pub fn trace(&self) -> Vec<KrcTraceSample> {
+        self.lock().trace.iter().copied().collect()
+    }
+
+    /// Empties the trace.
+    pub fn clear_trace(&self) {
+        self.lock().trace.clear();
+    }
+
+    /// What the operator (or the PLC's AUTOEXT fold) does after an error
+    /// stop: acknowledge the stop message (`$STOPMESS`), cancel the halted
+    /// program, select and start kb_main.
+    pub fn operator_restart(&self) {
+        self.lock().operator_restart();
+    }
+
+    /// Whether a stop message waits for acknowledgement (`$STOPMESS`).
+    pub fn stop_message(&self) -> bool {
+        self.lock().stopmess
     }
 
     /// Runs `f` between two cycles, with the controller time (ms) of the

@@ -71,6 +71,9 @@ pub(crate) struct Executor {
     pub(crate) chains_started: u64,
     /// Errors of motions, oldest first (bounded).
     pub(crate) failures: Vec<MotionFailure>,
+    /// A motion failed since the scheduler last looked: the robot stopped
+    /// (the scheduler puts the program into an error stop).
+    pub(crate) failed: bool,
 }
 
 impl Executor {
@@ -89,6 +92,7 @@ impl Executor {
             motions_done: 0,
             chains_started: 0,
             failures: Vec::new(),
+            failed: false,
         }
     }
 
@@ -180,12 +184,19 @@ impl Executor {
                 if self.failures.len() > 100 {
                     self.failures.remove(0);
                 }
-                // The rest of the queue is not played after an error.
+                // The robot stops where the motion failed; nothing queued
+                // is played, no trigger of the rest fires (a KRC's error
+                // stop). The program halts with a stop message.
                 self.queue.clear();
+                self.failed = true;
+                self.motions_done += k as u64;
+                self.chain = None;
+                self.motion_index = 0;
+                return fired;
             }
             self.motions_done += chain.motions.len() as u64;
-            // Triggers not reached (e.g. an error) fire now, so that the
-            // program's bookkeeping goes on.
+            // Triggers not reached by the path (e.g. a DELAY past the end)
+            // fire now, so that the program's bookkeeping goes on.
             for list in &chain.triggers {
                 for tr in list {
                     if !chain.fired.contains(&tr.id) {

@@ -42,3 +42,4 @@ mod scheduler;
 pub use config::KrcConfig;
 pub use controller::{KrcController, KrcError, KrcSnapshot, KrcStats};
 pub use modules::{KRL_FILES, shipped_program};
+pub use scheduler::KrcTraceSample;

@@ -89,6 +89,12 @@ pub(crate) struct Port {
     pub(crate) passes: Option<Arc<Mutex<PassStats>>>,
     /// File functions called, by name (lower case).
     pub(crate) file_calls: Arc<Mutex<BTreeMap<String, u64>>>,
+    /// Most passes of the Submit loop begun in one cycle (0 = no limit).
+    pub(crate) max_passes: u32,
+    /// Passes begun in this cycle.
+    pub(crate) passes_this_cycle: u32,
+    /// A pass was held back to the next cycle by `max_passes`.
+    pub(crate) deferred: bool,
 }
 
 impl Port {
@@ -108,6 +114,8 @@ impl Port {
         *vars = r.vars;
         if r.new_cycle {
             self.left = self.budget;
+            self.passes_this_cycle = u32::from(self.deferred);
+            self.deferred = false;
         }
         Ok(Turn {
             ready: r.ready,
@@ -164,6 +172,13 @@ impl Host for Port {
             && routine.eq_ignore_ascii_case("kb_submit_cycle")
         {
             p.lock().unwrap_or_else(|e| e.into_inner()).pass_starts();
+            if self.max_passes > 0 && self.passes_this_cycle >= self.max_passes {
+                // This pass begins in the next cycle.
+                self.left = 0;
+                self.deferred = true;
+            } else {
+                self.passes_this_cycle += 1;
+            }
         }
     }
 

@@ -86,6 +86,33 @@ pub(crate) struct Scheduler {
     /// The robot program reached its END while the robot still moves:
     /// `$PRO_STATE1` becomes `#P_END` when the last motion is done.
     end_pending: bool,
+    /// `$STOPMESS`: a stop message waits for acknowledgement (a motion
+    /// failed).
+    pub(crate) stopmess: bool,
+    /// The executed path, one sample per cycle in motion and one where
+    /// the robot came to a standstill (oldest dropped beyond
+    /// `trace_capacity`).
+    pub(crate) trace: VecDeque<KrcTraceSample>,
+    /// The robot moved in the last cycle.
+    was_moving: bool,
+}
+
+/// One cycle of the executed path.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct KrcTraceSample {
+    /// Controller time in seconds (standstill counts).
+    pub t: f64,
+    /// The command the KRL program was running (`kb_run_cid`; 0: none).
+    pub cid: i64,
+    /// Index of the motion being played within its blended chain.
+    pub motion: usize,
+    /// TCP `[x, y, z, a, b, c]` with the motion's tool and base.
+    pub pose: [f64; 6],
+    /// Axis angles A1..A6.
+    pub axes: [f64; 6],
+    /// The robot stands still from here on (an exact stop, the end of a
+    /// batch, an error stop): the trace marks every stop.
+    pub stop: bool,
 }
 
 impl Scheduler {
@@ -114,6 +141,9 @@ impl Scheduler {
             commands: VecDeque::new(),
             generation: 0,
             end_pending: false,
+            stopmess: false,
+            trace: VecDeque::new(),
+            was_moving: false,
         })
     }
 
@@ -172,6 +202,9 @@ impl Scheduler {
             left: 0,
             passes: (who == Who::Submit).then(|| self.passes.clone()),
             file_calls: self.file_calls.clone(),
+            max_passes: self.config.submit_passes_per_cycle,
+            passes_this_cycle: 0,
+            deferred: false,
         };
         let tx = self.tx.clone();
         let model = self.config.model.clone();
@@ -438,6 +471,14 @@ impl Scheduler {
             if self.pro_state != ProState::Free && self.pro_state != ProState::End {
                 return;
             }
+            if self.stopmess {
+                // A KRC starts no program while a stop message waits.
+                tracing::info!(
+                    command = t,
+                    "KRC runtime: RUN refused: acknowledge the stop message first"
+                );
+                return;
+            }
             let program = if module == "kb_main" {
                 Ok(self.program.clone())
             } else {
@@ -462,6 +503,42 @@ impl Scheduler {
         }
     }
 
+    /// Adds this cycle to the trace: a sample while moving, and one
+    /// marked `stop` when the robot has just come to a standstill.
+    fn record_trace(&mut self) {
+        let moving = self.exec.moving();
+        if !moving && !self.was_moving {
+            return;
+        }
+        self.was_moving = moving;
+        let p = self.exec.pose();
+        let cid = self
+            .vars
+            .as_ref()
+            .and_then(|v| v.int("KB_RUN_CID", &[]))
+            .unwrap_or(0);
+        self.trace.push_back(KrcTraceSample {
+            t: self.t_ms as f64 / 1000.0,
+            cid,
+            motion: self.exec.motion_index,
+            pose: [p.x, p.y, p.z, p.a, p.b, p.c],
+            axes: self.exec.axes,
+            stop: !moving,
+        });
+        while self.trace.len() > self.config.trace_capacity.max(1) {
+            self.trace.pop_front();
+        }
+    }
+
+    /// What the operator (or the PLC's AUTOEXT fold) does after an error
+    /// stop: acknowledge the messages, select and start kb_main.
+    pub(crate) fn operator_restart(&mut self) {
+        self.stopmess = false;
+        self.command("CANCEL 1");
+        let run = format!("RUN {}kb_main()", self.config.run_prefix);
+        self.command(&run);
+    }
+
     /// The system variables the controller maintains.
     fn sync_sysvars(&mut self) {
         let mode = self.config.mode.clone();
@@ -479,6 +556,7 @@ impl Scheduler {
         v.set_chars("$PRO_NAME1", &name, 24);
         v.set_enum("$MODE_OP", &mode);
         v.set_bool("$POWER_FAIL", false);
+        v.set_bool("$STOPMESS", self.stopmess);
         if !v.has("$IPO_MODE") {
             v.set_enum("$IPO_MODE", "BASE");
         }
@@ -511,6 +589,17 @@ impl Scheduler {
         }
         let fired = self.exec.advance(dt);
         self.fired.extend(fired);
+        self.record_trace();
+        if std::mem::take(&mut self.exec.failed) {
+            // Error stop: the robot program halts with a stop message until
+            // it is acknowledged and started again (or cancelled).
+            self.stopmess = true;
+            self.end_pending = false;
+            if self.pro_state == ProState::Active {
+                self.pro_state = ProState::Stop;
+            }
+            tracing::info!(program = %self.pro_name, "KRC runtime: motion error, error stop");
+        }
         if self.end_pending && self.exec.idle() {
             self.end_pending = false;
             self.pro_state = ProState::End;

@@ -125,6 +125,7 @@ fn the_shipped_program_answers_through_the_channel_files() {
         })
         .collect();
     let before = krc.stats();
+    krc.clear_trace();
     let r = round_trip(&krc, dir.path(), 2, Command::Move(square), 20);
     assert_eq!(
         (r.code, r.completed),
@@ -144,6 +145,69 @@ fn the_shipped_program_answers_through_the_channel_files() {
         "the four blended LINs play as one chain (no exact stop): {after:?}"
     );
     assert!(after.motion_errors.is_empty(), "{after:?}");
+    // The trace marks one stop: at the end of the batch.
+    let trace = krc.trace();
+    assert_eq!(
+        trace.iter().filter(|s| s.stop).count(),
+        1,
+        "{:?}",
+        trace.last()
+    );
+    assert!(
+        trace.last().is_some_and(|s| s.stop),
+        "the last sample is the stop"
+    );
+
+    // A square with exact stops, away from the wrist singularity of the
+    // home pose (A5 = 0): four stops, and the clock counts the standstill
+    // between the motions (the trace has gaps).
+    let start = [0.0, -80.0, 80.0, 0.0, 30.0, 0.0];
+    let r = round_trip(
+        &krc,
+        dir.path(),
+        3,
+        Command::Move(vec![MotionRecord::PtpAxes {
+            axes: start,
+            params: MotionParams {
+                velocity: 50.0,
+                acceleration_pct: 100.0,
+                approx_mm: 0.0,
+            },
+        }]),
+        20,
+    );
+    assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+    let p = model.forward(
+        &start,
+        &kuka_kinematics::Pose::IDENTITY,
+        &kuka_kinematics::Pose::IDENTITY,
+    );
+    let exact: Vec<MotionRecord> = [(30.0, 0.0), (30.0, 30.0), (0.0, 30.0), (0.0, 0.0)]
+        .iter()
+        .map(|(dx, dy)| MotionRecord::Lin {
+            target: Frame {
+                x: p.x + dx,
+                y: p.y + dy,
+                z: p.z,
+                a: p.a,
+                b: p.b,
+                c: p.c,
+            },
+            params: params(0.0),
+        })
+        .collect();
+    krc.clear_trace();
+    let standstill_before = krc.stats().standstill_cycles;
+    let r = round_trip(&krc, dir.path(), 4, Command::Move(exact), 20);
+    assert_eq!((r.code, r.completed), (ResultCode::Ok, 4), "{r:?}");
+    let trace = krc.trace();
+    assert_eq!(trace.iter().filter(|s| s.stop).count(), 4, "{trace:?}");
+    let gaps = trace
+        .windows(2)
+        .filter(|w| w[0].stop && w[1].t - w[0].t > 0.011)
+        .count();
+    assert_eq!(gaps, 3, "standstill between the motions: {trace:?}");
+    assert!(krc.stats().standstill_cycles >= standstill_before + 3);
     // The cost is measured, not yet within budget: a pass that handles a
     // command runs far more statements than an idle pass (the figures and
     // the goal are in docs/BENCHMARKS.md, `cargo run -p kuka-krc --example
