@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use kuka_bridge::app::Service;
-use kuka_bridge::config::Config;
+use kuka_bridge::config::{Config, SimulatorKind};
 use serde_json::Value;
 
 pub mod browser;
@@ -43,6 +43,33 @@ impl Default for Options {
     }
 }
 
+/// The simulated controller the tests embed: `KB_TEST_SIMULATOR=krc` runs
+/// them on the shipped KRL program in the KRC-like runtime (`.ci/run` runs
+/// the HTTP suites with both); `native` or unset: the native simulator.
+pub fn test_simulator() -> SimulatorKind {
+    match std::env::var("KB_TEST_SIMULATOR").as_deref() {
+        Ok("krc") => SimulatorKind::Krc,
+        Ok("native") | Err(_) => SimulatorKind::Native,
+        Ok(other) => panic!("KB_TEST_SIMULATOR={other}: use native or krc"),
+    }
+}
+
+/// One sample of the executed path, from whichever simulated controller
+/// runs (native: per IPO step; krc: per interpreter cycle).
+#[derive(Debug, Clone, Copy)]
+pub struct Sample {
+    /// Simulated seconds (native: time in motion; krc: controller time).
+    pub t: f64,
+    /// The command that moved the robot.
+    pub cid: i64,
+    /// Motion index within that command's batch.
+    pub motion: usize,
+    /// TCP `[x, y, z, a, b, c]`.
+    pub pose: [f64; 6],
+    /// Axes A1..A6.
+    pub axes: [f64; 6],
+}
+
 /// A config for tests: free port, fast heartbeat and short timeouts.
 pub fn test_config(root: &Path) -> Config {
     let mut c = Config::default();
@@ -67,6 +94,7 @@ impl TestService {
         let mut c = test_config(dirs.path());
         c.simulator.enabled = opts.simulate;
         c.simulator.time_scale = opts.time_scale;
+        c.simulator.kind = test_simulator();
         (opts.tweak)(&mut c);
         Self::start_with(c, dirs).await
     }
@@ -99,6 +127,52 @@ impl TestService {
         };
         t.wait_online().await;
         t
+    }
+
+    /// The executed path so far, oldest first.
+    pub fn trace(&self) -> Vec<Sample> {
+        if let Some(sim) = &self.service.sim {
+            return sim
+                .trace()
+                .iter()
+                .map(|s| Sample {
+                    t: s.t,
+                    cid: s.cid.into(),
+                    motion: s.motion,
+                    pose: s.pose,
+                    axes: s.axes,
+                })
+                .collect();
+        }
+        let krc = self.service.krc.as_ref().expect("a simulated controller");
+        krc.trace()
+            .iter()
+            .map(|s| Sample {
+                t: s.t,
+                cid: s.cid,
+                motion: s.motion,
+                pose: s.pose,
+                axes: s.axes,
+            })
+            .collect()
+    }
+
+    /// Empties the trace.
+    pub fn clear_trace(&self) {
+        match (&self.service.sim, &self.service.krc) {
+            (Some(sim), _) => sim.clear_trace(),
+            (None, Some(krc)) => krc.clear_trace(),
+            (None, None) => panic!("no simulated controller"),
+        }
+    }
+
+    /// Simulated seconds the robot has spent moving.
+    pub fn moving_s(&self) -> f64 {
+        match (&self.service.sim, &self.service.krc) {
+            (Some(sim), _) => sim.snapshot().sim_time_s,
+            (None, Some(krc)) => krc.stats().moving_s,
+            (None, None) => panic!("no simulated controller"),
+        }
     }
 
     /// The channel directory.

@@ -2,7 +2,8 @@
 //! controller, runs on the simulated controller through the file protocol
 //! (a fresh module per run), and the thesis's `/krl/uploadfile`.
 
-use kuka_bridge_tests::{Options, TestService, assert_close, thesis_position};
+use kuka_bridge::config::SimulatorKind;
+use kuka_bridge_tests::{Options, TestService, assert_close, test_simulator, thesis_position};
 use serde_json::json;
 
 /// The thesis's upload example (listing 4.11) with the middle point's Y
@@ -37,8 +38,7 @@ fn cmd_file(t: &TestService) -> Option<String> {
 
 /// The trace points of the last run, as (x, y, z).
 fn trace_xyz(t: &TestService) -> Vec<[f64; 3]> {
-    let sim = t.service.sim.as_ref().expect("sim");
-    sim.trace()
+    t.trace()
         .iter()
         .map(|s| [s.pose[0], s.pose[1], s.pose[2]])
         .collect()
@@ -66,12 +66,11 @@ fn passes_near(trace: &[[f64; 3]], p: [f64; 3], tol: f64) -> bool {
 #[tokio::test]
 async fn the_thesis_upload_runs_every_time_with_the_new_code() {
     let t = TestService::start(Options::default()).await;
-    let sim = t.service.sim.as_ref().expect("sim").clone();
     thesis_base(&t).await;
 
     let mut ends = Vec::new();
     for (y_mid, z_end) in [(-50.0, 100.0), (60.0, 120.0)] {
-        sim.clear_trace();
+        t.clear_trace();
         let (status, v) = t
             .post_text("/krl/uploadfile", thesis_spline(y_mid, z_end))
             .await;
@@ -230,15 +229,21 @@ async fn programs_are_stored_run_listed_and_deleted() {
     let (status, job) = t.post_json("/api/v1/programs/wave/run", &json!({})).await;
     assert_eq!(status, 200, "{job}");
     assert_eq!(job["state"], "done");
+    // The native simulator counts the steps; the KRL program cannot count
+    // the statements of an arbitrary program and answers 0 (PROTOCOL.md 6:
+    // 0 if unknown).
+    let steps = match test_simulator() {
+        SimulatorKind::Native => 8,
+        SimulatorKind::Krc => 0,
+    };
     assert_eq!(
-        job["completed"], 8,
+        job["completed"], steps,
         "BCO run + 3 PTP + 3 dwells + 1 PTP: {job}"
     );
     assert_eq!(job["motions"], 8, "the dry run counted them: {job}");
     // The trace visited A1 = 30 (amp from the .dat times 3).
-    let sim = t.service.sim.as_ref().expect("sim");
     assert!(
-        sim.trace().iter().any(|s| (s.axes[0] - 30.0).abs() < 0.01),
+        t.trace().iter().any(|s| (s.axes[0] - 30.0).abs() < 0.01),
         "A1 reached 30"
     );
 
@@ -327,6 +332,35 @@ async fn without_a_robot_model_the_controller_reports_the_failing_line() {
     for (name, src) in [("far", FAR), ("div", DIV)] {
         t.post_json("/api/v1/programs", &json!({"name": name, "src": src}))
             .await;
+    }
+    if let Some(krc) = t.service.krc.clone() {
+        // The KRL program learns only that the module stopped with a
+        // message ($STOPMESS): both fail as program_failed, without a line;
+        // the operator acknowledges and starts kb_main again.
+        for name in ["far", "div"] {
+            let (status, v) = t
+                .post_json(&format!("/api/v1/programs/{name}/run"), &json!({}))
+                .await;
+            assert_eq!(
+                (status, v["code"].as_str()),
+                (409, Some("program_failed")),
+                "{name}: {v}\n{:?}",
+                krc.snapshot()
+            );
+            krc.operator_restart();
+            kuka_bridge_tests::wait_for(kuka_bridge_tests::WAIT, "kb_main back", async || {
+                let (s, v) = t.post("/krl/getpos").await;
+                if s == 200 {
+                    Ok(())
+                } else {
+                    Err(format!("{s} {v}"))
+                }
+            })
+            .await;
+        }
+        let (status, v) = t.post("/krl/getpos").await;
+        assert_eq!(status, 200, "{v}");
+        return;
     }
     let (status, v) = t.post_json("/api/v1/programs/far/run", &json!({})).await;
     assert_eq!(status, 422, "{v}");
@@ -471,6 +505,37 @@ async fn a_program_that_never_ends_is_refused_by_the_simulator_with_its_line() {
         .post_json("/api/v1/programs", &json!({"name": "cyc", "src": src}))
         .await;
     assert_eq!(status, 201, "{v}");
+    if t.service.krc.is_some() {
+        // A KRC runs it until it is stopped, as the shipped KRL program does.
+        let (status, job) = t
+            .post_json("/api/v1/programs/cyc/run", &json!({"wait": false}))
+            .await;
+        assert_eq!(status, 202, "{job}");
+        let id = job["id"].as_u64().expect("id");
+        let krc = t.service.krc.clone().expect("krc");
+        t.wait_job(id, "the program running", |j| j["state"] == "executing")
+            .await;
+        kuka_bridge_tests::wait_for(
+            kuka_bridge_tests::WAIT,
+            "two motions of the loop",
+            async || {
+                let n = krc.stats().motions_done;
+                if n >= 4 {
+                    Ok(())
+                } else {
+                    Err(format!("{n} motions"))
+                }
+            },
+        )
+        .await;
+        let (status, v) = t.post("/api/v1/stop").await;
+        assert_eq!(status, 200, "{v}");
+        let j = t
+            .wait_job(id, "the program cancelled", |j| j["state"] != "executing")
+            .await;
+        assert_eq!(j["state"], "cancelled", "{j}");
+        return;
+    }
     let (status, v) = t.post_json("/api/v1/programs/cyc/run", &json!({})).await;
     assert_eq!(
         (status, v["code"].as_str()),

@@ -36,8 +36,7 @@ async fn thesis_motions_move_the_simulated_robot() {
     }
 
     // The simulator really drew a straight line between the two points.
-    let sim = t.service.sim.as_ref().expect("sim");
-    let trace = sim.trace();
+    let trace = t.trace();
     let last_lin: Vec<_> = trace
         .iter()
         .filter(|s| s.cid == trace.last().expect("samples").cid)
@@ -56,7 +55,7 @@ async fn thesis_motions_move_the_simulated_robot() {
     assert_eq!(status, 200, "{v}");
     let p = thesis_position(&v);
     assert_close(p[1], -50.0, 0.01, "circ end y");
-    let trace = sim.trace();
+    let trace = t.trace();
     let circ_cid = trace.last().expect("samples").cid;
     let arc: Vec<_> = trace.iter().filter(|s| s.cid == circ_cid).collect();
     let max_x = arc.iter().map(|s| s.pose[0]).fold(f64::MIN, f64::max);

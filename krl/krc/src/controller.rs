@@ -25,6 +25,10 @@ pub enum KrcError {
         #[source]
         source: std::io::Error,
     },
+    /// Another simulated controller (native or KRC-like) already serves
+    /// the channel.
+    #[error("another simulated controller already serves {0} (its lock file kb_sim.lock is held)")]
+    InUse(String),
     /// The KRL program cannot be loaded or started.
     #[error("KRL program: {0}")]
     Program(String),
@@ -100,6 +104,8 @@ struct Shared {
 pub struct KrcController {
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
+    /// `kb_sim.lock` in the channel folder, held while the runtime runs.
+    _lock: std::fs::File,
 }
 
 impl KrcController {
@@ -109,7 +115,21 @@ impl KrcController {
             path: config.channel_dir.display().to_string(),
             source,
         })?;
-        let _ = std::fs::create_dir_all(&config.program_dir);
+        // Two controllers on one channel would both execute commands: the
+        // same lock file as the native simulator's.
+        let lock_path = config.channel_dir.join("kb_sim.lock");
+        let lock = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&lock_path)
+            .map_err(|source| KrcError::Channel {
+                path: lock_path.display().to_string(),
+                source,
+            })?;
+        if lock.try_lock().is_err() {
+            return Err(KrcError::InUse(config.channel_dir.display().to_string()));
+        }
         let time_scale = config.time_scale;
         let cycle = config.cycle;
         let mut scheduler = Scheduler::new(config).map_err(KrcError::Program)?;
@@ -126,6 +146,7 @@ impl KrcController {
         Ok(KrcController {
             shared,
             thread: Some(thread),
+            _lock: lock,
         })
     }
 

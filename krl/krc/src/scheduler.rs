@@ -104,7 +104,9 @@ pub struct KrcTraceSample {
     pub t: f64,
     /// The command the KRL program was running (`kb_run_cid`; 0: none).
     pub cid: i64,
-    /// Index of the motion being played within its blended chain.
+    /// Index of the motion being played within its batch (0 = first; the
+    /// KRL program's `kb_busy_idx`, set by a TRIGGER at each motion's
+    /// start).
     pub motion: usize,
     /// TCP `[x, y, z, a, b, c]` with the motion's tool and base.
     pub pose: [f64; 6],
@@ -400,7 +402,10 @@ impl Scheduler {
                 self.counters
                     .robot_errors
                     .push(format!("{}: {e}", self.pro_name));
+                // A KRC halts the program with a stop message.
                 self.pro_state = ProState::Stop;
+                self.stopmess = true;
+                self.exec.discard();
             }
             (Who::Submit, Ok(())) => {}
             (Who::Submit, Err(e)) => {
@@ -512,15 +517,17 @@ impl Scheduler {
         }
         self.was_moving = moving;
         let p = self.exec.pose();
-        let cid = self
-            .vars
-            .as_ref()
-            .and_then(|v| v.int("KB_RUN_CID", &[]))
-            .unwrap_or(0);
+        let global = |name: &str| {
+            self.vars
+                .as_ref()
+                .and_then(|v| v.int(name, &[]))
+                .unwrap_or(0)
+        };
+        let (cid, motion) = (global("KB_RUN_CID"), global("KB_BUSY_IDX"));
         self.trace.push_back(KrcTraceSample {
             t: self.t_ms as f64 / 1000.0,
             cid,
-            motion: self.exec.motion_index,
+            motion: usize::try_from(motion).unwrap_or(0),
             pose: [p.x, p.y, p.z, p.a, p.b, p.c],
             axes: self.exec.axes,
             stop: !moving,
