@@ -272,7 +272,29 @@ fn krl_check_lints_files_and_folders() {
     let (code, out) = run(&["--simulator".as_ref(), good.as_os_str()]);
     assert_eq!(code, Some(1), "{out}");
     assert!(
-        out.starts_with(&format!("{}:3:", good.display())) && out.contains("program_unsupported"),
+        out.starts_with(&format!("{}:3:1:", good.display())) && out.contains("program_unsupported"),
+        "{out}"
+    );
+    // A path that names no KRL file fails; a control character in a
+    // message is escaped, not printed.
+    let empty = dir.path().join("empty");
+    std::fs::create_dir_all(&empty).expect("mkdir");
+    let garbage = dir.path().join("garbage.src");
+    std::fs::write(&garbage, b"DEF g()\n  x = \x02\nEND\n").expect("write");
+    let missing = dir.path().join("missing");
+    let (code, out) = run(&[missing.as_os_str(), empty.as_os_str(), garbage.as_os_str()]);
+    assert_eq!(code, Some(1), "{out}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(
+        lines,
+        [
+            format!("{}: no such file or folder", missing.display()),
+            format!(
+                "{}: no KRL files (.src, .sub, .dat) in this folder",
+                empty.display()
+            ),
+            format!("{}:2:7: unexpected character `\\u{{2}}`", garbage.display()),
+        ],
         "{out}"
     );
 }

@@ -112,6 +112,11 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
     let model = config.robot_model()?;
     let dir = config.channel_dir();
     let lock = ServiceLock::acquire(&dir)?;
+    if !config.simulator.enabled && config.simulator.kind != SimulatorKind::Native {
+        tracing::warn!(
+            "simulator.kind is set but simulator.enabled is false: no simulated controller runs (use --simulate or enabled = true)"
+        );
+    }
     let krc = if config.simulator.enabled && config.simulator.kind == SimulatorKind::Krc {
         let mut kc = KrcConfig::new(&dir);
         if let Some(d) = config.program_dir() {
@@ -160,6 +165,9 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
             &config.data_dir.join("programs"),
             config.programs.max_bytes,
             Duration::from_millis(config.programs.run_timeout_ms),
+            // The native simulator's KRL subset, also for the KRC-like
+            // runtime for now (it runs more: $IN/$OUT, interrupts …;
+            // docs/CONTROLLER.md).
             config.simulator.enabled,
         )
         .map_err(|source| AppError::Programs {

@@ -76,15 +76,17 @@ enum Cmd {
 #[derive(Debug, Subcommand)]
 enum KrlCmd {
     /// Check KRL files (.src, .sub, .dat; folders: every KRL file under
-    /// them) as a controller parses them: one `file:line:column: message`
-    /// per problem, exit code 1 if any file has one.
+    /// them) as a controller parses them: the first problem of each file
+    /// as `file:line:column: message`, exit code 1 if any file has one.
     Check {
         /// Files or folders.
         #[arg(required = true)]
         files: Vec<PathBuf>,
-        /// Also check each module (.src with its .dat) as the service does
-        /// before running it on a simulated controller: declared names and
-        /// the KRL the simulator executes.
+        /// Also check each module (.src with its .dat beside it) as the
+        /// service checks an upload before running it on the native
+        /// simulator: declared names and the KRL subset it executes. A
+        /// module that uses globals of other .dat files (as the shipped
+        /// program in krl/KRC does) is reported as not declared.
         #[arg(long)]
         simulator: bool,
     },
@@ -286,8 +288,11 @@ struct RunArgs {
     /// Embed a simulated controller (no robot needed): `native` (the
     /// default: instant answers) or `krc` (the shipped KRL program in the
     /// KRC-like runtime, with its 12 ms Submit cycle).
-    #[arg(long, value_name = "KIND", num_args = 0..=1, default_missing_value = "native", require_equals = false)]
-    simulate: Option<crate::config::SimulatorKind>,
+    /// Without a value: the configuration's `simulator.kind` (native
+    /// unless set).
+    #[arg(long, value_name = "KIND", num_args = 0..=1)]
+    #[allow(clippy::option_option)]
+    simulate: Option<Option<crate::config::SimulatorKind>>,
     /// Listen address, e.g. 0.0.0.0:8080 or localhost:8080 (default
     /// 127.0.0.1:8080); a host name is resolved once, at start.
     #[arg(long, value_parser = crate::config::resolve_listen)]
@@ -456,6 +461,7 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
                     let mut kc = kuka_krc::KrcConfig::new(&args.channel_dir);
                     kc.model = model;
                     kc.time_scale = args.time_scale;
+                    kc.submit_budget = crate::config::SimulatorConfig::default().submit_budget;
                     let krc = kuka_krc::KrcController::start(kc)?;
                     say!(
                         "KRC-like runtime (the shipped KRL program) on {}",
@@ -486,11 +492,16 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
                 out.push('\n');
             }
             write_out(&out)?;
+            let empty = if report.empty > 0 {
+                format!("; {} argument(s) named no KRL file", report.empty)
+            } else {
+                String::new()
+            };
             eprintln!(
-                "{} KRL file(s) checked, {} with problems",
+                "{} KRL file(s) checked, {} with problems{empty}",
                 report.files, report.failed
             );
-            if report.failed > 0 {
+            if report.failed > 0 || report.empty > 0 {
                 return Err(Failure {
                     code: 1,
                     error: anyhow::anyhow!("KRL check failed"),
@@ -568,7 +579,9 @@ fn build_config(args: RunArgs) -> anyhow::Result<Config> {
     }
     if let Some(kind) = args.simulate {
         config.simulator.enabled = true;
-        config.simulator.kind = kind;
+        if let Some(kind) = kind {
+            config.simulator.kind = kind;
+        }
     }
     if let Some(l) = args.listen {
         config.server.listen = l;

@@ -188,7 +188,10 @@ pub struct SimulatorConfig {
     /// `krc` only: the interpreter cycle in ms (a KRC: 12).
     pub cycle_ms: u64,
     /// `krc` only: statements the Submit interpreter runs per cycle (an
-    /// assumption: KUKA publishes no figure; docs/CONTROLLER.md).
+    /// assumption: KUKA publishes no figure; docs/CONTROLLER.md). At 500
+    /// the shipped program misses its heartbeat for seconds while it reads
+    /// a batch of 50 or more motions (docs/BENCHMARKS.md §8), so the
+    /// default is 5,000.
     pub submit_budget: u64,
     /// Simulated seconds per wall second (1 = real time, 0 = instant).
     pub time_scale: f64,
@@ -362,7 +365,7 @@ impl Default for SimulatorConfig {
             enabled: false,
             kind: SimulatorKind::Native,
             cycle_ms: 12,
-            submit_budget: 500,
+            submit_budget: 5_000,
             time_scale: 1.0,
             heartbeat_ms: 50,
         }
@@ -820,6 +823,13 @@ impl SimulatorConfig {
                 ("heartbeat_ms", self.heartbeat_ms, 1),
                 ("cycle_ms", self.cycle_ms, 1),
                 ("submit_budget", self.submit_budget, 1),
+            ],
+        );
+        check_maximums(
+            &mut bad,
+            &[
+                ("cycle_ms", self.cycle_ms, 100),
+                ("submit_budget", self.submit_budget, 10_000_000),
             ],
         );
         if !(self.time_scale.is_finite() && self.time_scale >= 0.0) {

@@ -18,6 +18,9 @@ pub struct Report {
     pub files: usize,
     /// Files with at least one problem.
     pub failed: usize,
+    /// Arguments that name no KRL file: a missing path, a folder without
+    /// KRL files.
+    pub empty: usize,
 }
 
 /// Checks every file (directories: every KRL file under them).
@@ -26,7 +29,20 @@ pub fn run(paths: &[PathBuf], simulator: bool) -> Report {
     let mut report = Report::default();
     for p in paths {
         if p.is_dir() {
+            let before = files.len();
             collect(p, &mut files, &mut report);
+            if files.len() == before {
+                report.problems.push(format!(
+                    "{}: no KRL files (.src, .sub, .dat) in this folder",
+                    p.display()
+                ));
+                report.empty += 1;
+            }
+        } else if !p.exists() {
+            report
+                .problems
+                .push(format!("{}: no such file or folder", p.display()));
+            report.empty += 1;
         } else {
             files.push(p.clone());
         }
@@ -79,7 +95,12 @@ fn check_one(path: &Path, simulator: bool, problems: &mut Vec<String>) {
     };
     let text = decode(&bytes);
     if let Err(e) = check(kind, &text) {
-        problems.push(format!("{shown}:{}:{}: {}", e.line, e.col, e.message));
+        problems.push(format!(
+            "{shown}:{}:{}: {}",
+            e.line,
+            e.col,
+            printable(&e.message)
+        ));
         return;
     }
     if simulator && kind == FileKind::Src {
@@ -109,23 +130,49 @@ fn simulator_check(src_path: &Path, src: &str, problems: &mut Vec<String>) {
         Ok(p) => p,
         Err(kuka_krl::ProgramError::Dat(e)) => {
             let file = dat_path.as_deref().unwrap_or(src_path).display();
-            problems.push(format!("{file}:{}:{}: {}", e.line, e.col, e.message));
+            problems.push(format!(
+                "{file}:{}:{}: {}",
+                e.line,
+                e.col,
+                printable(&e.message)
+            ));
             return;
         }
         Err(e) => {
-            problems.push(format!("{shown}:{}: {e}", e.line().unwrap_or(1)));
+            let line = e.line().unwrap_or(1);
+            let text = e.to_string();
+            let message = text
+                .strip_prefix(&format!("line {line}: "))
+                .unwrap_or(&text);
+            problems.push(format!("{shown}:{line}:1: {}", printable(message)));
             return;
         }
     };
     if let Err(u) = kuka_krl_runtime::names::check_names(&program) {
         problems.push(format!(
-            "{shown}:{}: the variable {} is not declared",
+            "{shown}:{}:1: the variable {} is not declared",
             u.line, u.name
         ));
     } else if let Err(u) = kuka_krl_runtime::interp::check_subset(&program) {
         problems.push(format!(
-            "{shown}:{}: the simulator does not run {} (program_unsupported)",
-            u.line, u.what
+            "{shown}:{}:1: the native simulator does not run {} (program_unsupported)",
+            u.line,
+            printable(&u.what)
         ));
     }
+}
+
+/// `text` with control characters escaped (`\u{2}`, `\0` …): a message
+/// may quote a character of a binary file.
+fn printable(text: &str) -> String {
+    text.chars()
+        .flat_map(|c| {
+            let escaped: Vec<char> = if c.is_control() {
+                c.escape_default().collect()
+            } else {
+                vec![c]
+            };
+            escaped
+        })
+        .collect()
 }
