@@ -144,5 +144,20 @@ async fn an_uploaded_program_runs_through_the_krl_program_and_its_run_command() 
     )
     .await;
     assert_eq!((status, &v["statuscode"]), (200, &json!(1)), "{v}");
+
+    // KRL beyond the native simulator's subset (an output) is accepted and
+    // runs: the upload is checked as a KRC would check it.
+    let src = "DEF io()\n  $OUT[5] = TRUE\n  PTP {A1 5}\nEND\n";
+    let (status, v) = t
+        .post_json("/api/v1/programs", &json!({"name": "io", "src": src}))
+        .await;
+    assert_eq!(
+        (status, &v["simulator_checked"]),
+        (201, &json!(false)),
+        "{v}"
+    );
+    let (status, job) = t.post_json("/api/v1/programs/io/run", &json!({})).await;
+    assert_eq!((status, &job["state"]), (200, &json!("done")), "{job}");
+    assert!((krc.snapshot().axes[0] - 5.0).abs() < 0.01);
     t.service.shutdown().await.expect("shutdown");
 }

@@ -99,7 +99,7 @@ pub struct ProgramStore {
     dir: PathBuf,
     max_bytes: usize,
     run_timeout: std::time::Duration,
-    simulated: bool,
+    check: UploadCheck,
     programs: RwLock<BTreeMap<String, Arc<StoredProgram>>>,
 }
 
@@ -156,21 +156,35 @@ pub fn program_error(e: &ProgramError) -> BridgeError {
     }
 }
 
+/// How much an upload is checked beyond its syntax and entry point, by the
+/// controller that will run it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UploadCheck {
+    /// A real controller: syntax and entry point only (it runs all of KRL
+    /// and knows names the service cannot see).
+    Syntax,
+    /// The KRC-like runtime: also every name declared, as a KRC's compiler
+    /// wants it.
+    Declared,
+    /// The native simulator: also declared names and its KRL subset.
+    NativeSubset,
+}
+
 impl ProgramStore {
-    /// Opens (creating) the store folder and loads the programs in it.
-    /// `simulated`: also check uploads against the simulator's KRL subset.
+    /// Opens (creating) the store folder and loads the programs in it;
+    /// `check` says how uploads are checked.
     pub fn open(
         dir: &Path,
         max_bytes: usize,
         run_timeout: std::time::Duration,
-        simulated: bool,
+        check: UploadCheck,
     ) -> std::io::Result<Self> {
         std::fs::create_dir_all(dir)?;
         let store = ProgramStore {
             dir: dir.to_path_buf(),
             max_bytes,
             run_timeout,
-            simulated,
+            check,
             programs: RwLock::new(BTreeMap::new()),
         };
         for entry in std::fs::read_dir(dir)?.flatten() {
@@ -254,10 +268,12 @@ impl ProgramStore {
             )
             .at_line("src", routine.line));
         }
-        if self.simulated {
+        if self.check != UploadCheck::Syntax {
             kuka_krl_runtime::names::check_names(&program).map_err(|u| {
                 BridgeError::new(ErrorCode::InvalidProgram, u.to_string()).at_line("src", u.line)
             })?;
+        }
+        if self.check == UploadCheck::NativeSubset {
             kuka_krl_runtime::interp::check_subset(&program).map_err(|u| {
                 BridgeError::new(ErrorCode::ProgramUnsupported, u.to_string())
                     .at_line("src", u.line)
@@ -274,7 +290,7 @@ impl ProgramStore {
             dat_lines: upload.dat.as_deref().map(count_lines),
             bytes,
             uploaded_ms: now_ms(),
-            simulator_checked: self.simulated,
+            simulator_checked: self.check == UploadCheck::NativeSubset,
         };
         Ok((program, info))
     }

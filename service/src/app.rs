@@ -165,10 +165,11 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
             &config.data_dir.join("programs"),
             config.programs.max_bytes,
             Duration::from_millis(config.programs.run_timeout_ms),
-            // The native simulator's KRL subset, also for the KRC-like
-            // runtime for now (it runs more: $IN/$OUT, interrupts …;
-            // docs/CONTROLLER.md).
-            config.simulator.enabled,
+            match (config.simulator.enabled, config.simulator.kind) {
+                (false, _) => crate::programs::UploadCheck::Syntax,
+                (true, SimulatorKind::Krc) => crate::programs::UploadCheck::Declared,
+                (true, SimulatorKind::Native) => crate::programs::UploadCheck::NativeSubset,
+            },
         )
         .map_err(|source| AppError::Programs {
             path: config.data_dir.join("programs").display().to_string(),
