@@ -169,11 +169,10 @@ async fn paused_embedded_controller_times_out_then_recovers() {
         ..Options::default()
     })
     .await;
-    let sim = t.service.sim.clone().expect("sim");
     let (_, job) = t.post_json("/api/v1/motions", &slow_motion()).await;
     let id = job["id"].as_u64().expect("id");
     wait_job_state(&t, id, false, "executing", Duration::from_secs(5)).await;
-    sim.pause();
+    t.pause_controller();
     let started = Instant::now();
     // A synchronous request queued behind it fails too, and does not hang.
     let (s, v) = t.post("/krl/getpos").await;
@@ -185,7 +184,7 @@ async fn paused_embedded_controller_times_out_then_recovers() {
     );
     let j = wait_job_state(&t, id, true, "failed", Duration::from_secs(5)).await;
     assert_eq!(j["error"]["code"], "timeout", "{j}");
-    sim.resume();
+    t.resume_controller();
     t.wait_connection("online").await;
     let (s, _) = t.post("/krl/getpos").await;
     assert_eq!(s, 200);
@@ -601,8 +600,7 @@ async fn idle_service_does_not_spin() {
 #[tokio::test]
 async fn stop_superseding_an_unread_command_cancels_it() {
     let t = std::sync::Arc::new(TestService::start(Options::default()).await);
-    let sim = t.service.sim.clone().expect("sim");
-    sim.pause();
+    t.pause_controller();
     let (s, job) = t.post_json("/api/v1/motions", &slow_motion()).await;
     assert_eq!(s, 202, "{job}");
     let id = job["id"].as_u64().expect("id");
@@ -611,13 +609,13 @@ async fn stop_superseding_an_unread_command_cancels_it() {
     let stop = tokio::spawn(async move { t2.post("/api/v1/stop").await });
     // The STOP has replaced the unread motion before the controller resumes.
     stop_in_command_file(&t.channel_dir()).await;
-    sim.resume();
+    t.resume_controller();
     let (s, v) = stop.await.expect("stop task");
     assert_eq!(s, 200, "{v}");
     let j = wait_job_state(&t, id, true, "cancelled", Duration::from_secs(2)).await;
     assert_eq!(j["state"], "cancelled", "{j}");
     assert_close(
-        sim.snapshot().axes[0],
+        t.controller_axes()[0],
         0.0,
         1e-9,
         "the superseded motion never ran",

@@ -157,6 +157,33 @@ impl TestService {
             .collect()
     }
 
+    /// Freezes the simulated controller (a hung controller).
+    pub fn pause_controller(&self) {
+        match (&self.service.sim, &self.service.krc) {
+            (Some(sim), _) => sim.pause(),
+            (None, Some(krc)) => krc.pause(),
+            (None, None) => panic!("no simulated controller"),
+        }
+    }
+
+    /// Ends [`pause_controller`](Self::pause_controller).
+    pub fn resume_controller(&self) {
+        match (&self.service.sim, &self.service.krc) {
+            (Some(sim), _) => sim.resume(),
+            (None, Some(krc)) => krc.resume(),
+            (None, None) => panic!("no simulated controller"),
+        }
+    }
+
+    /// The simulated robot's axes now.
+    pub fn controller_axes(&self) -> [f64; 6] {
+        match (&self.service.sim, &self.service.krc) {
+            (Some(sim), _) => sim.snapshot().axes,
+            (None, Some(krc)) => krc.snapshot().axes,
+            (None, None) => panic!("no simulated controller"),
+        }
+    }
+
     /// Empties the trace.
     pub fn clear_trace(&self) {
         match (&self.service.sim, &self.service.krc) {

@@ -98,6 +98,8 @@ pub struct KrcStats {
 struct Shared {
     scheduler: Mutex<Scheduler>,
     shutdown: AtomicBool,
+    /// The controller is frozen (tests of a hung controller).
+    paused: AtomicBool,
 }
 
 /// A running KRC-like runtime. Dropping it stops the thread.
@@ -137,6 +139,7 @@ impl KrcController {
         let shared = Arc::new(Shared {
             scheduler: Mutex::new(scheduler),
             shutdown: AtomicBool::new(false),
+            paused: AtomicBool::new(false),
         });
         let s = shared.clone();
         let thread = std::thread::Builder::new()
@@ -267,6 +270,18 @@ impl KrcController {
         self.lock().stopmess
     }
 
+    /// Freezes the controller: no interpreter runs, no file is read or
+    /// written, until [`resume`](Self::resume) (a hung controller, for
+    /// tests).
+    pub fn pause(&self) {
+        self.shared.paused.store(true, Ordering::SeqCst);
+    }
+
+    /// Ends a [`pause`](Self::pause).
+    pub fn resume(&self) {
+        self.shared.paused.store(false, Ordering::SeqCst);
+    }
+
     /// Runs `f` between two cycles, with the controller time (ms) of the
     /// last one: nothing runs on the controller meanwhile, so a command
     /// file written in `f` appears at a known time.
@@ -298,9 +313,17 @@ impl Drop for KrcController {
 /// The clock thread: a cycle, then wait for its simulated time to pass
 /// in wall time (scaled).
 fn clock(shared: &Shared, cycle: Duration, time_scale: f64) {
-    let started = Instant::now();
+    let mut started = Instant::now();
     let mut simulated = Duration::ZERO;
     while !shared.shutdown.load(Ordering::Relaxed) {
+        if shared.paused.load(Ordering::Relaxed) {
+            // Frozen: no cycle, no file touched; real time passes without
+            // the controller's.
+            std::thread::sleep(Duration::from_millis(1));
+            started = Instant::now();
+            simulated = Duration::ZERO;
+            continue;
+        }
         shared
             .scheduler
             .lock()
