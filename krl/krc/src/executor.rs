@@ -27,6 +27,18 @@ struct Queued {
 }
 
 /// Motions being played.
+/// Plans a chain's motions from its start (again, when motions joined).
+fn plan_chain(model: &RobotModel, settings: &PlanSettings, chain: &Chain) -> Execution {
+    plan::plan(
+        model,
+        &chain.start,
+        &chain.tool,
+        &chain.base,
+        &chain.motions,
+        settings,
+    )
+}
+
 struct Chain {
     start: Axes,
     tool: Pose,
@@ -239,14 +251,7 @@ impl Executor {
                 };
                 self.chains_started += 1;
                 Self::extend(&mut chain, &mut self.queue);
-                chain.exec = plan::plan(
-                    &self.model,
-                    &chain.start,
-                    &chain.tool,
-                    &chain.base,
-                    &chain.motions,
-                    &self.settings,
-                );
+                chain.exec = plan_chain(&self.model, &self.settings, &chain);
                 self.motion_index = 0;
                 self.chain = Some(chain);
             }
@@ -256,14 +261,7 @@ impl Executor {
                 if self.motion_index + 1 < chain.motions.len()
                     && Self::extend(chain, &mut self.queue)
                 {
-                    chain.exec = plan::plan(
-                        &self.model,
-                        &chain.start,
-                        &chain.tool,
-                        &chain.base,
-                        &chain.motions,
-                        &self.settings,
-                    );
+                    chain.exec = plan_chain(&self.model, &self.settings, chain);
                 }
             }
         }

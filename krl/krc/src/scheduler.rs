@@ -47,6 +47,22 @@ struct Interpreter {
     generation: u64,
 }
 
+impl Interpreter {
+    /// Ends its thread: the next turn it waits for answers "cancelled".
+    fn cancel(mut self) {
+        let _ = self.to.send(Resume {
+            vars: Globals::default(),
+            ready: false,
+            new_cycle: false,
+            fired: Vec::new(),
+            cancel: true,
+        });
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
 /// What one run of the scheduler has seen (the controller's statistics).
 #[derive(Debug, Default, Clone)]
 pub(crate) struct Counters {
@@ -417,24 +433,12 @@ impl Scheduler {
 
     /// Cancels the robot program (`CANCEL 1`, a new `RUN`, shutdown).
     fn cancel_robot(&mut self) {
-        if let Some(mut i) = self.robot.take() {
-            let _ = i.to.send(Resume {
-                vars: Globals::default(),
-                ready: false,
-                new_cycle: false,
-                fired: Vec::new(),
-                cancel: true,
-            });
-            if let Some(t) = i.thread.take() {
-                let _ = t.join();
-            }
+        if let Some(i) = self.robot.take() {
+            i.cancel();
         }
-        // Its Ended message is stale now.
-        while let Ok(m) = self.rx.try_recv() {
-            if let Msg::Motion { .. } | Msg::Discard = m {
-                // A cancelled program's last motions are not played.
-            }
-        }
+        // Its last messages (motions, Ended) are stale now: a cancelled
+        // program's motions are not played.
+        while self.rx.try_recv().is_ok() {}
         self.exec.discard();
         self.end_pending = false;
         self.pro_state = ProState::Free;
@@ -444,17 +448,8 @@ impl Scheduler {
     /// Cancels everything (shutdown).
     pub(crate) fn stop_all(&mut self) {
         self.cancel_robot();
-        if let Some(mut i) = self.submit.take() {
-            let _ = i.to.send(Resume {
-                vars: Globals::default(),
-                ready: false,
-                new_cycle: false,
-                fired: Vec::new(),
-                cancel: true,
-            });
-            if let Some(t) = i.thread.take() {
-                let _ = t.join();
-            }
+        if let Some(i) = self.submit.take() {
+            i.cancel();
         }
     }
 
