@@ -8,8 +8,9 @@
 
 use std::time::Duration;
 
+use kuka_bridge::config::SimulatorKind;
 use kuka_bridge_tests::browser::Browser;
-use kuka_bridge_tests::{Options, TestService, initial_admin_secret};
+use kuka_bridge_tests::{Options, TestService, initial_admin_secret, test_simulator};
 use serde_json::{Value, json};
 
 /// Generous for a loaded CI machine running a debug build and a software-rendered browser.
@@ -828,16 +829,26 @@ async fn controller_errors_and_offline_are_shown() {
     let Some(browser) = Browser::start().await else {
         return;
     };
-    let t = TestService::start(Options::default()).await;
+    // The shipped KRL program (`KB_TEST_SIMULATOR=krc`) enters its error
+    // state only through a real error stop, which the dry run prevents.
+    let krc = test_simulator() == SimulatorKind::Krc;
+    let t = TestService::start(Options {
+        tweak: Box::new(move |c| {
+            if krc {
+                c.robot.model = "none".into();
+            }
+        }),
+        ..Options::default()
+    })
+    .await;
     open(&browser, &t).await;
-    let sim = t.service.sim.as_ref().expect("simulator");
     assert_eq!(
         browser
             .eval("return document.getElementById('alarm-bar').hidden;")
             .await,
         true
     );
-    sim.inject_error(kuka_protocol::ResultCode::ControllerError, 0);
+    t.provoke_controller_error().await;
     let (_, state) = {
         let mut last = (0, Value::Null);
         for _ in 0..200 {
@@ -875,7 +886,7 @@ async fn controller_errors_and_offline_are_shown() {
     let (_, state) = t.get("/api/v1/state").await;
     assert!(state["controller"]["error"].is_null(), "{state}");
 
-    sim.pause();
+    t.pause_controller();
     browser
         .wait_js(
             "document.getElementById('connection').textContent === 'offline' && document.getElementById('alarm').textContent.includes('controller_offline')",
@@ -883,7 +894,7 @@ async fn controller_errors_and_offline_are_shown() {
             "offline shown",
         )
         .await;
-    sim.resume();
+    t.resume_controller();
     browser
         .wait_js(
             "document.getElementById('connection').textContent === 'online' && document.getElementById('alarm-bar').hidden",
@@ -949,13 +960,16 @@ async fn the_page_resyncs_after_a_service_restart() {
         )
         .await;
     // The interrupted job is no longer shown as executing; a new one appears.
-    let (s, v) = t.post("/api/v1/home").await;
+    // (A motion, so that it leaves a trace whichever simulator runs.)
+    let (s, v) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a1": 20}}]))
+        .await;
     assert_eq!(s, 200, "{v}");
     let new_id = v["id"].as_u64().expect("id");
     browser
         .wait_js(
             &format!(
-                "window.dashboard.jobs.get({new_id})?.operation === 'home' && window.dashboard.jobs.get({new_id})?.state === 'done' && ![...window.dashboard.jobs.values()].some((j) => j.state === 'executing')"
+                "window.dashboard.jobs.get({new_id})?.operation === 'move' && window.dashboard.jobs.get({new_id})?.state === 'done' && ![...window.dashboard.jobs.values()].some((j) => j.state === 'executing')"
             ),
             WAIT,
             "the page's jobs to come from the restarted service",
@@ -963,7 +977,7 @@ async fn the_page_resyncs_after_a_service_restart() {
         .await;
     let (_, trace) = t.get("/api/v1/sim/trace").await;
     let n = trace.as_array().map_or(0, Vec::len);
-    assert!(n > 0, "the home run left a trace");
+    assert!(n > 0, "the motion left a trace");
     browser
         .wait_js(
             &format!(

@@ -161,3 +161,64 @@ async fn an_uploaded_program_runs_through_the_krl_program_and_its_run_command() 
     assert!((krc.snapshot().axes[0] - 5.0).abs() < 0.01);
     t.service.shutdown().await.expect("shutdown");
 }
+
+/// The other KSS variant of the two facts public sources leave open
+/// (docs/CONTROLLER.md A1, A2): file functions answer `#CMD_OK` and RUN
+/// wants the folder in the path. With `kb_run_pfx` set as a site would,
+/// the shipped program reads commands and runs uploaded modules as before.
+#[tokio::test]
+async fn the_program_works_on_the_other_kss_variant() {
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.simulator.kind = SimulatorKind::Krc;
+            c.simulator.file_success = kuka_bridge::config::FileSuccess::CmdOk;
+            c.simulator.run_prefix = "/R1/Program/kbridge/".into();
+        }),
+        ..Options::default()
+    })
+    .await;
+    let krc = t.service.krc.clone().expect("krc");
+    let (status, v) = t.post("/krl/getpos").await;
+    assert_eq!((status, &v["statuscode"]), (200, &json!(1)), "{v}");
+    let src = "DEF hop()\n  PTP {A1 12}\n  PTP {A1 0}\nEND\n";
+    let (status, v) = t
+        .post_json("/api/v1/programs", &json!({"name": "hop", "src": src}))
+        .await;
+    assert_eq!(status, 201, "{v}");
+    let (status, job) = t.post_json("/api/v1/programs/hop/run", &json!({})).await;
+    assert_eq!(
+        (status, &job["state"]),
+        (200, &json!("done")),
+        "{job}\n{:?}",
+        krc.snapshot()
+    );
+    let snap = krc.snapshot();
+    assert!(
+        snap.commands
+            .iter()
+            .any(|c| c.starts_with("RUN /R1/Program/kbridge/kbu")),
+        "{snap:?}"
+    );
+    assert!(
+        snap.commands.iter().all(|c| !c.starts_with("RUN /R1/kb")),
+        "only the site's RUN form: {snap:?}"
+    );
+    // The file functions answered #CMD_OK all along and the program took
+    // them as success: the results file is read back over HTTP.
+    assert!(
+        krc.stats()
+            .file_calls
+            .get("krl_fgets")
+            .copied()
+            .unwrap_or(0)
+            > 0,
+        "{:?}",
+        krc.stats().file_calls
+    );
+    let (status, job) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a1": 7}}]))
+        .await;
+    assert_eq!((status, &job["state"]), (200, &json!("done")), "{job}");
+    assert_close(t.controller_axes()[0], 7.0, 0.01, "A1 after the motion");
+    t.service.shutdown().await.expect("shutdown");
+}

@@ -54,6 +54,22 @@ pub fn test_simulator() -> SimulatorKind {
     }
 }
 
+/// The KSS variant the KRC-like runtime simulates in these tests
+/// (docs/CONTROLLER.md A1, A2): `KB_TEST_KSS=cmd_ok-folder` answers file
+/// functions with `#CMD_OK` and accepts `RUN /R1/Program/kbridge/<module>()`
+/// only (the program's `kb_run_pfx` set to match, as a site would);
+/// unset or `default`: `#DATA_OK` and `/R1/`.
+pub fn apply_test_kss(c: &mut Config) {
+    match std::env::var("KB_TEST_KSS").as_deref() {
+        Ok("default") | Err(_) => {}
+        Ok("cmd_ok-folder") => {
+            c.simulator.file_success = kuka_bridge::config::FileSuccess::CmdOk;
+            c.simulator.run_prefix = "/R1/Program/kbridge/".into();
+        }
+        Ok(other) => panic!("KB_TEST_KSS={other}: use default or cmd_ok-folder"),
+    }
+}
+
 /// One sample of the executed path, from whichever simulated controller
 /// runs (native: per IPO step; krc: per interpreter cycle).
 #[derive(Debug, Clone, Copy)]
@@ -95,6 +111,7 @@ impl TestService {
         c.simulator.enabled = opts.simulate;
         c.simulator.time_scale = opts.time_scale;
         c.simulator.kind = test_simulator();
+        apply_test_kss(&mut c);
         (opts.tweak)(&mut c);
         Self::start_with(c, dirs).await
     }
@@ -171,6 +188,29 @@ impl TestService {
         match (&self.service.sim, &self.service.krc) {
             (Some(sim), _) => sim.resume(),
             (None, Some(krc)) => krc.resume(),
+            (None, None) => panic!("no simulated controller"),
+        }
+    }
+
+    /// Puts the controller into its error state the way each simulated
+    /// controller gets there: the native one is told to (an injected
+    /// runtime error); the shipped KRL program enters it when the robot
+    /// stops with a message while a job runs, here a LIN from home through
+    /// the wrist singularity, which only reaches the controller when the
+    /// service has no dry run (start it with `robot.model = "none"`).
+    pub async fn provoke_controller_error(&self) {
+        match (&self.service.sim, &self.service.krc) {
+            (Some(sim), _) => sim.inject_error(kuka_protocol::ResultCode::RuntimeError, 0),
+            (None, Some(_)) => {
+                let (s, v) = self
+                    .motions(serde_json::json!([{"type": "lin", "target": {"y": 100}}]))
+                    .await;
+                assert_eq!(
+                    (s, v["code"].as_str()),
+                    (409, Some("controller_error")),
+                    "a LIN through the wrist singularity (is the dry run off?): {v}"
+                );
+            }
             (None, None) => panic!("no simulated controller"),
         }
     }

@@ -24,9 +24,9 @@ async fn state_health_and_docs() {
     assert_eq!(s, 200);
     assert_eq!(v["connection"], "online");
     assert_eq!(v["controller"]["status"], "idle");
-    // The native simulator says so in the state file; the shipped KRL
-    // program does not know it runs in the KRC-like runtime.
-    assert_eq!(v["controller"]["simulated"], t.service.sim.is_some(), "{v}");
+    // Both simulated controllers say so in the state file (the shipped KRL
+    // program reports kb_simulated, which the KRC-like runtime sets).
+    assert_eq!(v["controller"]["simulated"], true, "{v}");
     assert_eq!(v["model"], "kr3_r540");
     assert_eq!(v["position"]["s"], 2, "home Status: elbow bit set");
     assert_close(
@@ -365,25 +365,19 @@ async fn controller_side_errors_are_structured() {
     if t.service.krc.is_some() {
         // The KRL program checks the end point only: the robot starts and
         // the controller stops it at the wrist singularity with a message;
-        // the job ends with the controller's error at once (no timeout).
+        // the job ends with the controller's error at once (no timeout),
+        // and the controller stays in its error state.
         assert_eq!(
             (s, v["code"].as_str()),
             (409, Some("controller_error")),
             "{v}"
         );
-        t.service.shutdown().await.expect("shutdown");
-        return;
+    } else {
+        assert_eq!((s, v["code"].as_str()), (422, Some("singularity")), "{v}");
+        // An error state on the controller: commands fail until reset. The
+        // native simulator is told to enter it.
+        t.provoke_controller_error().await;
     }
-    assert_eq!((s, v["code"].as_str()), (422, Some("singularity")), "{v}");
-    // An error state on the controller: commands fail until reset. The
-    // native simulator is told to enter it; the KRL program enters it when
-    // the robot stops with a message while a job runs, which the service's
-    // dry run never lets happen: this part needs the native simulator.
-    let Some(sim) = t.service.sim.as_ref() else {
-        t.service.shutdown().await.expect("shutdown");
-        return;
-    };
-    sim.inject_error(kuka_protocol::ResultCode::RuntimeError, 0);
     let mut st = Value::Null;
     for _ in 0..200 {
         st = t.get("/api/v1/state").await.1;
@@ -405,6 +399,11 @@ async fn controller_side_errors_are_structured() {
     );
     let (s, v) = t.post("/api/v1/reset").await;
     assert_eq!(s, 200, "{v}");
+    if let Some(krc) = &t.service.krc {
+        // After an error stop the operator acknowledges the message and
+        // starts kb_main again (docs/CONTROLLER.md).
+        krc.operator_restart();
+    }
     let (s, v) = t.post("/api/v1/home").await;
     assert_eq!(s, 200, "{v}");
     t.service.shutdown().await.expect("shutdown");

@@ -128,6 +128,11 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         kc.time_scale = config.simulator.time_scale;
         kc.cycle = Duration::from_millis(config.simulator.cycle_ms);
         kc.submit_budget = config.simulator.submit_budget;
+        kc.fct_success = config.simulator.file_success.krl().into();
+        if config.simulator.run_prefix != kc.run_prefix {
+            kc.run_prefix = config.simulator.run_prefix.clone();
+            kc.site_run_prefix = Some(config.simulator.run_prefix.clone());
+        }
         Some(Arc::new(KrcController::start(kc)?))
     } else {
         None

@@ -193,10 +193,43 @@ pub struct SimulatorConfig {
     /// a batch of 50 or more motions (docs/BENCHMARKS.md §8), so the
     /// default is 5,000.
     pub submit_budget: u64,
+    /// `krc` only: what the simulated KSS answers in `RET1` when a file
+    /// function succeeds: `DATA_OK` (KUKA's text and working code) or
+    /// `CMD_OK` (the other value KUKA's CWRITE text allows). The shipped
+    /// program accepts both; docs/CONTROLLER.md A1.
+    pub file_success: FileSuccess,
+    /// `krc` only: the path form the simulated KSS accepts in
+    /// `RUN <path><module>()`: `/R1/` as every public `sps.sub` writes it,
+    /// or e.g. `/R1/Program/kbridge/`. The runtime sets the program's
+    /// `kb_run_pfx` to the same value, as a site would in `kb_main.dat`
+    /// (docs/CONTROLLER.md A2).
+    pub run_prefix: String,
     /// Simulated seconds per wall second (1 = real time, 0 = instant).
     pub time_scale: f64,
     /// Heartbeat period (ms).
     pub heartbeat_ms: u64,
+}
+
+/// The value a simulated KSS answers for a file function that succeeded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum FileSuccess {
+    /// `#DATA_OK`.
+    #[default]
+    #[serde(rename = "DATA_OK")]
+    DataOk,
+    /// `#CMD_OK`.
+    #[serde(rename = "CMD_OK")]
+    CmdOk,
+}
+
+impl FileSuccess {
+    /// The KRL enum value without `#`.
+    pub fn krl(self) -> &'static str {
+        match self {
+            FileSuccess::DataOk => "DATA_OK",
+            FileSuccess::CmdOk => "CMD_OK",
+        }
+    }
 }
 
 /// The simulated controller `run --simulate` embeds.
@@ -366,6 +399,8 @@ impl Default for SimulatorConfig {
             kind: SimulatorKind::Native,
             cycle_ms: 12,
             submit_budget: 5_000,
+            file_success: FileSuccess::DataOk,
+            run_prefix: "/R1/".into(),
             time_scale: 1.0,
             heartbeat_ms: 50,
         }
@@ -832,6 +867,18 @@ impl SimulatorConfig {
                 ("submit_budget", self.submit_budget, 10_000_000),
             ],
         );
+        let p = &self.run_prefix;
+        let path_chars = p
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b == b'/' || b == b'_');
+        if !(p.starts_with("/R1/") && p.ends_with('/') && p.len() <= 30 && path_chars) {
+            bad.push(Problem::new(
+                "run_prefix",
+                format!(
+                    "{p:?} is not a RUN path prefix: it starts with /R1/, ends with /, has at most 30 characters (letters, digits, _ and /)"
+                ),
+            ));
+        }
         if !(self.time_scale.is_finite() && self.time_scale >= 0.0) {
             bad.push(Problem::new(
                 "time_scale",
@@ -953,6 +1000,20 @@ mod tests {
             assert!(text.contains(key), "{key} missing in: {text}");
         }
         assert!(text.starts_with("4 problems"), "{text}");
+        // The simulated KSS variant: a RUN prefix that is not a path, a
+        // success value KRL does not have.
+        let text = invalid("[simulator]\nrun_prefix = \"/R1/../x\"\n");
+        assert!(text.contains("simulator.run_prefix"), "{text}");
+        std::fs::write(&p, "[simulator]\nfile_success = \"OK\"\n").expect("write");
+        assert!(Config::load(&p).is_err(), "file_success = OK accepted");
+        std::fs::write(
+            &p,
+            "[simulator]\nfile_success = \"CMD_OK\"\nrun_prefix = \"/R1/Program/kbridge/\"\n",
+        )
+        .expect("write");
+        let c = Config::load(&p).expect("parses");
+        assert_eq!(c.simulator.file_success, FileSuccess::CmdOk);
+        c.validate().expect("the folder form is valid");
         std::fs::write(&p, "[channel]\npol_interval_ms = 5\n").expect("write");
         let text = Config::load(&p).expect_err("unknown key").to_string();
         assert!(

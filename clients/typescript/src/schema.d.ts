@@ -458,7 +458,7 @@ export interface paths {
             cookie?: never;
         };
         /**
-         * The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per IPO sample (12 ms).
+         * The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step of 12 ms; krc: interpreter cycle).
          * @description **Access:** role `viewer` or higher.
          */
         get: operations["getSimTrace"];
@@ -4475,7 +4475,7 @@ export interface operations {
         };
         requestBody?: never;
         responses: {
-            /** @description Simulator snapshot (`sim_time_s` is simulated seconds spent moving) */
+            /** @description Simulator snapshot. `sim_time_s`: the native simulator counts seconds spent moving, the KRC-like runtime (`--simulate krc`) its controller clock (`$ROB_TIMER`, standstill included); either way it is the clock of the trace's `t` */
             200: {
                 headers: {
                     [name: string]: unknown;

@@ -54,6 +54,11 @@ pub struct KrcConfig {
     /// public `sps.sub` writes it; a KSS that wants the folder would take
     /// `/R1/Program/kbridge/`.
     pub run_prefix: String,
+    /// `kb_run_pfx` as a site set it in `kb_main.dat` to match its KSS
+    /// (`None`: as the program's `.dat` file says, `/R1/`). Set together
+    /// with [`run_prefix`](Self::run_prefix) to run the program against
+    /// the other RUN path variant (docs/CONTROLLER.md A2).
+    pub site_run_prefix: Option<String>,
     /// Start `kb_main` at boot, as the operator or PLC does (in EXT mode
     /// the program can also start it itself with `kb_ext_autorun`).
     pub start_main: bool,
@@ -81,6 +86,7 @@ impl KrcConfig {
             mode: "EX".into(),
             fct_success: "DATA_OK".into(),
             run_prefix: "/R1/".into(),
+            site_run_prefix: None,
             start_main: true,
             trace_capacity: 100_000,
         }

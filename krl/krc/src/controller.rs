@@ -245,12 +245,29 @@ impl KrcController {
         self.lock().vars.as_ref()?.describe(name)
     }
 
+    /// A global INT of the program (e.g. `kb_last_cid`), read between two
+    /// cycles; `None` when it does not exist or is not an INT.
+    pub fn int_variable(&self, name: &str) -> Option<i64> {
+        self.lock().vars.as_ref()?.int(name, &[])
+    }
+
     /// The executed path since the start (or the last [`clear_trace`]),
     /// oldest first: a sample per cycle in motion, stops marked.
     ///
     /// [`clear_trace`]: KrcController::clear_trace
     pub fn trace(&self) -> Vec<KrcTraceSample> {
         self.lock().trace.iter().copied().collect()
+    }
+
+    /// The samples with `t > since`, oldest first. Copies only those, so a
+    /// client polling the trace does not hold the runtime up
+    /// (docs/SECURITY.md: a whole-trace copy per poll starved the
+    /// heartbeat).
+    pub fn trace_since(&self, since: f64) -> Vec<KrcTraceSample> {
+        let s = self.lock();
+        // Samples are appended in time order.
+        let start = s.trace.partition_point(|x| x.t <= since);
+        s.trace.range(start..).copied().collect()
     }
 
     /// Empties the trace.

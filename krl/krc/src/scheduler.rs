@@ -554,11 +554,19 @@ impl Scheduler {
         };
         v.set_int("$ROB_TIMER", t);
         v.set_axes("$AXIS_ACT", &axes);
+        if let Some(p) = &self.config.site_run_prefix {
+            // The site's edit of kb_main.dat, once its globals exist.
+            if v.has("kb_run_pfx") && v.text("kb_run_pfx").as_deref() != Some(p.as_str()) {
+                v.set_text("kb_run_pfx", p, 40);
+            }
+        }
         v.set_enum("$PRO_STATE1", state);
         v.set_chars("$PRO_NAME1", &name, 24);
         v.set_enum("$MODE_OP", &mode);
         v.set_bool("$POWER_FAIL", false);
         v.set_bool("$STOPMESS", self.stopmess);
+        // No real robot moves here: the state file says so (kb_main.dat).
+        v.set_bool("kb_simulated", true);
         if !v.has("$IPO_MODE") {
             v.set_enum("$IPO_MODE", "BASE");
         }

@@ -24,25 +24,73 @@ pub struct TraceQuery {
     since: Option<f64>,
 }
 
-fn sim(app: &AppState) -> Result<&kuka_sim::SimController, Problem> {
-    app.sim.as_deref().ok_or_else(|| {
-        let detail = if app.krc.is_some() {
-            "the KRC-like runtime (`--simulate krc`) keeps no trace yet: the simulator endpoints serve the native simulator (`--simulate native`)"
-        } else {
-            "the service is not running the simulated controller (start it with `run --simulate`)"
-        };
-        BridgeError::new(ErrorCode::NotFound, detail).into()
-    })
+/// The simulated controller the service embeds, whichever kind.
+enum Simulated<'a> {
+    /// `--simulate native`.
+    Native(&'a kuka_sim::SimController),
+    /// `--simulate krc`: the shipped KRL program in the KRC-like runtime.
+    Krc(&'a kuka_krc::KrcController),
+}
+
+fn sim(app: &AppState) -> Result<Simulated<'_>, Problem> {
+    if let Some(sim) = app.sim.as_deref() {
+        return Ok(Simulated::Native(sim));
+    }
+    if let Some(krc) = app.krc.as_deref() {
+        return Ok(Simulated::Krc(krc));
+    }
+    Err(BridgeError::new(
+        ErrorCode::NotFound,
+        "the service is not running the simulated controller (start it with `run --simulate`)",
+    )
+    .into())
+}
+
+/// The KRC-like runtime's trace in the simulator endpoints' form. Its
+/// clock is the controller's (standstill counts), its motion index the
+/// KRL program's `kb_busy_idx`.
+fn krc_sample(s: &kuka_krc::KrcTraceSample) -> kuka_sim::TraceSample {
+    kuka_sim::TraceSample {
+        t: s.t,
+        cid: i32::try_from(s.cid).unwrap_or(0),
+        motion: s.motion,
+        pose: s.pose,
+        axes: s.axes,
+    }
 }
 
 /// The simulated controller: model, simulated clock, axes, last command id.
 #[utoipa::path(get, path = "/api/v1/sim", tag = "simulator",
-    responses((status = 200, description = "Simulator snapshot (`sim_time_s` is simulated seconds spent moving)", body = kuka_sim::SimSnapshot), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+    responses((status = 200, description = "Simulator snapshot. `sim_time_s`: the native simulator counts seconds spent moving, the KRC-like runtime (`--simulate krc`) its controller clock (`$ROB_TIMER`, standstill included); either way it is the clock of the trace's `t`", body = kuka_sim::SimSnapshot), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn snapshot(State(app): State<AppState>) -> Result<Response, Problem> {
-    Ok(ok_json(&sim(&app)?.snapshot()))
+    match sim(&app)? {
+        Simulated::Native(sim) => Ok(ok_json(&sim.snapshot())),
+        Simulated::Krc(krc) => {
+            let s = krc.snapshot();
+            let int = |name: &str| {
+                krc.int_variable(name)
+                    .and_then(|v| i32::try_from(v).ok())
+                    .unwrap_or(0)
+            };
+            let model = app
+                .engine
+                .safety()
+                .model()
+                .map_or_else(String::new, |m| m.name.clone());
+            Ok(ok_json(&kuka_sim::SimSnapshot {
+                model,
+                sim_time_s: s.time_ms as f64 / 1000.0,
+                axes: s.axes,
+                pose: s.pose,
+                last_cid: int("kb_last_cid"),
+                busy: int("kb_run_cid") != 0,
+                heartbeats: int("kb_seq"),
+            }))
+        }
+    }
 }
 
-/// The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per IPO sample (12 ms).
+/// The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step of 12 ms; krc: interpreter cycle).
 #[utoipa::path(get, path = "/api/v1/sim/trace", tag = "simulator", params(TraceQuery),
     responses((status = 200, description = "Trace samples, oldest first", body = [kuka_sim::TraceSample]), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn trace(
@@ -50,7 +98,10 @@ async fn trace(
     QueryParams(q): QueryParams<TraceQuery>,
 ) -> Result<Response, Problem> {
     let since = q.since.unwrap_or(f64::NEG_INFINITY);
-    let samples = sim(&app)?.trace_since(since);
+    let samples = match sim(&app)? {
+        Simulated::Native(sim) => sim.trace_since(since),
+        Simulated::Krc(krc) => krc.trace_since(since).iter().map(krc_sample).collect(),
+    };
     Ok(ok_json(&samples))
 }
 
@@ -58,7 +109,10 @@ async fn trace(
 #[utoipa::path(delete, path = "/api/v1/sim/trace", tag = "simulator",
     responses((status = 204, description = "Cleared"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn clear_trace(State(app): State<AppState>) -> Result<axum::http::StatusCode, Problem> {
-    sim(&app)?.clear_trace();
+    match sim(&app)? {
+        Simulated::Native(sim) => sim.clear_trace(),
+        Simulated::Krc(krc) => krc.clear_trace(),
+    }
     Ok(axum::http::StatusCode::NO_CONTENT)
 }
 

@@ -150,6 +150,15 @@ impl Globals {
             .insert(name.to_ascii_uppercase(), Value::Array(vec![len], chars));
     }
 
+    /// Sets a CHAR array of `len` characters to `text` followed by zeros
+    /// (as a `.dat` line `name[]="text"` leaves it).
+    pub fn set_text(&mut self, name: &str, text: &str, len: usize) {
+        let mut chars: Vec<Value> = text.bytes().take(len).map(Value::Char).collect();
+        chars.resize(len, Value::Char(0));
+        self.vars
+            .insert(name.to_ascii_uppercase(), Value::Array(vec![len], chars));
+    }
+
     /// Sets an E6AXIS variable (`$AXIS_ACT`).
     pub fn set_axes(&mut self, name: &str, axes: &kuka_kinematics::Axes) {
         self.vars

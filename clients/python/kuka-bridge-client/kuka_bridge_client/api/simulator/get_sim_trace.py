@@ -119,7 +119,8 @@ def sync_detailed(
     since: float | Unset = UNSET,
 
 ) -> Response[ProblemDetails | list[TraceSample]]:
-    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per IPO sample (12 ms).
+    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step
+    of 12 ms; krc: interpreter cycle).
 
      
 
@@ -154,7 +155,8 @@ def sync(
     since: float | Unset = UNSET,
 
 ) -> ProblemDetails | list[TraceSample] | None:
-    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per IPO sample (12 ms).
+    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step
+    of 12 ms; krc: interpreter cycle).
 
      
 
@@ -184,7 +186,8 @@ async def asyncio_detailed(
     since: float | Unset = UNSET,
 
 ) -> Response[ProblemDetails | list[TraceSample]]:
-    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per IPO sample (12 ms).
+    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step
+    of 12 ms; krc: interpreter cycle).
 
      
 
@@ -219,7 +222,8 @@ async def asyncio(
     since: float | Unset = UNSET,
 
 ) -> ProblemDetails | list[TraceSample] | None:
-    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per IPO sample (12 ms).
+    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step
+    of 12 ms; krc: interpreter cycle).
 
      
 
