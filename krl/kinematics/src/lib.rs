@@ -12,6 +12,8 @@ pub mod model;
 pub mod plan;
 pub mod pose;
 
-pub use model::{Axes, IkError, RobotModel};
+pub use model::{
+    Axes, IkError, LIMIT_TOL_DEG, RobotModel, ST_MATCH_TOL_DEG, ST_MATCH_TOL_MM, TURN_MATCH_TOL_DEG,
+};
 pub use plan::{Execution, Motion, MotionError, MotionKind, PlanSettings, Sample};
 pub use pose::Pose;

@@ -49,6 +49,36 @@ pub type Axes = [f64; 6];
 /// Angles closer to 0 than this (degrees) count as 0 for Status bit 2 and Turn.
 pub const ZERO_TOL_DEG: f64 = 1e-6;
 
+/// When a requested Status is matched, a bit whose axis lies closer than
+/// this (degrees) to the bit's boundary (φ for bit 1, 0° for bit 2)
+/// matches either value. A pose reported with 3 decimals solves back to
+/// e.g. −0.0002° for an A5 that was at exactly 0°, which would flip its
+/// bit; the two solutions are then both at the wrist singularity and the
+/// one with the least axis motion is taken (docs/CONFIGURATION.md).
+pub const ST_MATCH_TOL_DEG: f64 = 0.05;
+
+/// The same for the Turn bits (0° for each axis). Turn only tells the
+/// 360° variants of an axis apart, so a wider band costs nothing; near a
+/// singularity a 3-decimal pose pins an axis only to some 0.01–0.1°.
+pub const TURN_MATCH_TOL_DEG: f64 = 0.5;
+
+/// The same for Status bit 0: a wrist point closer than this (mm) to the
+/// A1 axis matches either side.
+pub const ST_MATCH_TOL_MM: f64 = 0.05;
+
+/// A solution beyond a software limit by less than this (degrees) is
+/// taken at the limit: a pose reported at a limit solves back to a hair
+/// beyond it (up to a few thousandths of a degree from its 3 decimals).
+pub const LIMIT_TOL_DEG: f64 = 0.05;
+
+/// |A5| below this (degrees) counts as the wrist singularity, where only
+/// A4 + A6 is defined: IK then also offers A5 = 0 with the splits that keep
+/// A4 where the robot is, or at 0 (the solver's split is arbitrary). A pose
+/// reported at A5 = 0 solves back to |A5| of a few 0.0001°; the
+/// orientation error of snapping that to 0 is below the pose's own
+/// rounding.
+const WRIST_SINGULAR_DEG: f64 = 0.01;
+
 /// OPW joint offsets of the KUKA models (radians): A2 is −90° at the OPW zero.
 const KUKA_OFFSETS: [f64; 6] = [0.0, -std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.0, 0.0];
 /// OPW sign corrections of the KUKA models (A1, A4, A6 turn about −Z/−X).
@@ -283,6 +313,37 @@ impl RobotModel {
         bits
     }
 
+    /// Status and Turn bits that a requested Status/Turn may contradict and
+    /// still match these axes: each axis within [`ST_MATCH_TOL_DEG`]
+    /// ([`TURN_MATCH_TOL_DEG`] for Turn; the wrist within
+    /// [`ST_MATCH_TOL_MM`]) of its bit's boundary.
+    pub fn loose_bits(&self, axes: &Axes) -> (u8, u8) {
+        let mut s = 0;
+        if self.wrist_in_a1_frame(axes).0.abs() < ST_MATCH_TOL_MM {
+            s |= 1;
+        }
+        if (axes[2] - self.elbow_angle_deg()).abs() < ST_MATCH_TOL_DEG {
+            s |= 2;
+        }
+        if axes[4].abs() < ST_MATCH_TOL_DEG {
+            s |= 4;
+        }
+        let t = axes
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.abs() < TURN_MATCH_TOL_DEG)
+            .fold(0, |t, (i, _)| t | (1 << i));
+        (s, t)
+    }
+
+    /// Whether these axes have Status `s` (bits in `care`) and Turn `t`,
+    /// within the tolerances of [`RobotModel::loose_bits`].
+    pub fn matches(&self, axes: &Axes, s: u8, care: u8, t: Option<u8>) -> bool {
+        let (loose_s, loose_t) = self.loose_bits(axes);
+        (self.status(axes) ^ s) & care & !loose_s == 0
+            && t.is_none_or(|t| (Self::turn(axes) ^ t) & 0b11_1111 & !loose_t == 0)
+    }
+
     /// KUKA Turn bits for these axes (bit n set when axis n+1 < 0).
     pub fn turn(axes: &Axes) -> u8 {
         axes.iter()
@@ -315,7 +376,16 @@ impl RobotModel {
     /// All axis solutions (raw, not limit-filtered) for a TCP target,
     /// including ±360° variants of every axis whose range allows them;
     /// solutions near `reference` come first in rs-opw's order.
-    fn candidates(&self, target: &Pose, tool: &Pose, base: &Pose, reference: &Axes) -> Vec<Axes> {
+    /// With `clamp`, an angle beyond a limit by less than [`LIMIT_TOL_DEG`]
+    /// is taken at the limit (then the solution is only that close).
+    fn candidates(
+        &self,
+        target: &Pose,
+        tool: &Pose,
+        base: &Pose,
+        reference: &Axes,
+        clamp: bool,
+    ) -> Vec<Axes> {
         let flange = Self::flange_target(target, tool, base);
         if !flange.is_finite() || !reference.iter().all(|v| v.is_finite()) {
             return Vec::new();
@@ -325,8 +395,26 @@ impl RobotModel {
         let mut raw: Vec<Joints> = solver.inverse_continuing(&pose, &to_rad(reference));
         raw.extend(solver.inverse(&pose));
         let mut out: Vec<Axes> = Vec::with_capacity(raw.len() * 4);
-        for sol in raw {
-            let base_axes = to_deg(&sol);
+        let mut raw_deg: Vec<Axes> = raw.iter().map(to_deg).collect();
+        // At the wrist singularity only A4 + A6 is defined: also offer the
+        // splits that keep A4 where the robot is and at 0 (the solver's
+        // split is arbitrary and may be outside the limits).
+        let singular: Vec<Axes> = raw_deg
+            .iter()
+            .filter(|a| a[4].abs() < WRIST_SINGULAR_DEG)
+            .flat_map(|a| {
+                let sum = a[3] + a[5];
+                [reference[3], 0.0].map(|a4| {
+                    let mut b = *a;
+                    b[4] = 0.0;
+                    b[3] = a4;
+                    b[5] = sum - a4;
+                    b
+                })
+            })
+            .collect();
+        raw_deg.extend(singular);
+        for base_axes in raw_deg {
             // Per axis: every 360° variant within the limits (or the angle
             // wrapped to (−180, 180] if none is, to report the limit error).
             let variants: Vec<Vec<f64>> = base_axes
@@ -336,7 +424,15 @@ impl RobotModel {
                     let w = wrap180(v);
                     let mut vs: Vec<f64> = (-2..=2)
                         .map(|k| w + 360.0 * f64::from(k))
-                        .filter(|x| *x >= min && *x <= max)
+                        .filter_map(|x| {
+                            // A hair beyond a limit is at the limit.
+                            let tol = if clamp { LIMIT_TOL_DEG } else { 0.0 };
+                            if x >= min - tol && x <= max + tol {
+                                Some(x.clamp(min, max))
+                            } else {
+                                None
+                            }
+                        })
                         .collect();
                     if vs.is_empty() {
                         vs.push(w);
@@ -371,7 +467,7 @@ impl RobotModel {
         current: &Axes,
     ) -> Vec<(Axes, u8, u8)> {
         let mut c: Vec<Axes> = self
-            .candidates(target, tool, base, current)
+            .candidates(target, tool, base, current, false)
             .into_iter()
             .filter(|a| self.check_limits(a).is_ok())
             .collect();
@@ -411,7 +507,7 @@ impl RobotModel {
         t: Option<u8>,
         current: &Axes,
     ) -> Result<Axes, IkError> {
-        let candidates = self.candidates(target, tool, base, current);
+        let candidates = self.candidates(target, tool, base, current, false);
         if candidates.is_empty() {
             return Err(IkError::Unreachable);
         }
@@ -424,30 +520,27 @@ impl RobotModel {
         } else {
             !self.singular_status_bits(current)
         };
-        let matching: Vec<&Axes> = candidates
-            .iter()
-            .filter(|a| {
-                (self.status(a) ^ want_s) & care == 0 && t.is_none_or(|t| Self::turn(a) == t)
-            })
-            .collect();
-        let best = |list: &mut dyn Iterator<Item = &Axes>| -> Option<Axes> {
-            list.min_by(|a, b| self.cost(current, a).total_cmp(&self.cost(current, b)))
+        let best = |list: &[Axes]| -> Option<Axes> {
+            list.iter()
+                .filter(|a| self.matches(a, want_s, care, t) && self.check_limits(a).is_ok())
+                .min_by(|a, b| self.cost(current, a).total_cmp(&self.cost(current, b)))
                 .copied()
         };
-        if let Some(a) = best(
-            &mut matching
-                .iter()
-                .copied()
-                .filter(|a| self.check_limits(a).is_ok()),
-        ) {
+        if let Some(a) = best(&candidates) {
             return Ok(snap_zero(a));
         }
-        if let Some(a) = best(&mut matching.iter().copied()) {
-            return match self.check_limits(&a) {
-                Err(e) => Err(e),
-                // Unreachable in practice: `a` failed the limits above.
-                Ok(()) => Ok(snap_zero(a)),
-            };
+        // A solution a hair beyond a limit (a pose reported at the limit).
+        if let Some(a) = best(&self.candidates(target, tool, base, current, true)) {
+            return Ok(snap_zero(a));
+        }
+        let nearest_outside = candidates
+            .iter()
+            .filter(|a| self.matches(a, want_s, care, t))
+            .min_by(|a, b| self.cost(current, a).total_cmp(&self.cost(current, b)));
+        if let Some(a) = nearest_outside
+            && let Err(e) = self.check_limits(a)
+        {
+            return Err(e);
         }
         Err(IkError::NoMatchingConfiguration {
             s: want_s,

@@ -332,3 +332,53 @@ fn software_limit_names_the_axis() {
     let err = m.inverse(&home, &NONE, &NONE, Some(2), Some(0), &m.home);
     assert_eq!(err, Err(IkError::NoMatchingConfiguration { s: 2, t: 0 }));
 }
+
+/// IK within limits (issue 21): at the wrist singularity only A4 + A6 is
+/// defined; the solver's split may put A4 beyond its limit (the KR 3 R540
+/// at [0, -88, 0, 0, 0, 0] came back with A4 = 180°, limit ±175°), while
+/// A4 = 0 reaches the same pose. Whatever the start, a split inside the
+/// limits is found, and from where the robot stands it keeps A4.
+#[test]
+fn wrist_singular_targets_get_a_split_inside_the_limits() {
+    let m = RobotModel::kr3_r540();
+    let axes = [0.0, -88.0, 0.0, 0.0, 0.0, 0.0];
+    // As the protocol carries it: 3 decimals.
+    let p = m
+        .forward(&axes, &NONE, &NONE)
+        .to_array()
+        .map(|v| (v * 1000.0).round() / 1000.0);
+    let pose = Pose::new(p[0], p[1], p[2], p[3], p[4], p[5]);
+    let (s, t) = (m.status(&axes), RobotModel::turn(&axes));
+    for start in [m.home, axes, [30.0, -80.0, 80.0, 170.0, 20.0, -100.0]] {
+        for (gs, gt) in [(Some(s), Some(t)), (Some(s), None), (None, None)] {
+            let Ok(sol) = m.inverse(&pose, &NONE, &NONE, gs, gt, &start) else {
+                // Without S the start's Status is kept, which may not reach.
+                assert!(gs.is_none(), "from {start:?} with S {gs:?} T {gt:?}");
+                continue;
+            };
+            m.check_limits(&sol).expect("inside the limits");
+            assert!(
+                m.forward(&sol, &NONE, &NONE).approx_eq(&pose, 0.01, 0.01),
+                "{sol:?}"
+            );
+        }
+    }
+    let sol = m
+        .inverse(&pose, &NONE, &NONE, Some(s), Some(t), &axes)
+        .expect("reachable from there");
+    assert!(
+        sol.iter()
+            .zip(axes.iter())
+            .all(|(a, b)| (a - b).abs() < 0.01),
+        "stays where it is: {sol:?}"
+    );
+    // A start with A4 at 170°: the split keeps A4 there (no A4/A6 spin).
+    let start = [0.0, -88.0, 0.0, 170.0, 0.0, -170.0];
+    let sol = m
+        .inverse(&pose, &NONE, &NONE, None, None, &start)
+        .expect("reachable");
+    assert!(
+        (sol[3] - 170.0).abs() < 0.01 && (sol[5] + 170.0).abs() < 0.01,
+        "{sol:?}"
+    );
+}
