@@ -9,6 +9,29 @@ use utoipa::ToSchema;
 use crate::error::{BridgeError, Result};
 use crate::settings::MotionConfig;
 
+/// How a Cartesian PTP without `s` gets its arm configuration
+/// (docs/CONFIGURATION.md).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Configuration {
+    /// The bridge chooses Status and Turn: reachable, the Cartesian motions
+    /// after it executable, away from singularities, least axis travel.
+    #[default]
+    Auto,
+    /// KUKA's rule: keep the current Status (the PTP may then fail where
+    /// another configuration would reach).
+    Keep,
+}
+
+impl From<Configuration> for kuka_kinematics::ConfigMode {
+    fn from(c: Configuration) -> Self {
+        match c {
+            Configuration::Auto => kuka_kinematics::ConfigMode::Auto,
+            Configuration::Keep => kuka_kinematics::ConfigMode::Keep,
+        }
+    }
+}
+
 /// A Cartesian target; omitted components keep their current value (the
 /// previous motion's target inside a batch).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, Serialize, ToSchema)]
@@ -27,9 +50,12 @@ pub struct TargetSpec {
     pub b: Option<f64>,
     /// C (about X) in degrees.
     pub c: Option<f64>,
-    /// Status (0..=7), PTP only; omitted: keep the current Status.
+    /// Status (0..=7), PTP only; always obeyed. Omitted: chosen by the
+    /// PTP's `config` (`auto`: the bridge chooses; `keep`: the current
+    /// Status).
     pub s: Option<i64>,
-    /// Turn (0..=63), PTP only; omitted: shortest axis path.
+    /// Turn (0..=63), PTP only; always obeyed. Omitted: chosen with the
+    /// Status (`auto`) or the shortest axis path (`keep`).
     pub t: Option<i64>,
 }
 
@@ -91,6 +117,11 @@ pub enum MotionRequest {
         acceleration_pct: Option<f64>,
         /// Approximation distance in mm.
         approx_mm: Option<f64>,
+        /// How the arm configuration is chosen when `s` is omitted
+        /// (default: the request's `config`, else the site's
+        /// `motion.configuration`, `auto` unless changed).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        config: Option<Configuration>,
     },
     /// Axis-specific PTP.
     PtpAxes {
@@ -140,6 +171,21 @@ pub enum MotionRequest {
 }
 
 impl MotionRequest {
+    /// The PTP's `config`, if it is a PTP that has one.
+    pub fn config(&self) -> Option<Configuration> {
+        match self {
+            MotionRequest::Ptp { config, .. } => *config,
+            _ => None,
+        }
+    }
+
+    /// Gives a PTP without `config` this one.
+    pub fn default_config(&mut self, c: Configuration) {
+        if let MotionRequest::Ptp { config, .. } = self {
+            config.get_or_insert(c);
+        }
+    }
+
     /// `ptp`, `ptp_axes`, `lin` or `circ`.
     pub fn kind(&self) -> &'static str {
         match self {

@@ -15,6 +15,7 @@ use kuka_protocol::{Frame, MAX_REAL, MotionRecord, SpeedRecord};
 use crate::error::{BridgeError, ErrorCode, Result};
 use crate::motion::{MotionRequest, StartPoint, TargetSpec};
 use crate::settings::{MotionConfig, WorkspaceBox};
+use kuka_kinematics::configure::{self, ConfigError, Margins};
 
 /// The safety gate shared by HTTP handlers and (later) plugins.
 #[derive(Debug, Clone)]
@@ -180,15 +181,86 @@ impl Safety {
         Ok(())
     }
 
+    /// Chooses the arm configuration of every Cartesian PTP without `s`
+    /// whose `config` (else the site's `motion.configuration`) is `auto`,
+    /// and writes the chosen Status and Turn into its record, so that the
+    /// controller executes exactly that configuration
+    /// ([`kuka_kinematics::configure`]; docs/CONFIGURATION.md). Without a
+    /// robot model nothing is chosen (the controller keeps its Status).
+    /// When no configuration lets the Cartesian motions after a PTP run,
+    /// the error is that of the best configuration's first failing motion
+    /// (its code and `motion`), with the PTP and every configuration tried
+    /// in the detail.
+    pub fn choose_configurations(
+        &self,
+        requests: &[MotionRequest],
+        records: &mut [MotionRecord],
+        start: &StartPoint,
+        tool: &Frame,
+        base: &Frame,
+    ) -> Result<Vec<Option<configure::Chosen>>> {
+        let Some(model) = &self.model else {
+            return Ok(vec![None; records.len()]);
+        };
+        let modes: Vec<_> = requests
+            .iter()
+            .map(|r| r.config().unwrap_or(self.motion.configuration).into())
+            .collect();
+        let motions: Vec<_> = records.iter().map(kuka_krl_runtime::to_motion).collect();
+        let to_pose = |f: &Frame| kuka_krl_runtime::frame_to_pose(f);
+        let (tool, base) = (to_pose(tool), to_pose(base));
+        let cx = configure::Context {
+            model,
+            tool: &tool,
+            base: &base,
+            settings: &plan::PlanSettings::default(),
+            margins: &Margins::default(),
+        };
+        let chosen = configure::choose(&cx, &start.axes, &motions, &modes).map_err(|e| {
+            let (code, axis, at) = match &e {
+                ConfigError::NoConfiguration { tried, index } => {
+                    tried
+                        .first()
+                        .map_or((ErrorCode::Unreachable, 0, *index), |c| {
+                            let m = motion_error(&c.error);
+                            (m.code, m.axis.unwrap_or(0), c.failed_motion)
+                        })
+                }
+                ConfigError::OutOfReach { index, per_status } => {
+                    // Software limits if any Status reaches the target at all.
+                    let limit = per_status.iter().find_map(|(_, e)| match e {
+                        IkError::SoftwareLimit { axis, .. } => Some(*axis),
+                        _ => None,
+                    });
+                    match limit {
+                        Some(axis) => (ErrorCode::SoftwareLimit, axis, *index),
+                        None => (ErrorCode::Unreachable, 0, *index),
+                    }
+                }
+            };
+            BridgeError::new(code, e.to_string())
+                .on_axis(axis)
+                .at_motion(at)
+        })?;
+        for (record, c) in records.iter_mut().zip(&chosen) {
+            if let (MotionRecord::Ptp { s, t, .. }, Some(c)) = (record, c) {
+                *s = Some(c.s);
+                *t = Some(c.t);
+            }
+        }
+        Ok(chosen)
+    }
+
     /// Checks resolved motions from a known start: workspace box, then a
-    /// dry run with the robot model (if configured).
+    /// dry run with the robot model (if configured). Returns, per motion,
+    /// the Status and Turn the robot has at its end (empty without a model).
     pub fn check_resolved(
         &self,
         motions: &[MotionRecord],
         start: &StartPoint,
         tool: &Frame,
         base: &Frame,
-    ) -> Result<()> {
+    ) -> Result<Vec<(u8, u8)>> {
         if let Some(ws) = &self.workspace {
             for (i, m) in motions.iter().enumerate() {
                 let mut points: Vec<[f64; 3]> = Vec::with_capacity(2);
@@ -217,7 +289,7 @@ impl Safety {
             }
         }
         let Some(model) = &self.model else {
-            return Ok(());
+            return Ok(Vec::new());
         };
         let records = motions;
         let motions: Vec<_> = records.iter().map(kuka_krl_runtime::to_motion).collect();
@@ -231,7 +303,16 @@ impl Safety {
             &plan::PlanSettings::default(),
         );
         match execution.error {
-            None => Ok(()),
+            None => {
+                let mut ends =
+                    vec![(model.status(&start.axes), RobotModel::turn(&start.axes)); records.len()];
+                for sample in &execution.samples {
+                    if let Some(end) = ends.get_mut(sample.motion) {
+                        *end = (model.status(&sample.axes), RobotModel::turn(&sample.axes));
+                    }
+                }
+                Ok(ends)
+            }
             Some((i, e)) => {
                 let mut err = motion_error(&e).at_motion(i);
                 // KUKA keeps the Status of a PTP without S: say how to change it.

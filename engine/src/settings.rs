@@ -79,6 +79,10 @@ pub struct MotionConfig {
     pub max_batch: usize,
     /// Most jobs waiting in the queue.
     pub max_queue: usize,
+    /// How a Cartesian PTP without `s` gets its arm configuration when
+    /// the request does not say: `auto` (the bridge chooses) or `keep`
+    /// (KUKA's rule). The thesis endpoints always use `auto`.
+    pub configuration: crate::motion::Configuration,
 }
 
 /// An axis-aligned box in the base frame (mm).
@@ -129,6 +133,7 @@ impl Default for MotionConfig {
             max_approx_mm: 100.0,
             max_batch: kuka_protocol::MAX_BATCH,
             max_queue: 100,
+            configuration: crate::motion::Configuration::Auto,
         }
     }
 }

@@ -334,6 +334,7 @@ impl Engine {
             origin,
             requested_by: caller.name.clone(),
             late_result: false,
+            configurations: Vec::new(),
         };
         if let Some(on_job) = &caller.on_job {
             on_job(id);

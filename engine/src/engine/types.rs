@@ -260,6 +260,36 @@ pub struct Job {
     /// own outcome, which replaced the earlier one.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub late_result: bool,
+    /// The arm configuration each Cartesian PTP of a move got (with a
+    /// robot model): send these `s`/`t` to replay it exactly.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub configurations: Vec<PtpConfiguration>,
+}
+
+/// The arm configuration (Status and Turn) one Cartesian PTP got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+#[schema(example = json!({"motion": 0, "s": 6, "t": 27, "chosen": "auto"}))]
+pub struct PtpConfiguration {
+    /// 0-based index of the motion in the batch.
+    pub motion: usize,
+    /// Status.
+    pub s: u8,
+    /// Turn.
+    pub t: u8,
+    /// Who chose it.
+    pub chosen: ConfigurationSource,
+}
+
+/// Who chose a PTP's configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ConfigurationSource {
+    /// The request gave `s` (and `t`).
+    Given,
+    /// The bridge (`config: auto`).
+    Auto,
+    /// KUKA's rule (`config: keep`): the current Status.
+    Keep,
 }
 
 /// Connection to the controller.

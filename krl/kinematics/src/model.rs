@@ -397,14 +397,16 @@ impl RobotModel {
         let mut out: Vec<Axes> = Vec::with_capacity(raw.len() * 4);
         let mut raw_deg: Vec<Axes> = raw.iter().map(to_deg).collect();
         // At the wrist singularity only A4 + A6 is defined: also offer the
-        // splits that keep A4 where the robot is and at 0 (the solver's
-        // split is arbitrary and may be outside the limits).
+        // splits that keep A4 or A6 where the robot is or at 0 (the
+        // solver's split is arbitrary and may be outside the limits).
         let singular: Vec<Axes> = raw_deg
             .iter()
             .filter(|a| a[4].abs() < WRIST_SINGULAR_DEG)
             .flat_map(|a| {
                 let sum = a[3] + a[5];
-                [reference[3], 0.0].map(|a4| {
+                // Keep A4 (or A6) where the robot is, or at 0, or turn both
+                // alike (with the ±360° variants below, every sign pair).
+                [reference[3], 0.0, sum - reference[5], sum, 0.5 * sum].map(|a4| {
                     let mut b = *a;
                     b[4] = 0.0;
                     b[3] = a4;
@@ -520,10 +522,20 @@ impl RobotModel {
         } else {
             !self.singular_status_bits(current)
         };
+        // The fewest bits matched only within the tolerance (an axis a hair
+        // on the other side of 0) first, then the least axis motion.
+        let strict = |a: &Axes| {
+            ((self.status(a) ^ want_s) & care).count_ones()
+                + t.map_or(0, |t| (Self::turn(a) ^ t).count_ones())
+        };
         let best = |list: &[Axes]| -> Option<Axes> {
             list.iter()
                 .filter(|a| self.matches(a, want_s, care, t) && self.check_limits(a).is_ok())
-                .min_by(|a, b| self.cost(current, a).total_cmp(&self.cost(current, b)))
+                .min_by(|a, b| {
+                    strict(a)
+                        .cmp(&strict(b))
+                        .then(self.cost(current, a).total_cmp(&self.cost(current, b)))
+                })
                 .copied()
         };
         if let Some(a) = best(&candidates) {

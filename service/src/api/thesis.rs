@@ -18,7 +18,7 @@ use super::auth::Who;
 use super::problem::{PROBLEM_JSON, ProblemDetails, json_response, query_rejection};
 use crate::engine::{CartesianFrame, Job, Operation};
 use crate::error::{BridgeError, ErrorCode};
-use crate::motion::{AuxPoint, MotionRequest, TargetSpec};
+use crate::motion::{AuxPoint, Configuration, MotionRequest, TargetSpec};
 
 /// Target coordinates; omitted ones keep their current value. Upper-case
 /// names (KUKA's own spelling) are accepted too; unknown parameters are
@@ -301,6 +301,9 @@ async fn ptp(
         velocity_pct: None,
         acceleration_pct: None,
         approx_mm: None,
+        // Thesis clients never send S/T: the bridge chooses the arm
+        // configuration (docs/CONFIGURATION.md).
+        config: Some(Configuration::Auto),
     };
     run(&app, &who, Operation::Move(vec![m]), false).await
 }

@@ -19,7 +19,7 @@ use crate::engine::{
     AxisAngles, CartesianFrame, Job, JobId, JobState, Operation, Position, RobotState,
 };
 use crate::error::{BridgeError, ErrorCode};
-use crate::motion::{MotionRequest, SpeedSettings};
+use crate::motion::{Configuration, MotionRequest, SpeedSettings};
 
 /// A motion request: one motion or a continuous batch.
 #[derive(Debug, Deserialize, ToSchema)]
@@ -42,6 +42,10 @@ pub struct MotionBatch {
     pub wait: Option<bool>,
     /// Fail the job (and stop the robot) if it has not finished after this many ms.
     pub timeout_ms: Option<u64>,
+    /// How the PTPs without `s` (and without their own `config`) get their
+    /// arm configuration: `auto` (the bridge chooses) or `keep` (KUKA's
+    /// rule). Default: the site's `motion.configuration` (`auto`).
+    pub config: Option<Configuration>,
 }
 
 /// Position with axis angles.
@@ -247,9 +251,13 @@ async fn post_motions(
     if timeout.is_some_and(|t| t.is_zero()) {
         return Err(BridgeError::invalid("timeout_ms must be positive").into());
     }
+    let mut motions = batch.motions;
+    if let Some(c) = batch.config {
+        motions.iter_mut().for_each(|m| m.default_config(c));
+    }
     let job = app
         .engine
-        .submit(Operation::Move(batch.motions), timeout, who.caller())
+        .submit(Operation::Move(motions), timeout, who.caller())
         .await?;
     if batch.wait == Some(false) {
         let mut r = json_response(202, "application/json", &job);

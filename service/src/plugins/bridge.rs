@@ -49,6 +49,8 @@ pub fn motion_request(m: host::Motion) -> MotionRequest {
             velocity_pct: m.params.velocity,
             acceleration_pct: m.params.acceleration_pct,
             approx_mm: m.params.approx_mm,
+            // The site's motion.configuration.
+            config: None,
         },
         host::Motion::PtpAxes(m) => MotionRequest::PtpAxes {
             axes: AxesSpec {

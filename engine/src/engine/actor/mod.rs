@@ -32,7 +32,7 @@ mod writes;
 use crate::channel::{Changed, Channel, ChannelError, CidStore, FileStamp, ReadOutcome};
 use crate::engine::types::*;
 use crate::error::{BridgeError, ErrorCode, Result};
-use crate::motion::{SpeedSettings, StartPoint, resolve};
+use crate::motion::{MotionRequest, SpeedSettings, StartPoint, resolve};
 use crate::settings::{ChannelTiming, EngineSettings};
 use outcome::*;
 
@@ -152,6 +152,9 @@ struct ControllerView {
     axes: Option<[f64; 6]>,
     tool: Option<Frame>,
     base: Option<Frame>,
+    /// The command whose result last set `pose`/`axes`: a state file
+    /// written before that result must not set them back.
+    result_cid: Option<Cid>,
 }
 
 pub(crate) struct Actor {
@@ -676,10 +679,37 @@ impl Actor {
         let command = match &job.op {
             Operation::Move(requests) => {
                 let (start, tool, base) = self.start_point()?;
-                let records = resolve(requests, &start, &self.speeds, self.default_approx_mm)?;
-                self.shared
-                    .safety
-                    .check_resolved(&records, &start, &tool, &base)?;
+                let mut records = resolve(requests, &start, &self.speeds, self.default_approx_mm)?;
+                let safety = &self.shared.safety;
+                let chosen =
+                    safety.choose_configurations(requests, &mut records, &start, &tool, &base)?;
+                let ends = safety.check_resolved(&records, &start, &tool, &base)?;
+                let configurations: Vec<PtpConfiguration> = requests
+                    .iter()
+                    .zip(&chosen)
+                    .zip(&ends)
+                    .enumerate()
+                    .filter_map(|(motion, ((req, chosen), &(s, t)))| {
+                        let MotionRequest::Ptp { target, .. } = req else {
+                            return None;
+                        };
+                        let chosen = match (target.s, chosen) {
+                            (Some(_), _) => ConfigurationSource::Given,
+                            (None, Some(_)) => ConfigurationSource::Auto,
+                            (None, None) => ConfigurationSource::Keep,
+                        };
+                        Some(PtpConfiguration {
+                            motion,
+                            s,
+                            t,
+                            chosen,
+                        })
+                    })
+                    .collect();
+                if !configurations.is_empty() {
+                    self.shared
+                        .update(job.id, |j| j.configurations = configurations);
+                }
                 Command::Move(records)
             }
             Operation::GetPosition => Command::GetPosition,

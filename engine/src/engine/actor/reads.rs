@@ -84,13 +84,25 @@ impl Actor {
     }
 
     pub(super) fn on_state(&mut self, s: StateFile, now: Instant) {
-        self.ctl.pose = Some((s.position, s.s, s.t));
-        self.ctl.axes = Some(s.axes);
-        self.ctl.tool = Some(s.tool);
-        self.ctl.base = Some(s.base);
         // last_cid is the command's id or newer: the controller accepted it.
         let accepted = |cid: Cid| s.last_cid > 0 && !kuka_protocol::cid_is_newer(cid, s.last_cid);
         let running = |cid: Cid| s.status == ControllerStatus::Busy && s.busy_cid == cid;
+        // A state file written before the newest result (the controller had
+        // not accepted that command yet, or was still running it) holds an
+        // older position than the result: read right after the result, it
+        // would set the start of the next motion back (a LIN planned from
+        // where the robot was before the PTP that just ended).
+        let stale = s.last_cid > 0
+            && self
+                .ctl
+                .result_cid
+                .is_some_and(|r| !accepted(r) || running(r));
+        if !stale {
+            self.ctl.pose = Some((s.position, s.s, s.t));
+            self.ctl.axes = Some(s.axes);
+            self.ctl.tool = Some(s.tool);
+            self.ctl.base = Some(s.base);
+        }
         // The result file's stamp only when the command has just gone idle
         // (a stat, not on every heartbeat of a running job).
         let stamp = match &self.inflight {
@@ -147,6 +159,7 @@ impl Actor {
             }
             self.ctl.pose = Some((r.position, r.s, r.t));
             self.ctl.axes = Some(r.axes);
+            self.ctl.result_cid = Some(r.cid);
             // Results come in command-id order: a command older than the STOP
             // without a result of its own was superseded before the controller
             // read it, so it never ran — unless the controller had picked it
@@ -191,6 +204,7 @@ impl Actor {
         };
         self.answered_at = Some(Instant::now());
         self.ctl.axes = Some(r.axes);
+        self.ctl.result_cid = Some(r.cid);
         match &f.op {
             Operation::SetTool(_) | Operation::GetTool if r.code == ResultCode::Ok => {
                 self.ctl.tool = Some(r.position)
