@@ -1,7 +1,9 @@
 //! Configuration planning through HTTP (issue 21, docs/CONFIGURATION.md):
 //! a client that never sends S/T gets a configuration that works, a pose
 //! the bridge reports is accepted back with its S/T and reaches the same
-//! axes, and `keep` is KUKA's rule.
+//! axes, and `keep` is KUKA's rule. And whole-path safety: the workspace
+//! box, the floor and keep-out zones hold along the swept path, not only at
+//! the targets.
 
 use kuka_bridge_tests::{Options, TestService, assert_close};
 use serde_json::{Value, json};
@@ -232,4 +234,105 @@ async fn reported_positions_are_accepted_back_and_reach_the_same_axes() {
         refused.len(),
         refused.join("\n")
     );
+}
+
+/// A CIRC whose targets and auxiliary point lie inside the box but whose
+/// arc dips out of it between them is refused before anything moves, with
+/// the motion and the first point outside; a LIN through a keep-out zone
+/// likewise; the same motions pass without the zones.
+#[tokio::test]
+async fn the_swept_path_must_stay_in_the_workspace_and_out_of_keep_out_zones() {
+    use kuka_bridge::config::{KeepOut, WorkspaceBox};
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.workspace = Some(WorkspaceBox {
+                x: [0.0, 600.0],
+                y: [-70.0, 400.0],
+                z: [0.0, 700.0],
+            });
+            c.zones.floor_z = Some(20.0);
+            c.zones.keep_out = vec![KeepOut {
+                name: "fixture".into(),
+                x: [190.0, 210.0],
+                y: [40.0, 60.0],
+                z: [0.0, 100.0],
+            }];
+        }),
+        ..Options::default()
+    })
+    .await;
+    let down = json!({"x": 250, "y": 0, "z": 70, "a": 0, "b": 180, "c": 0});
+    // The arc through (240, -60) to (150, -60) around (195, -21.7), r 59.1,
+    // passes y = -80.8 between its points; every point given is at y ≥ -60.
+    let (s, v) = t
+        .motions(json!([
+            {"type": "ptp", "target": down},
+            {"type": "circ", "aux": {"x": 240, "y": -60}, "target": {"x": 150, "y": -60}}
+        ]))
+        .await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (422, Some("workspace_violation")),
+        "{v}"
+    );
+    assert_eq!(v["motion"], 1, "{v}");
+    let detail = v["detail"].as_str().unwrap_or_default();
+    assert!(detail.contains("between the targets"), "{detail}");
+    let y: f64 = detail
+        .split(", ")
+        .nth(1)
+        .and_then(|y| y.parse().ok())
+        .unwrap_or(0.0);
+    assert!(y < -70.0, "the first point outside: {detail}");
+    // A LIN whose ends are clear of the fixture but whose line crosses it.
+    let (s, v) = t
+        .motions(json!([
+            {"type": "ptp", "target": {"x": 250, "y": 50, "z": 70, "a": 0, "b": 180, "c": 0}},
+            {"type": "lin", "target": {"x": 150}}
+        ]))
+        .await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (422, Some("workspace_violation")),
+        "{v}"
+    );
+    assert!(
+        v["detail"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("`fixture`"),
+        "{v}"
+    );
+    // Below the floor.
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 250, "y": 0, "z": 10, "a": 0, "b": 180, "c": 0}}]))
+        .await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (422, Some("workspace_violation")),
+        "{v}"
+    );
+    // Nothing of the refused requests moved the robot; a path that keeps
+    // clear runs.
+    let (s, v) = t
+        .motions(json!([
+            {"type": "ptp", "target": down},
+            {"type": "circ", "aux": {"x": 220, "y": -30}, "target": {"x": 190, "y": 0}}
+        ]))
+        .await;
+    assert_eq!((s, &v["state"]), (200, &json!("done")), "{v}");
+    t.service.shutdown().await.expect("shutdown");
+
+    // The same refused motions without any zones: the dry run alone accepts them.
+    let t = TestService::start(Options::default()).await;
+    let (s, v) = t
+        .motions(json!([
+            {"type": "ptp", "target": down},
+            {"type": "circ", "aux": {"x": 240, "y": -60}, "target": {"x": 150, "y": -60}},
+            {"type": "ptp", "target": {"x": 250, "y": 50, "z": 70, "a": 0, "b": 180, "c": 0}},
+            {"type": "lin", "target": {"x": 150}}
+        ]))
+        .await;
+    assert_eq!((s, &v["state"]), (200, &json!("done")), "{v}");
+    t.service.shutdown().await.expect("shutdown");
 }

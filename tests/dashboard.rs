@@ -1052,13 +1052,28 @@ async fn jog_with_status_turn_rotations_and_axis_steps() {
     assert_eq!(
         words,
         json!([
+            "empty: the bridge chooses (reachable, clear of singularities, least axis travel)",
+            "empty: chosen with the Status"
+        ])
+    );
+    // With `keep` (KUKA's rule) the empty S keeps the current Status.
+    browser
+        .eval("const s = document.getElementById('config-mode'); s.value = 'keep'; s.dispatchEvent(new Event('change'));")
+        .await;
+    let words = browser
+        .eval("return [document.getElementById('s-words').textContent, document.getElementById('t-words').textContent];")
+        .await;
+    assert_eq!(
+        words,
+        json!([
             "empty: keeps S 6 (basic area · elbow up (A3 ≥ 4.4°) · wrist flipped (A5 < 0))",
             "empty: the shortest axis motion"
         ])
     );
 
-    // A flange-down target the flipped wrist cannot reach: the red bar says
-    // how to choose another configuration, as text with code, no backticks.
+    // A flange-down target the flipped wrist cannot reach with `keep`: the
+    // red bar says how to choose another configuration, as text with code,
+    // no backticks.
     for (name, value) in [
         ("x", "300"),
         ("y", "0"),
@@ -1087,6 +1102,23 @@ async fn jog_with_status_turn_rotations_and_axis_steps() {
     );
     assert_eq!(alarm[1], json!(["s", "s"]), "code spans: {alarm}");
     browser.screenshot("jog-refused").await;
+
+    // The same target with `auto`: the bridge picks a configuration that
+    // reaches it, and the job says which.
+    browser
+        .eval("const s = document.getElementById('config-mode'); s.value = 'auto'; s.dispatchEvent(new Event('change'));")
+        .await;
+    let before = last_job(&t).await;
+    browser.click("#go").await;
+    let id = job_done_after(&browser, before, "the PTP with auto done").await;
+    let (_, job) = t.get(&format!("/api/v1/jobs/{id}")).await;
+    assert_eq!(job["configurations"][0]["chosen"], "auto", "{job}");
+    let (_, st) = t.get("/api/v1/state").await;
+    assert_eq!(
+        (f(&st["position"]["x"]), f(&st["position"]["z"])),
+        (300.0, 300.0),
+        "{st}"
+    );
 
     // S 2 (wrist not flipped) and T 2, named as typed, reach it.
     browser.set_value("#goto [name=s]", "9").await;
@@ -1678,9 +1710,21 @@ async fn the_event_history_is_listed_and_replayed() {
         )
         .await;
     assert_eq!(s, 200, "{mv}");
-    let (s, all) = t.get("/api/v1/events/recent").await;
-    assert_eq!(s, 200, "{all}");
-    let all = all.as_array().expect("a list").clone();
+    // The job's last event is published as its answer goes out: wait for it
+    // rather than read the history once.
+    let all = kuka_bridge_tests::wait_for(WAIT, "the move's done event", async || {
+        let (s, all) = t.get("/api/v1/events/recent").await;
+        let list = all.as_array().cloned().unwrap_or_default();
+        let done = list.iter().any(|e| {
+            e["type"] == "job" && e["data"]["id"] == mv["id"] && e["data"]["state"] == "done"
+        });
+        if s == 200 && done {
+            Ok(list)
+        } else {
+            Err(format!("{s} {all}"))
+        }
+    })
+    .await;
     let ids: Vec<u64> = all.iter().map(|e| e["id"].as_u64().expect("id")).collect();
     assert!(
         ids.windows(2).all(|w| w[1] == w[0] + 1),

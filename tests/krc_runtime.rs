@@ -102,6 +102,23 @@ async fn a_v1_batch_plays_as_one_blended_chain_on_the_krl_program() {
     );
     // 4 × 50 mm at 0.1 m/s: at least 2 s of simulated motion.
     assert!(after.moving_s - before.moving_s >= 2.0, "{after:?}");
+    // The trace over HTTP marks the one stop: where the square ends.
+    let cid = v["cid"].as_i64().expect("cid");
+    let (s, trace) = t.get("/api/v1/sim/trace").await;
+    assert_eq!(s, 200, "{trace}");
+    let samples: Vec<&serde_json::Value> = trace
+        .as_array()
+        .expect("samples")
+        .iter()
+        .filter(|x| x["cid"].as_i64() == Some(cid))
+        .collect();
+    let stops: Vec<usize> = samples
+        .iter()
+        .enumerate()
+        .filter(|(_, x)| x["stop"] == true)
+        .map(|(i, _)| i)
+        .collect();
+    assert_eq!(stops, vec![samples.len() - 1], "one stop, at the end");
     t.service.shutdown().await.expect("shutdown");
 }
 
@@ -220,5 +237,80 @@ async fn the_program_works_on_the_other_kss_variant() {
         .await;
     assert_eq!((status, &job["state"]), (200, &json!("done")), "{job}");
     assert_close(t.controller_axes()[0], 7.0, 0.01, "A1 after the motion");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// A program that stops with an error leaves the controller waiting for
+/// the operator, as a KRC does: the state says so (not idle), RESET does
+/// not clear it, motions are refused; acknowledging the stop message
+/// (`POST /api/v1/sim/acknowledge`, what the operator does at the
+/// pendant) makes it ready again. Programs may use the tool and base
+/// tables every KRC has.
+#[tokio::test]
+async fn an_error_stop_waits_for_the_operator_and_acknowledge_ends_it() {
+    let t = start().await;
+    let src = "DEF usetool()\n  $TOOL = TOOL_DATA[1]\n  $BASE = BASE_DATA[2]\n  PTP {A1 5}\nEND\n";
+    let (status, v) = t
+        .post_json("/api/v1/programs", &json!({"name": "usetool", "src": src}))
+        .await;
+    assert_eq!(status, 201, "{v}");
+    let (status, job) = t
+        .post_json("/api/v1/programs/usetool/run", &json!({}))
+        .await;
+    assert_eq!((status, &job["state"]), (200, &json!("done")), "{job}");
+
+    // (The output makes it KRL the service's dry run does not run, so the
+    // division by zero is found by the controller.)
+    let src =
+        "DEF fails()\n  DECL INT i\n  i = 0\n  $OUT[5] = TRUE\n  PTP {A1 10}\n  i = 10 / i\nEND\n";
+    let (status, v) = t
+        .post_json("/api/v1/programs", &json!({"name": "fails", "src": src}))
+        .await;
+    assert_eq!(status, 201, "{v}");
+    let (status, job) = t.post_json("/api/v1/programs/fails/run", &json!({})).await;
+    assert_eq!(
+        (status, job["code"].as_str()),
+        (409, Some("program_failed")),
+        "{job}"
+    );
+    let (_, state) = wait_for(Duration::from_secs(10), "the error state", async || {
+        let (s, v) = t.get("/api/v1/state").await;
+        if v["controller"]["status"] == "error" {
+            Ok((s, v))
+        } else {
+            Err(v.to_string())
+        }
+    })
+    .await;
+    assert_eq!(
+        state["controller"]["error"]["code"], "controller_error",
+        "{state}"
+    );
+    let (status, v) = t.post("/api/v1/reset").await;
+    assert_eq!(status, 200, "{v}");
+    let (status, v) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a1": 3}}]))
+        .await;
+    assert_eq!(
+        (status, v["code"].as_str()),
+        (409, Some("controller_error")),
+        "RESET does not acknowledge a stop message: {v}"
+    );
+    let (status, v) = t.post("/api/v1/sim/acknowledge").await;
+    assert_eq!(status, 204, "{v}");
+    // kb_main runs again; once the state is idle, motions work.
+    wait_for(Duration::from_secs(10), "ready again", async || {
+        let (s, v) = t.get("/api/v1/state").await;
+        if v["controller"]["status"] == "idle" {
+            Ok((s, v))
+        } else {
+            Err(v.to_string())
+        }
+    })
+    .await;
+    let (status, v) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a1": 3}}]))
+        .await;
+    assert_eq!((status, &v["state"]), (200, &json!("done")), "{v}");
     t.service.shutdown().await.expect("shutdown");
 }

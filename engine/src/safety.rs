@@ -14,7 +14,7 @@ use kuka_protocol::{Frame, MAX_REAL, MotionRecord, SpeedRecord};
 
 use crate::error::{BridgeError, ErrorCode, Result};
 use crate::motion::{MotionRequest, StartPoint, TargetSpec};
-use crate::settings::{MotionConfig, WorkspaceBox};
+use crate::settings::{MotionConfig, WorkspaceBox, Zones};
 use kuka_kinematics::configure::{self, ConfigError, Margins};
 
 /// The safety gate shared by HTTP handlers and (later) plugins.
@@ -22,6 +22,7 @@ use kuka_kinematics::configure::{self, ConfigError, Margins};
 pub struct Safety {
     motion: MotionConfig,
     workspace: Option<WorkspaceBox>,
+    zones: Zones,
     model: Option<RobotModel>,
 }
 
@@ -74,13 +75,58 @@ impl Safety {
     pub fn new(
         motion: MotionConfig,
         workspace: Option<WorkspaceBox>,
+        zones: Zones,
         model: Option<RobotModel>,
     ) -> Self {
         Safety {
             motion,
             workspace,
+            zones,
             model,
         }
+    }
+
+    /// The workspace box, if one is configured.
+    pub fn workspace(&self) -> Option<&WorkspaceBox> {
+        self.workspace.as_ref()
+    }
+
+    /// The floor and keep-out zones.
+    pub fn zones(&self) -> &Zones {
+        &self.zones
+    }
+
+    /// Why a TCP position is not allowed (outside the box, below the
+    /// floor, inside a keep-out zone grown by `margin` mm), or `None`.
+    fn place_violation(&self, p: [f64; 3], margin: f64) -> Option<String> {
+        if let Some(ws) = &self.workspace
+            && !ws.contains(p[0], p[1], p[2])
+        {
+            return Some(format!(
+                "outside the workspace box x {:?}, y {:?}, z {:?}",
+                ws.x, ws.y, ws.z
+            ));
+        }
+        if let Some(floor) = self.zones.floor_z
+            && p[2] < floor
+        {
+            return Some(format!("below the floor (z = {floor} mm)"));
+        }
+        self.zones
+            .keep_out
+            .iter()
+            .find(|k| k.contains(p, margin))
+            .map(|k| {
+                let grown = if margin > 0.0 {
+                    format!(" (grown by the {margin} mm approximation)")
+                } else {
+                    String::new()
+                };
+                format!(
+                    "inside the keep-out zone `{}` x {:?}, y {:?}, z {:?}{grown}",
+                    k.name, k.x, k.y, k.z
+                )
+            })
     }
 
     /// The robot model in use, if any.
@@ -261,30 +307,30 @@ impl Safety {
         tool: &Frame,
         base: &Frame,
     ) -> Result<Vec<(u8, u8)>> {
-        if let Some(ws) = &self.workspace {
-            for (i, m) in motions.iter().enumerate() {
-                let mut points: Vec<[f64; 3]> = Vec::with_capacity(2);
-                match m {
-                    MotionRecord::Ptp { target, .. } | MotionRecord::Lin { target, .. } => {
-                        points.push([target.x, target.y, target.z])
-                    }
-                    MotionRecord::Circ { aux, target, .. } => {
-                        points.push(*aux);
-                        points.push([target.x, target.y, target.z]);
-                    }
-                    MotionRecord::PtpAxes { .. } => {}
+        // Targets (and CIRC auxiliary points) first: without a robot model
+        // they are all that can be checked.
+        for (i, m) in motions.iter().enumerate() {
+            let mut points: Vec<[f64; 3]> = Vec::with_capacity(2);
+            match m {
+                MotionRecord::Ptp { target, .. } | MotionRecord::Lin { target, .. } => {
+                    points.push([target.x, target.y, target.z])
                 }
-                for p in points {
-                    if !ws.contains(p[0], p[1], p[2]) {
-                        return Err(BridgeError::new(
-                            ErrorCode::WorkspaceViolation,
-                            format!(
-                                "motion {i}: point ({:.1}, {:.1}, {:.1}) mm lies outside the workspace box x {:?}, y {:?}, z {:?}",
-                                p[0], p[1], p[2], ws.x, ws.y, ws.z
-                            ),
-                        )
-                        .at_motion(i));
-                    }
+                MotionRecord::Circ { aux, target, .. } => {
+                    points.push(*aux);
+                    points.push([target.x, target.y, target.z]);
+                }
+                MotionRecord::PtpAxes { .. } => {}
+            }
+            for p in points {
+                if let Some(why) = self.place_violation(p, 0.0) {
+                    return Err(BridgeError::new(
+                        ErrorCode::WorkspaceViolation,
+                        format!(
+                            "motion {i}: point ({:.1}, {:.1}, {:.1}) mm lies {why}",
+                            p[0], p[1], p[2]
+                        ),
+                    )
+                    .at_motion(i));
                 }
             }
         }
@@ -302,6 +348,33 @@ impl Safety {
             &motions,
             &plan::PlanSettings::default(),
         );
+        // The swept path: every sample of the dry run (PTP joint paths, LIN
+        // lines, CIRC arcs), up to where it stops. Blended corners are cut
+        // inside the polyline by up to the approximation distance, so
+        // keep-out zones are grown by it there.
+        let approx = |i: usize| {
+            records.get(i).map_or(0.0, |r| match r {
+                MotionRecord::Ptp { params, .. }
+                | MotionRecord::PtpAxes { params, .. }
+                | MotionRecord::Lin { params, .. }
+                | MotionRecord::Circ { params, .. } => params.approx_mm,
+            })
+        };
+        for sample in &execution.samples {
+            let p = sample.pose.position();
+            let i = sample.motion;
+            let margin = approx(i).max(if i > 0 { approx(i - 1) } else { 0.0 });
+            if let Some(why) = self.place_violation([p.x, p.y, p.z], margin) {
+                return Err(BridgeError::new(
+                    ErrorCode::WorkspaceViolation,
+                    format!(
+                        "motion {i}: the path between the targets passes ({:.1}, {:.1}, {:.1}) mm, {why}",
+                        p.x, p.y, p.z
+                    ),
+                )
+                .at_motion(i));
+            }
+        }
         match execution.error {
             None => {
                 let mut ends =

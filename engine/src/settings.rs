@@ -106,6 +106,73 @@ impl WorkspaceBox {
     }
 }
 
+/// What the swept TCP path must keep clear of besides the workspace box:
+/// a floor or table plane and keep-out boxes around fixtures (base frame,
+/// mm). Checked along the whole dry-run path, not only at targets.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct Zones {
+    /// The TCP stays at or above this Z (a table or the floor).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub floor_z: Option<f64>,
+    /// Boxes the TCP must not enter.
+    pub keep_out: Vec<KeepOut>,
+}
+
+/// A named box the TCP must not enter (base frame, mm).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct KeepOut {
+    /// Shown in errors and on the dashboard, e.g. `fixture`.
+    pub name: String,
+    /// [min, max] X.
+    pub x: [f64; 2],
+    /// [min, max] Y.
+    pub y: [f64; 2],
+    /// [min, max] Z.
+    pub z: [f64; 2],
+}
+
+impl KeepOut {
+    /// True if the point lies inside, grown by `margin` mm on every side.
+    pub fn contains(&self, p: [f64; 3], margin: f64) -> bool {
+        [self.x, self.y, self.z]
+            .iter()
+            .zip(p)
+            .all(|(r, v)| v > r[0] - margin && v < r[1] + margin)
+    }
+}
+
+impl Zones {
+    /// Every problem of this section (keys without the `zones.` prefix).
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        if self.floor_z.is_some_and(|z| !z.is_finite()) {
+            bad.push(Problem::new("floor_z", "is not a finite number"));
+        }
+        for (i, k) in self.keep_out.iter().enumerate() {
+            if k.name.trim().is_empty() {
+                bad.push(Problem::new(
+                    "keep_out",
+                    format!("entry {i}: the name is empty"),
+                ));
+            }
+            for (axis, r) in [("x", k.x), ("y", k.y), ("z", k.z)] {
+                if !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]) {
+                    bad.push(Problem::new(
+                        "keep_out",
+                        format!(
+                            "entry {i} ({}): {axis} = {r:?} is not [min, max] with min < max",
+                            k.name
+                        ),
+                    ));
+                }
+            }
+        }
+        bad
+    }
+}
+
 impl Default for ChannelConfig {
     fn default() -> Self {
         ChannelConfig {

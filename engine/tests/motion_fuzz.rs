@@ -122,7 +122,12 @@ fn check(body: Value) {
     };
     let config = MotionConfig::default();
     let speeds = SpeedSettings::from_config(&config);
-    let safety = Safety::new(config, None, Some(RobotModel::kr3_r540()));
+    let safety = Safety::new(
+        config,
+        None,
+        Default::default(),
+        Some(RobotModel::kr3_r540()),
+    );
     if safety.check_request(&requests).is_err() {
         return;
     }

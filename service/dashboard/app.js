@@ -228,8 +228,14 @@ function showConfigWords() {
     if (!Number.isInteger(v) || v < 0 || v > max) return [`must be a whole number from 0 to ${max}`, true];
     return [words(v), false];
   };
-  const [sw, sbad] = word(f.s, 7, (v) => `S ${v}: ${statusWords(v, state.model)}`, p ? `empty: keeps S ${p.s} (${statusWords(p.s, state.model)})` : "empty: keeps the current Status");
-  const [tw, tbad] = word(f.t, 63, (v) => `T ${v}: ${turnWords(v)}`, "empty: the shortest axis motion");
+  const keep = $("config-mode").value === "keep";
+  const emptyS = !keep
+    ? "empty: the bridge chooses (reachable, clear of singularities, least axis travel)"
+    : p
+      ? `empty: keeps S ${p.s} (${statusWords(p.s, state.model)})`
+      : "empty: keeps the current Status";
+  const [sw, sbad] = word(f.s, 7, (v) => `S ${v}: ${statusWords(v, state.model)}`, emptyS);
+  const [tw, tbad] = word(f.t, 63, (v) => `T ${v}: ${turnWords(v)}`, !keep && f.s.value.trim() === "" ? "empty: chosen with the Status" : "empty: the shortest axis motion");
   for (const [id, text, bad] of [["s-words", sw, sbad], ["t-words", tw, tbad]]) {
     if ($(id).textContent !== text) $(id).textContent = text;
     $(id).classList.toggle("bad", bad);
@@ -627,6 +633,7 @@ function applyRole() {
   for (const i of $("goto").querySelectorAll("input, select, #fill-current")) i.disabled = !!jog;
   // S and T are PTP only.
   for (const k of ["s", "t"]) $("goto").elements[k].disabled = !!jog || $("jog-type").value !== "ptp";
+  $("config-mode").disabled = !!jog || $("jog-type").value !== "ptp";
   $("step").disabled = !!jog;
   $("rot-step").disabled = !!jog;
   showJointRows();
@@ -691,7 +698,9 @@ $("goto").addEventListener("submit", (e) => {
     const v = e.target.elements[k].value;
     if (v !== "") target[k] = Number(v);
   }
-  move({ type, target }).then(loadControl);
+  const motion = { type, target };
+  if (type === "ptp") motion.config = $("config-mode").value;
+  move(motion).then(loadControl);
 });
 
 onClick("fill-current", async () => {
@@ -705,6 +714,7 @@ $("jog-type").addEventListener("change", () => {
   applyRole();
   showConfigWords();
 });
+$("config-mode").addEventListener("change", showConfigWords);
 for (const k of ["s", "t"]) $("goto").elements[k].addEventListener("input", showConfigWords);
 
 // Cartesian steps: X/Y/Z by the mm step, A/B/C by the ° step, relative to the pose.

@@ -151,7 +151,12 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
     } else {
         None
     };
-    let safety = Safety::new(config.motion.clone(), config.workspace, model);
+    let safety = Safety::new(
+        config.motion.clone(),
+        config.workspace,
+        config.zones.clone(),
+        model,
+    );
     let engine = Engine::start(&config.engine_settings(), safety)?;
     let listener = tokio::net::TcpListener::bind(config.server.listen)
         .await

@@ -497,10 +497,16 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
             } else {
                 String::new()
             };
-            eprintln!(
-                "{} KRL file(s) checked, {} with problems{empty}",
-                report.files, report.failed
-            );
+            {
+                // A closed stderr (`2>&1 | head -1`) drops the summary.
+                use std::io::Write as _;
+                let _ = writeln!(
+                    std::io::stderr(),
+                    "{} KRL file(s) checked, {} with problems{empty}",
+                    report.files,
+                    report.failed
+                );
+            }
             if report.failed > 0 || report.empty > 0 {
                 return Err(Failure {
                     code: 1,

@@ -5,7 +5,9 @@
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 
-pub use kuka_engine::settings::{ChannelConfig, EngineSettings, MotionConfig, WorkspaceBox};
+pub use kuka_engine::settings::{
+    ChannelConfig, EngineSettings, KeepOut, MotionConfig, WorkspaceBox, Zones,
+};
 use kuka_engine::settings::{Problem, check_maximums, check_minimums};
 use kuka_kinematics::RobotModel;
 use serde::{Deserialize, Serialize};
@@ -67,8 +69,10 @@ pub struct Config {
     pub robot: RobotConfig,
     /// Default speeds and caps for motions.
     pub motion: MotionConfig,
-    /// Optional Cartesian box every target must lie in (base frame, mm).
+    /// Optional Cartesian box the whole TCP path must stay in (base frame, mm).
     pub workspace: Option<WorkspaceBox>,
+    /// A floor plane and keep-out boxes the TCP path must keep clear of.
+    pub zones: Zones,
     /// The embedded simulated controller (`run --simulate`).
     pub simulator: SimulatorConfig,
     /// Uploaded KRL programs.
@@ -415,6 +419,7 @@ impl Default for Config {
             robot: RobotConfig::default(),
             motion: MotionConfig::default(),
             workspace: None,
+            zones: Zones::default(),
             simulator: SimulatorConfig::default(),
             programs: ProgramsConfig::default(),
             plugins: PluginsConfig::default(),
@@ -601,6 +606,7 @@ impl Config {
             ("robot", self.robot.problems()),
             ("motion", self.motion.problems()),
             ("workspace", workspace.unwrap_or_default()),
+            ("zones", self.zones.problems()),
             ("simulator", self.simulator.problems()),
             ("programs", self.programs.problems()),
             ("plugins", self.plugins.problems()),
@@ -857,7 +863,10 @@ impl SimulatorConfig {
             &[
                 ("heartbeat_ms", self.heartbeat_ms, 1),
                 ("cycle_ms", self.cycle_ms, 1),
-                ("submit_budget", self.submit_budget, 1),
+                // The slowest assumption the cost figures cover
+                // (docs/BENCHMARKS.md §8); below it the program cannot
+                // keep its heartbeat.
+                ("submit_budget", self.submit_budget, 500),
             ],
         );
         check_maximums(
@@ -871,11 +880,16 @@ impl SimulatorConfig {
         let path_chars = p
             .bytes()
             .all(|b| b.is_ascii_alphanumeric() || b == b'/' || b == b'_');
-        if !(p.starts_with("/R1/") && p.ends_with('/') && p.len() <= 30 && path_chars) {
+        if !(p.starts_with("/R1/")
+            && p.ends_with('/')
+            && !p.contains("//")
+            && p.len() <= 30
+            && path_chars)
+        {
             bad.push(Problem::new(
                 "run_prefix",
                 format!(
-                    "{p:?} is not a RUN path prefix: it starts with /R1/, ends with /, has at most 30 characters (letters, digits, _ and /)"
+                    "{p:?} is not a RUN path prefix: it starts with /R1/, ends with /, has at most 30 characters (letters, digits, _ and single /)"
                 ),
             ));
         }

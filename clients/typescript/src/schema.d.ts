@@ -450,6 +450,34 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/sim/acknowledge": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * The operator acknowledges the controller's stop message and starts the
+         *     bridge's program again (KRC-like runtime only).
+         * @description After an error stop (a program that failed, a motion stopped on its
+         *     path) a KRC waits for the operator: the message is acknowledged on the
+         *     teach pendant (or by the PLC) and `kb_main` selected and started again.
+         *     Until then the state reports `controller_error` ("not ready") and RESET
+         *     does not help. This does what the operator would, on the simulated
+         *     controller. 404 with the native simulator, which has no stop messages.
+         *
+         *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        post: operations["acknowledgeSimStop"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/sim/trace": {
         parameters: {
             query?: never;
@@ -458,7 +486,7 @@ export interface paths {
             cookie?: never;
         };
         /**
-         * The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step of 12 ms; krc: interpreter cycle).
+         * The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
          * @description **Access:** role `viewer` or higher.
          */
         get: operations["getSimTrace"];
@@ -1077,6 +1105,17 @@ export interface components {
             z: number;
         };
         /**
+         * @description How a Cartesian PTP without `s` gets its arm configuration
+         *     (docs/CONFIGURATION.md).
+         * @enum {string}
+         */
+        Configuration: "auto" | "keep";
+        /**
+         * @description Who chose a PTP's configuration.
+         * @enum {string}
+         */
+        ConfigurationSource: "given" | "auto" | "keep";
+        /**
          * @description Connection to the controller.
          * @enum {string}
          */
@@ -1305,6 +1344,11 @@ export interface components {
             cid?: number | null;
             /** @description Motions completed so far. */
             completed: number;
+            /**
+             * @description The arm configuration each Cartesian PTP of a move got (with a
+             *     robot model): send these `s`/`t` to replay it exactly.
+             */
+            configurations?: components["schemas"]["PtpConfiguration"][];
             /**
              * Format: int64
              * @description Creation time (Unix ms).
@@ -1572,6 +1616,7 @@ export interface components {
          *     }
          */
         MotionBatch: {
+            config?: components["schemas"]["Configuration"] | null;
             /**
              * @description The motions, executed in order as one continuous batch (approximated
              *     between motions unless `approx_mm` is 0).
@@ -1926,6 +1971,31 @@ export interface components {
             src: string;
         };
         /**
+         * @description The arm configuration (Status and Turn) one Cartesian PTP got.
+         * @example {
+         *       "motion": 0,
+         *       "s": 6,
+         *       "t": 27,
+         *       "chosen": "auto"
+         *     }
+         */
+        PtpConfiguration: {
+            /** @description Who chose it. */
+            chosen: components["schemas"]["ConfigurationSource"];
+            /** @description 0-based index of the motion in the batch. */
+            motion: number;
+            /**
+             * Format: int32
+             * @description Status.
+             */
+            s: number;
+            /**
+             * Format: int32
+             * @description Turn.
+             */
+            t: number;
+        };
+        /**
          * @description A job, plan or alarm event as the service published it.
          * @example {
          *       "id": 1795629212950,
@@ -2215,12 +2285,15 @@ export interface components {
             c?: number | null;
             /**
              * Format: int64
-             * @description Status (0..=7), PTP only; omitted: keep the current Status.
+             * @description Status (0..=7), PTP only; always obeyed. Omitted: chosen by the
+             *     PTP's `config` (`auto`: the bridge chooses; `keep`: the current
+             *     Status).
              */
             s?: number | null;
             /**
              * Format: int64
-             * @description Turn (0..=63), PTP only; omitted: shortest axis path.
+             * @description Turn (0..=63), PTP only; always obeyed. Omitted: chosen with the
+             *     Status (`auto`) or the shortest axis path (`keep`).
              */
             t?: number | null;
             /**
@@ -2324,6 +2397,12 @@ export interface components {
             /** @description TCP pose in the base frame `[x, y, z, a, b, c]`. */
             pose: number[];
             /**
+             * @description The robot stands still from here on. The KRC-like runtime marks
+             *     every stop (exact stops inside a batch, its end, an error stop);
+             *     the native simulator marks where each batch ends.
+             */
+            stop: boolean;
+            /**
              * Format: double
              * @description Simulated time in seconds since the controller started.
              */
@@ -2402,6 +2481,7 @@ export interface components {
              * @description Approximation distance in mm.
              */
             approx_mm?: number | null;
+            config?: components["schemas"]["Configuration"] | null;
             /** @description Add to the start instead of replacing. */
             relative?: boolean;
             /** @description Target. */
@@ -4504,6 +4584,87 @@ export interface operations {
             };
             /** @description Rejected: problem+json with a stable code and a sentence */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, … */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    acknowledgeSimStop: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Acknowledged; kb_main restarted */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };

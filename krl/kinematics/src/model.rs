@@ -482,6 +482,13 @@ impl RobotModel {
             .collect()
     }
 
+    /// Axis travel from `from` to `to` as [`RobotModel::solutions`] and
+    /// configuration planning weigh it: the PTP time at full speed (slowest
+    /// axis) plus a tenth of the summed axis times, in seconds.
+    pub fn travel_time(&self, from: &Axes, to: &Axes) -> f64 {
+        self.cost(from, to)
+    }
+
     /// Axis-motion cost from `from` to `to`: the PTP time at full speed
     /// (slowest axis) plus a small share of the summed axis times to break
     /// ties (e.g. the A4/A6 split at A5 = 0).

@@ -37,12 +37,29 @@ pub const KRL_FILES: [(&str, &str); 6] = [
 
 /// The user-level globals of a KSS 8.x `$config.dat` the program uses,
 /// with the values of real `$config.dat` files (docs/CONTROLLER.md, 14).
-const CONFIG_DAT: &str = "DEFDAT $CONFIG PUBLIC
+/// The tool and base tables every KRC has (`TOOL_DATA[16]`,
+/// `BASE_DATA[32]`, all zero as on a fresh controller) are declared too, so
+/// that an uploaded program using them runs.
+fn config_dat() -> String {
+    let mut dat = String::from(
+        "DEFDAT $CONFIG PUBLIC
 DECL GLOBAL REAL DEF_ACC_CP=2.3
 DECL GLOBAL REAL DEF_ACC_ORI1=100.0
 DECL GLOBAL REAL DEF_ACC_ORI2=100.0
-ENDDAT
-";
+DECL GLOBAL FRAME TOOL_DATA[16]
+DECL GLOBAL FRAME BASE_DATA[32]
+",
+    );
+    for (name, n) in [("TOOL_DATA", 16), ("BASE_DATA", 32)] {
+        for i in 1..=n {
+            dat.push_str(&format!(
+                "{name}[{i}]={{X 0.0,Y 0.0,Z 0.0,A 0.0,B 0.0,C 0.0}}\n"
+            ));
+        }
+    }
+    dat.push_str("ENDDAT\n");
+    dat
+}
 
 /// Why the program cannot be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -78,7 +95,9 @@ fn syntax(file: &str) -> impl Fn(kuka_krl::SyntaxError) -> ModuleError + '_ {
 /// simulated `$config.dat`.
 pub fn shipped_program(dir: Option<&Path>) -> Result<Program, ModuleError> {
     let mut routines = Vec::new();
-    let mut items = parse_dat(CONFIG_DAT).map_err(syntax("$config.dat"))?.items;
+    let mut items = parse_dat(&config_dat())
+        .map_err(syntax("$config.dat"))?
+        .items;
     for (name, text) in KRL_FILES {
         let owned;
         let text = match dir {

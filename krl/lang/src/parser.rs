@@ -1059,6 +1059,13 @@ impl Parser {
             let up = s.to_ascii_uppercase();
             if allowed.contains(&up.as_str()) {
                 self.bump();
+                // KSS 8.3+ inline forms write the keyword twice for a LIN
+                // or CIRC with CONT (`LIN XP2 C_DIS C_DIS`): accepted.
+                if let Tok::Ident(again) = self.peek()
+                    && allowed.contains(&again.to_ascii_uppercase().as_str())
+                {
+                    self.bump();
+                }
                 return Ok(Some(up));
             }
             if up.starts_with("C_") {

@@ -34,16 +34,6 @@ const NOT_KRL: &[(&str, &str, &str)] = &[
         "found `ENDFCT`",
     ),
     (
-        "unlicensed/KamWisa__BPF2PLTZPK2/mainsub.src",
-        "`C_DIS C_DIS`: the approximation keyword written twice",
-        "found `C_DIS`",
-    ),
-    (
-        "unlicensed/KamWisa__BPF2PLTZPK2/pickup.src",
-        "`C_DIS C_DIS`: the approximation keyword written twice",
-        "found `C_DIS`",
-    ),
-    (
         "unlicensed/LEMUR-DIMEC__KUKA_EXTRUDER/Archivos_KRL/Pruebas_KRL/flujo.dat",
         "not a data list: generated text with a call where DEFDAT belongs",
         "found `(`",

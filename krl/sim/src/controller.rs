@@ -32,6 +32,10 @@ pub struct TraceSample {
     /// Axis angles A1..A6.
     #[cfg_attr(feature = "openapi", schema(value_type = Vec<f64>))]
     pub axes: Axes,
+    /// The robot stands still from here on. The KRC-like runtime marks
+    /// every stop (exact stops inside a batch, its end, an error stop);
+    /// the native simulator marks where each batch ends.
+    pub stop: bool,
 }
 
 /// A batch being played back.
@@ -544,10 +548,12 @@ impl Controller {
                 .as_secs_f64()
                 * time_scale
         };
+        let last = active.execution.samples.len().saturating_sub(1);
         while let Some(s) = active.execution.samples.get(active.next_sample) {
             if s.t > elapsed {
                 break;
             }
+            let stop = active.next_sample == last;
             self.axes = s.axes;
             active.current_motion = s.motion;
             active.next_sample += 1;
@@ -561,6 +567,7 @@ impl Controller {
                     motion: s.motion,
                     pose: s.pose.to_array(),
                     axes: s.axes,
+                    stop,
                 });
             }
         }

@@ -150,6 +150,7 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("GET", "/api/v1/sim", READ),
     ("GET", "/api/v1/sim/trace", READ),
     ("DELETE", "/api/v1/sim/trace", OPERATE),
+    ("POST", "/api/v1/sim/acknowledge", OPERATE),
     // Documentation.
     ("GET", "/openapi.json", PUBLIC),
     ("GET", "/errors", PUBLIC),

@@ -72,6 +72,7 @@ pub(crate) const OPERATION_IDS: &[(&str, &str, &str)] = &[
     ("get", "/api/v1/sim", "getSimulator"),
     ("get", "/api/v1/sim/trace", "getSimTrace"),
     ("delete", "/api/v1/sim/trace", "clearSimTrace"),
+    ("post", "/api/v1/sim/acknowledge", "acknowledgeSimStop"),
 ];
 
 /// The motion kinds: the `type` tag and the schema name of each.

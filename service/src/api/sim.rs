@@ -56,6 +56,7 @@ fn krc_sample(s: &kuka_krc::KrcTraceSample) -> kuka_sim::TraceSample {
         motion: s.motion,
         pose: s.pose,
         axes: s.axes,
+        stop: s.stop,
     }
 }
 
@@ -90,7 +91,7 @@ async fn snapshot(State(app): State<AppState>) -> Result<Response, Problem> {
     }
 }
 
-/// The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step of 12 ms; krc: interpreter cycle).
+/// The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
 #[utoipa::path(get, path = "/api/v1/sim/trace", tag = "simulator", params(TraceQuery),
     responses((status = 200, description = "Trace samples, oldest first", body = [kuka_sim::TraceSample]), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn trace(
@@ -116,8 +117,34 @@ async fn clear_trace(State(app): State<AppState>) -> Result<axum::http::StatusCo
     Ok(axum::http::StatusCode::NO_CONTENT)
 }
 
+/// The operator acknowledges the controller's stop message and starts the
+/// bridge's program again (KRC-like runtime only).
+///
+/// After an error stop (a program that failed, a motion stopped on its
+/// path) a KRC waits for the operator: the message is acknowledged on the
+/// teach pendant (or by the PLC) and `kb_main` selected and started again.
+/// Until then the state reports `controller_error` ("not ready") and RESET
+/// does not help. This does what the operator would, on the simulated
+/// controller. 404 with the native simulator, which has no stop messages.
+#[utoipa::path(post, path = "/api/v1/sim/acknowledge", tag = "simulator",
+    responses((status = 204, description = "Acknowledged; kb_main restarted"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn acknowledge(State(app): State<AppState>) -> Result<axum::http::StatusCode, Problem> {
+    match sim(&app)? {
+        Simulated::Native(_) => Err(BridgeError::new(
+            ErrorCode::NotFound,
+            "the native simulator has no stop messages to acknowledge (this is for `--simulate krc`)",
+        )
+        .into()),
+        Simulated::Krc(krc) => {
+            krc.operator_restart();
+            Ok(axum::http::StatusCode::NO_CONTENT)
+        }
+    }
+}
+
 pub(super) fn router() -> OpenApiRouter<AppState> {
     OpenApiRouter::new()
         .routes(routes!(snapshot))
         .routes(routes!(trace, clear_trace))
+        .routes(routes!(acknowledge))
 }

@@ -12,6 +12,8 @@ from .bridge_error import BridgeError
 from .cartesian_frame import CartesianFrame
 from .circ_motion import CircMotion
 from .circ_motion_type import CircMotionType
+from .configuration import Configuration
+from .configuration_source import ConfigurationSource
 from .connection import Connection
 from .control_request import ControlRequest
 from .control_state import ControlState
@@ -44,6 +46,7 @@ from .principal import Principal
 from .problem_details import ProblemDetails
 from .program_info import ProgramInfo
 from .program_upload import ProgramUpload
+from .ptp_configuration import PtpConfiguration
 from .ptp_motion import PtpMotion
 from .ptp_motion_type import PtpMotionType
 from .recent_event import RecentEvent
@@ -79,6 +82,8 @@ __all__ = (
     "CartesianFrame",
     "CircMotion",
     "CircMotionType",
+    "Configuration",
+    "ConfigurationSource",
     "Connection",
     "ControllerInfo",
     "ControlRequest",
@@ -111,6 +116,7 @@ __all__ = (
     "ProblemDetails",
     "ProgramInfo",
     "ProgramUpload",
+    "PtpConfiguration",
     "PtpMotion",
     "PtpMotionType",
     "RecentEvent",

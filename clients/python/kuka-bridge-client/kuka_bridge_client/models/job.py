@@ -17,6 +17,7 @@ if TYPE_CHECKING:
   from ..models.bridge_error import BridgeError
   from ..models.cartesian_frame import CartesianFrame
   from ..models.position import Position
+  from ..models.ptp_configuration import PtpConfiguration
 
 
 
@@ -45,6 +46,8 @@ class Job:
             state (JobState): Life of a job: queued → sent → executing → done | failed | cancelled.
             axes (AxisAngles | None | Unset):
             cid (int | None | Unset): Command id used on the channel, once sent.
+            configurations (list[PtpConfiguration] | Unset): The arm configuration each Cartesian PTP of a move got (with a
+                robot model): send these `s`/`t` to replay it exactly.
             error (BridgeError | None | Unset):
             finished_ms (int | None | Unset): When finished (Unix ms).
             frame (CartesianFrame | None | Unset):
@@ -67,6 +70,7 @@ class Job:
     state: JobState
     axes: AxisAngles | None | Unset = UNSET
     cid: int | None | Unset = UNSET
+    configurations: list[PtpConfiguration] | Unset = UNSET
     error: BridgeError | None | Unset = UNSET
     finished_ms: int | None | Unset = UNSET
     frame: CartesianFrame | None | Unset = UNSET
@@ -86,6 +90,7 @@ class Job:
         from ..models.bridge_error import BridgeError # noqa: PLC0415
         from ..models.cartesian_frame import CartesianFrame # noqa: PLC0415
         from ..models.position import Position # noqa: PLC0415
+        from ..models.ptp_configuration import PtpConfiguration # noqa: PLC0415
         completed = self.completed
 
         created_ms = self.created_ms
@@ -111,6 +116,15 @@ class Job:
             cid = UNSET
         else:
             cid = self.cid
+
+        configurations: list[dict[str, Any]] | Unset = UNSET
+        if not isinstance(self.configurations, Unset):
+            configurations = []
+            for configurations_item_data in self.configurations:
+                configurations_item = configurations_item_data.to_dict()
+                configurations.append(configurations_item)
+
+
 
         error: dict[str, Any] | None | Unset
         if isinstance(self.error, Unset):
@@ -177,6 +191,8 @@ class Job:
             field_dict["axes"] = axes
         if cid is not UNSET:
             field_dict["cid"] = cid
+        if configurations is not UNSET:
+            field_dict["configurations"] = configurations
         if error is not UNSET:
             field_dict["error"] = error
         if finished_ms is not UNSET:
@@ -204,6 +220,7 @@ class Job:
         from ..models.bridge_error import BridgeError # noqa: PLC0415
         from ..models.cartesian_frame import CartesianFrame # noqa: PLC0415
         from ..models.position import Position # noqa: PLC0415
+        from ..models.ptp_configuration import PtpConfiguration # noqa: PLC0415
         d = dict(src_dict)
         completed = d.pop("completed")
 
@@ -248,6 +265,18 @@ class Job:
             return cast(int | None | Unset, data)
 
         cid = _parse_cid(d.pop("cid", UNSET))
+
+
+        _configurations = d.pop("configurations", UNSET)
+        configurations: list[PtpConfiguration] | Unset = UNSET
+        if _configurations is not UNSET:
+            configurations = []
+            for configurations_item_data in _configurations:
+                configurations_item = PtpConfiguration.from_dict(configurations_item_data)
+
+
+
+                configurations.append(configurations_item)
 
 
         def _parse_error(data: object) -> BridgeError | None | Unset:
@@ -361,6 +390,7 @@ class Job:
             state=state,
             axes=axes,
             cid=cid,
+            configurations=configurations,
             error=error,
             finished_ms=finished_ms,
             frame=frame,

@@ -8,6 +8,7 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
+from ..models.configuration import Configuration
 from ..types import UNSET, Unset
 from typing import cast
 
@@ -38,12 +39,14 @@ class MotionBatch:
             motions (list[AxisMotion | CircMotion | LinMotion | PtpMotion]): The motions, executed in order as one
                 continuous batch (approximated
                 between motions unless `approx_mm` is 0).
+            config (Configuration | None | Unset):
             timeout_ms (int | None | Unset): Fail the job (and stop the robot) if it has not finished after this many ms.
             wait (bool | None | Unset): Wait for completion (default true). With false the answer is 202
                 with the queued job; poll `/api/v1/jobs/{id}` or listen to events.
      """
 
     motions: list[AxisMotion | CircMotion | LinMotion | PtpMotion]
+    config: Configuration | None | Unset = UNSET
     timeout_ms: int | None | Unset = UNSET
     wait: bool | None | Unset = UNSET
 
@@ -72,6 +75,14 @@ class MotionBatch:
 
 
 
+        config: None | str | Unset
+        if isinstance(self.config, Unset):
+            config = UNSET
+        elif isinstance(self.config, Configuration):
+            config = self.config.value
+        else:
+            config = self.config
+
         timeout_ms: int | None | Unset
         if isinstance(self.timeout_ms, Unset):
             timeout_ms = UNSET
@@ -90,6 +101,8 @@ class MotionBatch:
         field_dict.update({
             "motions": motions,
         })
+        if config is not UNSET:
+            field_dict["config"] = config
         if timeout_ms is not UNSET:
             field_dict["timeout_ms"] = timeout_ms
         if wait is not UNSET:
@@ -153,6 +166,26 @@ class MotionBatch:
             motions.append(motions_item)
 
 
+        def _parse_config(data: object) -> Configuration | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            try:
+                if not isinstance(data, str):
+                    raise TypeError()
+                config_type_0 = Configuration(data)
+
+
+
+                return config_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(Configuration | None | Unset, data)
+
+        config = _parse_config(d.pop("config", UNSET))
+
+
         def _parse_timeout_ms(data: object) -> int | None | Unset:
             if data is None:
                 return data
@@ -175,6 +208,7 @@ class MotionBatch:
 
         motion_batch = cls(
             motions=motions,
+            config=config,
             timeout_ms=timeout_ms,
             wait=wait,
         )

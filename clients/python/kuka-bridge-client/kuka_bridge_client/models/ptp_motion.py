@@ -8,6 +8,7 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
+from ..models.configuration import Configuration
 from ..models.ptp_motion_type import PtpMotionType
 from ..types import UNSET, Unset
 from typing import cast
@@ -37,6 +38,7 @@ class PtpMotion:
             type_ (PtpMotionType):
             acceleration_pct (float | None | Unset): % of max acceleration.
             approx_mm (float | None | Unset): Approximation distance in mm.
+            config (Configuration | None | Unset):
             relative (bool | Unset): Add to the start instead of replacing.
             velocity_pct (float | None | Unset): % of max axis speed (default from config).
      """
@@ -45,6 +47,7 @@ class PtpMotion:
     type_: PtpMotionType
     acceleration_pct: float | None | Unset = UNSET
     approx_mm: float | None | Unset = UNSET
+    config: Configuration | None | Unset = UNSET
     relative: bool | Unset = UNSET
     velocity_pct: float | None | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
@@ -71,6 +74,14 @@ class PtpMotion:
         else:
             approx_mm = self.approx_mm
 
+        config: None | str | Unset
+        if isinstance(self.config, Unset):
+            config = UNSET
+        elif isinstance(self.config, Configuration):
+            config = self.config.value
+        else:
+            config = self.config
+
         relative = self.relative
 
         velocity_pct: float | None | Unset
@@ -90,6 +101,8 @@ class PtpMotion:
             field_dict["acceleration_pct"] = acceleration_pct
         if approx_mm is not UNSET:
             field_dict["approx_mm"] = approx_mm
+        if config is not UNSET:
+            field_dict["config"] = config
         if relative is not UNSET:
             field_dict["relative"] = relative
         if velocity_pct is not UNSET:
@@ -133,6 +146,26 @@ class PtpMotion:
         approx_mm = _parse_approx_mm(d.pop("approx_mm", UNSET))
 
 
+        def _parse_config(data: object) -> Configuration | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            try:
+                if not isinstance(data, str):
+                    raise TypeError()
+                config_type_0 = Configuration(data)
+
+
+
+                return config_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(Configuration | None | Unset, data)
+
+        config = _parse_config(d.pop("config", UNSET))
+
+
         relative = d.pop("relative", UNSET)
 
         def _parse_velocity_pct(data: object) -> float | None | Unset:
@@ -150,6 +183,7 @@ class PtpMotion:
             type_=type_,
             acceleration_pct=acceleration_pct,
             approx_mm=approx_mm,
+            config=config,
             relative=relative,
             velocity_pct=velocity_pct,
         )

@@ -32,8 +32,11 @@ class TargetSpec:
             a (float | None | Unset): A (about Z) in degrees.
             b (float | None | Unset): B (about Y) in degrees.
             c (float | None | Unset): C (about X) in degrees.
-            s (int | None | Unset): Status (0..=7), PTP only; omitted: keep the current Status.
-            t (int | None | Unset): Turn (0..=63), PTP only; omitted: shortest axis path.
+            s (int | None | Unset): Status (0..=7), PTP only; always obeyed. Omitted: chosen by the
+                PTP's `config` (`auto`: the bridge chooses; `keep`: the current
+                Status).
+            t (int | None | Unset): Turn (0..=63), PTP only; always obeyed. Omitted: chosen with the
+                Status (`auto`) or the shortest axis path (`keep`).
             x (float | None | Unset): X in mm.
             y (float | None | Unset): Y in mm.
             z (float | None | Unset): Z in mm.

@@ -28,6 +28,9 @@ class TraceSample:
             cid (int): Command that moved the robot here.
             motion (int): Motion index within that command's batch.
             pose (list[float]): TCP pose in the base frame `[x, y, z, a, b, c]`.
+            stop (bool): The robot stands still from here on. The KRC-like runtime marks
+                every stop (exact stops inside a batch, its end, an error stop);
+                the native simulator marks where each batch ends.
             t (float): Simulated time in seconds since the controller started.
      """
 
@@ -35,6 +38,7 @@ class TraceSample:
     cid: int
     motion: int
     pose: list[float]
+    stop: bool
     t: float
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
@@ -55,6 +59,8 @@ class TraceSample:
 
 
 
+        stop = self.stop
+
         t = self.t
 
 
@@ -65,6 +71,7 @@ class TraceSample:
             "cid": cid,
             "motion": motion,
             "pose": pose,
+            "stop": stop,
             "t": t,
         })
 
@@ -85,6 +92,8 @@ class TraceSample:
         pose = cast(list[float], d.pop("pose"))
 
 
+        stop = d.pop("stop")
+
         t = d.pop("t")
 
         trace_sample = cls(
@@ -92,6 +101,7 @@ class TraceSample:
             cid=cid,
             motion=motion,
             pose=pose,
+            stop=stop,
             t=t,
         )
 

@@ -119,8 +119,8 @@ def sync_detailed(
     since: float | Unset = UNSET,
 
 ) -> Response[ProblemDetails | list[TraceSample]]:
-    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step
-    of 12 ms; krc: interpreter cycle).
+    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO
+    step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
 
      
 
@@ -155,8 +155,8 @@ def sync(
     since: float | Unset = UNSET,
 
 ) -> ProblemDetails | list[TraceSample] | None:
-    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step
-    of 12 ms; krc: interpreter cycle).
+    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO
+    step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
 
      
 
@@ -186,8 +186,8 @@ async def asyncio_detailed(
     since: float | Unset = UNSET,
 
 ) -> Response[ProblemDetails | list[TraceSample]]:
-    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step
-    of 12 ms; krc: interpreter cycle).
+    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO
+    step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
 
      
 
@@ -222,8 +222,8 @@ async def asyncio(
     since: float | Unset = UNSET,
 
 ) -> ProblemDetails | list[TraceSample] | None:
-    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes}` per sample (native: IPO step
-    of 12 ms; krc: interpreter cycle).
+    """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO
+    step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
 
      
 
