@@ -259,7 +259,7 @@ impl Safety {
             model,
             tool: &tool,
             base: &base,
-            settings: &plan::PlanSettings::default(),
+            settings: &plan::PlanSettings::for_model(model),
             margins: &Margins::default(),
         };
         let chosen = configure::choose(&cx, &start.axes, &motions, &modes).map_err(|e| {
@@ -346,7 +346,7 @@ impl Safety {
             &to_pose(tool),
             &to_pose(base),
             &motions,
-            &plan::PlanSettings::default(),
+            &plan::PlanSettings::for_model(model),
         );
         // The swept path: every sample of the dry run (PTP joint paths, LIN
         // lines, CIRC arcs), up to where it stops. Blended corners are cut
@@ -538,7 +538,7 @@ impl Safety {
             model,
             &start.axes,
             &phases,
-            &plan::PlanSettings::default(),
+            &plan::PlanSettings::for_model(model),
         )
         .map_err(|e| at(motion_error(&e.error), e.line))?;
         Ok(ProgramCheck {

@@ -124,6 +124,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         }
         if let Some(m) = &model {
             kc.model = m.clone();
+            kc.plan = kuka_kinematics::PlanSettings::for_model(m);
         }
         kc.time_scale = config.simulator.time_scale;
         kc.cycle = Duration::from_millis(config.simulator.cycle_ms);
@@ -144,6 +145,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         }
         if let Some(m) = &model {
             sc.model = m.clone();
+            sc.plan = kuka_kinematics::PlanSettings::for_model(m);
         }
         sc.time_scale = config.simulator.time_scale;
         sc.heartbeat = Duration::from_millis(config.simulator.heartbeat_ms);

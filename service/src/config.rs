@@ -963,6 +963,16 @@ impl RobotConfig {
                     format!("axis A{}: {v} is not a speed in (0, 3600] deg/s", i + 1),
                 ));
             }
+            let a = m.max_acc_deg_s2[i];
+            if !(a.is_finite() && a > 0.0 && a <= 100_000.0) {
+                bad.push(Problem::new(
+                    "custom.max_acc_deg_s2",
+                    format!(
+                        "axis A{}: {a} is not an acceleration in (0, 100000] deg/s²",
+                        i + 1
+                    ),
+                ));
+            }
             if !(*lo..=*hi).contains(&m.home[i]) {
                 bad.push(Problem::new(
                     "custom.home",

@@ -1543,6 +1543,14 @@ export interface components {
          *         600,
          *         800
          *       ],
+         *       "max_acc_deg_s2": [
+         *         300,
+         *         300,
+         *         300,
+         *         300,
+         *         300,
+         *         300
+         *       ],
          *       "home": [
          *         0,
          *         -90,
@@ -1558,6 +1566,11 @@ export interface components {
             home: number[];
             /** @description Software limit switches per axis A1..A6: `[negative, positive]` degrees. */
             limits_deg: number[][];
+            /**
+             * @description Axis accelerations A1..A6 at 100 % in deg/s² (what the dry run and
+             *     the simulators plan with; an assumption unless the site set them).
+             */
+            max_acc_deg_s2: number[];
             /** @description Maximum axis speeds A1..A6 in deg/s. */
             max_speed_deg_s: number[];
             /** @description Model id (`kr3_r540`, ... or the custom model's name). */

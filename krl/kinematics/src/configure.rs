@@ -205,34 +205,33 @@ pub fn choose(
             })
             .unwrap_or(n);
         let tail = &motions[i + 1..end];
-        let chosen = match &motions[i].kind {
+        match &motions[i].kind {
             MotionKind::Ptp { target, s: None, t }
                 if modes.get(i).copied().unwrap_or_default() == ConfigMode::Auto =>
             {
-                Some(choose_one(cx, &axes, target, *t, tail, i)?)
+                // Where the block ends comes with the choice (its tail was
+                // planned from it).
+                let (chosen, block_end) = choose_one(cx, &axes, target, *t, tail, i)?;
+                out[i] = Some(chosen);
+                axes = block_end;
             }
-            _ => None,
-        };
-        // Where the block ends: planned from the chosen configuration, or
-        // as given (the dry run reports a failure there).
-        let block_end = match chosen {
-            Some(c) => {
-                out[i] = Some(c);
-                plan::plan(model, &c.axes, tool, base, tail, settings)
+            _ => {
+                // As given: the dry run reports a failure here.
+                let run = plan::plan(model, &axes, tool, base, &motions[i..end], settings);
+                if run.error.is_some() {
+                    return Ok(out);
+                }
+                axes = run.end_axes;
             }
-            None => plan::plan(model, &axes, tool, base, &motions[i..end], settings),
-        };
-        if block_end.error.is_some() {
-            return Ok(out);
         }
-        axes = block_end.end_axes;
         i = end;
     }
     Ok(out)
 }
 
 /// The configuration of one PTP: the first candidate, in the order of the
-/// module documentation, from which `tail` plans without an error.
+/// module documentation, from which `tail` plans without an error, and the
+/// axes where `tail` then ends.
 fn choose_one(
     cx: &Context<'_>,
     from: &Axes,
@@ -240,7 +239,7 @@ fn choose_one(
     t: Option<u8>,
     tail: &[Motion],
     index: usize,
-) -> Result<Chosen, ConfigError> {
+) -> Result<(Chosen, Axes), ConfigError> {
     let Context {
         model,
         tool,
@@ -271,7 +270,7 @@ fn choose_one(
     for (axes, s, t) in candidates.into_iter().take(MAX_TRIED) {
         let run = plan::plan(model, &axes, tool, base, tail, settings);
         match run.error {
-            None => return Ok(Chosen { s, t, axes }),
+            None => return Ok((Chosen { s, t, axes }, run.end_axes)),
             Some((k, e)) => tried.push(Tried {
                 s,
                 t,

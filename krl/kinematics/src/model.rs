@@ -126,8 +126,22 @@ pub struct RobotModel {
     pub limits_deg: [(f64, f64); 6],
     /// Maximum axis speeds in deg/s.
     pub max_speed_deg_s: [f64; 6],
+    /// Axis accelerations at 100 % in deg/s² (what `$ACC_AXIS[i] = 100`
+    /// means on the controller). KUKA publishes no figure: every built-in
+    /// model assumes [`DEFAULT_AXIS_ACC_DEG_S2`] on every axis, which is on
+    /// the slow side for small robots; a site that knows its machine data
+    /// sets its own (`robot.custom.max_acc_deg_s2`).
+    #[serde(default = "default_axis_acc")]
+    pub max_acc_deg_s2: [f64; 6],
     /// Home position (axis angles, degrees).
     pub home: Axes,
+}
+
+/// The axis acceleration every built-in model assumes (deg/s² at 100 %).
+pub const DEFAULT_AXIS_ACC_DEG_S2: f64 = 300.0;
+
+fn default_axis_acc() -> [f64; 6] {
+    [DEFAULT_AXIS_ACC_DEG_S2; 6]
 }
 
 /// Limits shared by the KR 6 R700/R900 sixx and KR 10 R1100 sixx.
@@ -157,6 +171,7 @@ impl RobotModel {
             opw_mm: [a1, -a3a4, 0.0, c1, c2, c3, c4],
             limits_deg,
             max_speed_deg_s,
+            max_acc_deg_s2: default_axis_acc(),
             home: KUKA_HOME,
         }
     }

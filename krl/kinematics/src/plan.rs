@@ -115,16 +115,27 @@ pub struct PlanSettings {
     pub sample_period_s: f64,
 }
 
+impl PlanSettings {
+    /// The defaults with the model's axis accelerations: what the dry run,
+    /// configuration planning and both simulated controllers plan with.
+    pub fn for_model(model: &RobotModel) -> Self {
+        PlanSettings {
+            max_acc_axis_deg_s2: model.max_acc_deg_s2,
+            ..PlanSettings::default()
+        }
+    }
+}
+
 impl Default for PlanSettings {
-    /// Override 100 %, $ACC.CP 2.3 m/s², 300 deg/s² on every axis (an
-    /// assumption: KUKA does not publish axis accelerations; real small
-    /// robots accelerate faster, so simulated PTPs are on the slow side),
-    /// IPO cycle 12 ms.
+    /// Override 100 %, $ACC.CP 2.3 m/s² (`DEF_ACC_CP` of real
+    /// `$config.dat` files, what `kb_main` commands at 100 %), 300 deg/s² on
+    /// every axis ([`crate::model::DEFAULT_AXIS_ACC_DEG_S2`]; use
+    /// [`PlanSettings::for_model`] for a model's own table), IPO cycle 12 ms.
     fn default() -> Self {
         PlanSettings {
             override_pct: 100.0,
             max_acc_cp: 2.3,
-            max_acc_axis_deg_s2: [300.0; 6],
+            max_acc_axis_deg_s2: [crate::model::DEFAULT_AXIS_ACC_DEG_S2; 6],
             sample_period_s: 0.012,
         }
     }

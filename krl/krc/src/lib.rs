@@ -41,5 +41,5 @@ mod scheduler;
 
 pub use config::KrcConfig;
 pub use controller::{KrcController, KrcError, KrcSnapshot, KrcStats};
-pub use modules::{KRL_FILES, shipped_program};
+pub use modules::{KRL_FILES, shipped_program, simulated_config_dat};
 pub use scheduler::KrcTraceSample;

@@ -40,7 +40,7 @@ pub const KRL_FILES: [(&str, &str); 6] = [
 /// The tool and base tables every KRC has (`TOOL_DATA[16]`,
 /// `BASE_DATA[32]`, all zero as on a fresh controller) are declared too, so
 /// that an uploaded program using them runs.
-fn config_dat() -> String {
+pub fn simulated_config_dat() -> String {
     let mut dat = String::from(
         "DEFDAT $CONFIG PUBLIC
 DECL GLOBAL REAL DEF_ACC_CP=2.3
@@ -95,7 +95,7 @@ fn syntax(file: &str) -> impl Fn(kuka_krl::SyntaxError) -> ModuleError + '_ {
 /// simulated `$config.dat`.
 pub fn shipped_program(dir: Option<&Path>) -> Result<Program, ModuleError> {
     let mut routines = Vec::new();
-    let mut items = parse_dat(&config_dat())
+    let mut items = parse_dat(&simulated_config_dat())
         .map_err(syntax("$config.dat"))?
         .items;
     for (name, text) in KRL_FILES {

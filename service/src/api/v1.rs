@@ -104,6 +104,7 @@ pub struct Stopped {
     "opw_mm": {"a1": 20.0, "a2": -20.0, "b": 0.0, "c1": 345.0, "c2": 260.0, "c3": 260.0, "c4": 75.0},
     "limits_deg": [[-170.0, 170.0], [-170.0, 50.0], [-110.0, 155.0], [-175.0, 175.0], [-120.0, 120.0], [-350.0, 350.0]],
     "max_speed_deg_s": [530.0, 529.0, 538.0, 600.0, 600.0, 800.0],
+    "max_acc_deg_s2": [300.0, 300.0, 300.0, 300.0, 300.0, 300.0],
     "home": [0.0, -90.0, 90.0, 0.0, 0.0, 0.0]
 }))]
 pub struct ModelInfo {
@@ -119,6 +120,9 @@ pub struct ModelInfo {
     pub limits_deg: Vec<[f64; 2]>,
     /// Maximum axis speeds A1..A6 in deg/s.
     pub max_speed_deg_s: Vec<f64>,
+    /// Axis accelerations A1..A6 at 100 % in deg/s² (what the dry run and
+    /// the simulators plan with; an assumption unless the site set them).
+    pub max_acc_deg_s2: Vec<f64>,
     /// Home position A1..A6 in degrees.
     pub home: Vec<f64>,
 }
@@ -158,6 +162,7 @@ impl From<&kuka_kinematics::RobotModel> for ModelInfo {
             },
             limits_deg: m.limits_deg.iter().map(|&(lo, hi)| [lo, hi]).collect(),
             max_speed_deg_s: m.max_speed_deg_s.to_vec(),
+            max_acc_deg_s2: m.max_acc_deg_s2.to_vec(),
             home: m.home.to_vec(),
         }
     }

@@ -244,7 +244,7 @@ pub const MAX_ARRAY: usize = 1_000_000;
 /// [`RunError::TooLong`].
 pub const MAX_STEPS: usize = 100_000;
 /// `$ACC.CP` (m/s²) that is 100 % (the planner's default maximum).
-const ACC_CP_MAX: f64 = 2.3;
+pub const ACC_CP_MAX: f64 = 2.3;
 /// `$APO.CDIS` at the start (mm).
 const DEFAULT_CDIS: f64 = 1.0;
 /// System variables a program may assign.

@@ -30,12 +30,14 @@ class ModelInfo:
         Example:
             {'name': 'kr3_r540', 'opw_mm': {'a1': 20.0, 'a2': -20.0, 'b': 0.0, 'c1': 345.0, 'c2': 260.0, 'c3': 260.0, 'c4':
                 75.0}, 'limits_deg': [[-170.0, 170.0], [-170.0, 50.0], [-110.0, 155.0], [-175.0, 175.0], [-120.0, 120.0],
-                [-350.0, 350.0]], 'max_speed_deg_s': [530.0, 529.0, 538.0, 600.0, 600.0, 800.0], 'home': [0.0, -90.0, 90.0, 0.0,
-                0.0, 0.0]}
+                [-350.0, 350.0]], 'max_speed_deg_s': [530.0, 529.0, 538.0, 600.0, 600.0, 800.0], 'max_acc_deg_s2': [300.0,
+                300.0, 300.0, 300.0, 300.0, 300.0], 'home': [0.0, -90.0, 90.0, 0.0, 0.0, 0.0]}
 
         Attributes:
             home (list[float]): Home position A1..A6 in degrees.
             limits_deg (list[list[float]]): Software limit switches per axis A1..A6: `[negative, positive]` degrees.
+            max_acc_deg_s2 (list[float]): Axis accelerations A1..A6 at 100 % in deg/s² (what the dry run and
+                the simulators plan with; an assumption unless the site set them).
             max_speed_deg_s (list[float]): Maximum axis speeds A1..A6 in deg/s.
             name (str): Model id (`kr3_r540`, ... or the custom model's name).
             opw_mm (OpwLengths): OPW lengths in mm (rs-opw-kinematics' names).
@@ -43,6 +45,7 @@ class ModelInfo:
 
     home: list[float]
     limits_deg: list[list[float]]
+    max_acc_deg_s2: list[float]
     max_speed_deg_s: list[float]
     name: str
     opw_mm: OpwLengths
@@ -67,6 +70,10 @@ class ModelInfo:
 
 
 
+        max_acc_deg_s2 = self.max_acc_deg_s2
+
+
+
         max_speed_deg_s = self.max_speed_deg_s
 
 
@@ -81,6 +88,7 @@ class ModelInfo:
         field_dict.update({
             "home": home,
             "limits_deg": limits_deg,
+            "max_acc_deg_s2": max_acc_deg_s2,
             "max_speed_deg_s": max_speed_deg_s,
             "name": name,
             "opw_mm": opw_mm,
@@ -105,6 +113,9 @@ class ModelInfo:
             limits_deg.append(limits_deg_item)
 
 
+        max_acc_deg_s2 = cast(list[float], d.pop("max_acc_deg_s2"))
+
+
         max_speed_deg_s = cast(list[float], d.pop("max_speed_deg_s"))
 
 
@@ -118,6 +129,7 @@ class ModelInfo:
         model_info = cls(
             home=home,
             limits_deg=limits_deg,
+            max_acc_deg_s2=max_acc_deg_s2,
             max_speed_deg_s=max_speed_deg_s,
             name=name,
             opw_mm=opw_mm,
