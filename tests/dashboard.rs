@@ -1870,3 +1870,67 @@ async fn the_event_history_is_listed_and_replayed() {
     }
     t.service.shutdown().await.expect("shutdown");
 }
+
+/// The workspace box, a keep-out zone and the floor are drawn in the
+/// projections where the configuration puts them (`GET /api/v1/workspace`).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_workspace_and_keep_out_zones_are_drawn() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.workspace = Some(kuka_bridge::config::WorkspaceBox {
+                x: [0.0, 600.0],
+                y: [-300.0, 300.0],
+                z: [0.0, 700.0],
+            });
+            c.zones.floor_z = Some(10.0);
+            c.zones.keep_out = vec![kuka_bridge::config::KeepOut {
+                name: "fixture".into(),
+                x: [200.0, 260.0],
+                y: [-30.0, 30.0],
+                z: [0.0, 60.0],
+            }];
+        }),
+        ..Options::default()
+    })
+    .await;
+    let (s, ws) = t.get("/api/v1/workspace").await;
+    assert_eq!(s, 200, "{ws}");
+    assert_eq!(ws["keep_out"][0]["name"], "fixture", "{ws}");
+    assert_eq!(ws["floor_z"], 10.0, "{ws}");
+    browser.resize(1400, 1900).await;
+    open(&browser, &t).await;
+    let shapes = browser
+        .wait_js(
+            "(() => { const d = window.dashboard;
+               const kinds = (p) => (p.zoneShapes || []).map((z) => z.kind).join(',');
+               return kinds(d.top) === 'box,keep_out' && kinds(d.side) === 'box,keep_out,floor'
+                 && [d.top.zoneShapes, d.side.zoneShapes]; })()",
+            WAIT,
+            "the box, the zone and the floor drawn",
+        )
+        .await;
+    // The zone is filled red where it lies: read the pixel at its centre.
+    let zone = &shapes[0][1];
+    assert_eq!(zone["name"], "fixture", "{shapes}");
+    let (cx, cy) = (
+        (f(&zone["x0"]) + f(&zone["x1"])) / 2.0,
+        (f(&zone["y0"]) + f(&zone["y1"])) / 2.0,
+    );
+    let px = browser
+        .eval(&format!(
+            "return [...document.getElementById('top').getContext('2d').getImageData({}, {}, 1, 1).data];",
+            cx.round(),
+            cy.round()
+        ))
+        .await;
+    let rgba: Vec<f64> = px.as_array().expect("pixel").iter().map(f).collect();
+    assert!(
+        rgba[3] > 0.0 && rgba[0] > rgba[1] && rgba[0] > rgba[2],
+        "reddish at the zone's centre: {rgba:?}"
+    );
+    browser.screenshot("zones").await;
+    browser.close().await;
+}

@@ -86,7 +86,7 @@ pub struct MotionConfig {
 }
 
 /// An axis-aligned box in the base frame (mm).
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct WorkspaceBox {
     /// [min, max] X.
@@ -109,7 +109,7 @@ impl WorkspaceBox {
 /// What the swept TCP path must keep clear of besides the workspace box:
 /// a floor or table plane and keep-out boxes around fixtures (base frame,
 /// mm). Checked along the whole dry-run path, not only at targets.
-#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Zones {
     /// The TCP stays at or above this Z (a table or the floor).
@@ -120,7 +120,7 @@ pub struct Zones {
 }
 
 /// A named box the TCP must not enter (base frame, mm).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct KeepOut {
     /// Shown in errors and on the dashboard, e.g. `fixture`.

@@ -383,8 +383,9 @@ function drawPathNow() {
   const planned = [...state.plans.values()];
   const p = state.robot?.position;
   const tcp = p ? [p.x, p.y, p.z] : null;
-  state.top.draw({ executed, travel, planned, tcp });
-  state.side.draw({ executed, travel, planned, tcp });
+  const zones = state.zones;
+  state.top.draw({ executed, travel, planned, tcp, zones });
+  state.side.draw({ executed, travel, planned, tcp, zones });
   $("path-count").textContent = `${state.path.length} points`;
 }
 state.drawPathNow = drawPathNow;
@@ -842,6 +843,9 @@ async function loadState() {
   } else {
     $("model").textContent = "no robot model configured: the arm cannot be drawn";
   }
+  // Where the path may not go (drawn in the projections).
+  const ws = await api("GET", "/api/v1/workspace");
+  state.zones = ws.ok ? ws.body : null;
   // The embedded simulator's trace gives every 12 ms sample; without it
   // the path comes from the positions in the state events.
   const sim = await api("GET", "/api/v1/sim");

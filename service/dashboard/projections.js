@@ -41,7 +41,7 @@ export class Projection {
   }
 
   /** The view box: [minU, minV, size] covering every point, with a margin. */
-  bounds(executed, planned, tcp) {
+  bounds(executed, planned, tcp, zones) {
     let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
     const take = (p) => {
       const u = this.su * p[this.u];
@@ -51,6 +51,12 @@ export class Projection {
     for (let i = 0; i < executed.length; i++) take(executed[i]);
     planned.forEach((plan) => plan.points.forEach(take));
     if (tcp) take(tcp);
+    // Keep-out zones are near the work: in view (the workspace box may be
+    // much larger and is drawn clipped).
+    for (const k of zones?.keep_out || []) {
+      take([k.x[0], k.y[0], k.z[0]]);
+      take([k.x[1], k.y[1], k.z[1]]);
+    }
     if (!isFinite(lo[0])) return null;
     const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], 20) * 1.15;
     return [(lo[0] + hi[0] - size) / 2, (lo[1] + hi[1] - size) / 2, size];
@@ -60,8 +66,8 @@ export class Projection {
    * Redraws: `executed` = [[x, y, z], ...] with `travel` = [bool, ...] (the
    * segment to point i is travel), `planned` = [{points, travel}], `tcp` = [x, y, z].
    */
-  draw({ executed = [], travel = [], planned = [], tcp = null }) {
-    this.last = { executed, travel, planned, tcp };
+  draw({ executed = [], travel = [], planned = [], tcp = null, zones = null }) {
+    this.last = { executed, travel, planned, tcp, zones };
     const c = this.canvas;
     const dpr = window.devicePixelRatio || 1;
     const w = c.clientWidth, h = c.clientHeight;
@@ -76,7 +82,7 @@ export class Projection {
     g.fillStyle = "#5b6470";
     g.font = "12px system-ui, sans-serif";
     g.fillText(this.label, 6, 14);
-    const box = this.bounds(executed, planned, tcp);
+    const box = this.bounds(executed, planned, tcp, zones);
     this.toCanvas = null;
     if (!box) return;
     const [u0, v0, size] = box;
@@ -107,6 +113,48 @@ export class Projection {
       g.setLineDash([]);
       g.globalAlpha = 1;
     };
+    // The workspace box (dashed), keep-out zones (red) and the floor (side
+    // view): where the path may not go. `zoneShapes` lists what was drawn,
+    // in canvas pixels (for the tests).
+    this.zoneShapes = [];
+    if (zones) {
+      const rect = (r, kind, name) => {
+        const p0 = [r.x[0], r.y[0], r.z[0]], p1 = [r.x[1], r.y[1], r.z[1]];
+        const x0 = Math.min(X(p0), X(p1)), x1 = Math.max(X(p0), X(p1));
+        const y0 = Math.min(Y(p0), Y(p1)), y1 = Math.max(Y(p0), Y(p1));
+        if (kind === "keep_out") {
+          g.fillStyle = "rgba(217, 45, 32, 0.18)";
+          g.fillRect(x0, y0, x1 - x0, y1 - y0);
+          g.strokeStyle = "#d92d20";
+          g.setLineDash([]);
+        } else {
+          g.strokeStyle = "#2e7d32";
+          g.setLineDash([8, 4]);
+        }
+        g.lineWidth = 1.5;
+        g.strokeRect(x0, y0, x1 - x0, y1 - y0);
+        g.setLineDash([]);
+        if (name) {
+          g.fillStyle = "#d92d20";
+          g.fillText(name, x0 + 3, y0 + 13);
+        }
+        this.zoneShapes.push({ kind, name: name || null, x0: x0 * dpr, y0: y0 * dpr, x1: x1 * dpr, y1: y1 * dpr });
+      };
+      if (zones.box) rect(zones.box, "box", null);
+      for (const k of zones.keep_out || []) rect(k, "keep_out", k.name);
+      if (zones.floor_z !== null && zones.floor_z !== undefined && this.v === 2) {
+        const y = Y([0, 0, zones.floor_z]);
+        g.strokeStyle = "#8d6e63";
+        g.lineWidth = 2;
+        g.beginPath();
+        g.moveTo(0, y);
+        g.lineTo(w, y);
+        g.stroke();
+        g.fillStyle = "#8d6e63";
+        g.fillText(`floor z ${zones.floor_z}`, 6, y - 4);
+        this.zoneShapes.push({ kind: "floor", name: null, x0: 0, y0: y * dpr, x1: w * dpr, y1: y * dpr });
+      }
+    }
     for (const plan of planned) {
       for (const r of runs(plan.points, plan.travel)) line(r.points, PLANNED, r.travel ? [3, 5] : [6, 4], r.travel ? FAINT : 1, 1.5);
     }

@@ -640,6 +640,27 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/workspace": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The workspace box, floor and keep-out zones every motion's swept path is
+         *     checked against (docs/CONFIGURATION.md); the dashboard draws them.
+         * @description **Access:** role `viewer` or higher.
+         */
+        get: operations["getWorkspace"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/errors": {
         parameters: {
             query?: never;
@@ -1449,6 +1470,17 @@ export interface components {
          * @enum {string}
          */
         JobState: "queued" | "sent" | "executing" | "done" | "failed" | "cancelled";
+        /** @description A named box the TCP must not enter (base frame, mm). */
+        KeepOut: {
+            /** @description Shown in errors and on the dashboard, e.g. `fixture`. */
+            name: string;
+            /** @description [min, max] X. */
+            x: number[];
+            /** @description [min, max] Y. */
+            y: number[];
+            /** @description [min, max] Z. */
+            z: number[];
+        };
         /**
          * @description A live lease, as the API shows it.
          * @example {
@@ -2428,6 +2460,62 @@ export interface components {
              * @description The `.src` file.
              */
             file: string;
+        };
+        /** @description An axis-aligned box in the base frame (mm). */
+        WorkspaceBox: {
+            /** @description [min, max] X. */
+            x: number[];
+            /** @description [min, max] Y. */
+            y: number[];
+            /** @description [min, max] Z. */
+            z: number[];
+        };
+        /**
+         * @description Where the TCP may go: the workspace box, the floor and the keep-out zones.
+         * @example {
+         *       "box": {
+         *         "x": [
+         *           0,
+         *           500
+         *         ],
+         *         "y": [
+         *           -400,
+         *           400
+         *         ],
+         *         "z": [
+         *           20,
+         *           700
+         *         ]
+         *       },
+         *       "floor_z": 0,
+         *       "keep_out": [
+         *         {
+         *           "name": "fixture",
+         *           "x": [
+         *             300,
+         *             400
+         *           ],
+         *           "y": [
+         *             -50,
+         *             50
+         *           ],
+         *           "z": [
+         *             0,
+         *             120
+         *           ]
+         *         }
+         *       ]
+         *     }
+         */
+        WorkspaceInfo: {
+            box?: components["schemas"]["WorkspaceBox"] | null;
+            /**
+             * Format: double
+             * @description The TCP stays at or above this Z (`zones.floor_z`), if configured.
+             */
+            floor_z?: number | null;
+            /** @description Boxes the TCP must not enter (`zones.keep_out`). */
+            keep_out: components["schemas"]["KeepOut"][];
         };
         /** @description A job changed state or progressed. */
         JobEvent: {
@@ -5494,6 +5582,71 @@ export interface operations {
                 };
             };
             /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getWorkspace: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["WorkspaceInfo"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, … */
             "5XX": {
                 headers: {
                     [name: string]: unknown;

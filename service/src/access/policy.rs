@@ -108,6 +108,7 @@ const TABLE: &[(&str, &str, Rule)] = &[
     // Robot state and settings.
     ("GET", "/api/v1/state", READ),
     ("GET", "/api/v1/model", READ),
+    ("GET", "/api/v1/workspace", READ),
     ("GET", "/api/v1/position", READ),
     ("GET", "/api/v1/tool", READ),
     ("PUT", "/api/v1/tool", OPERATE),

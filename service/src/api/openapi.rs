@@ -38,6 +38,7 @@ pub(crate) const OPERATION_IDS: &[(&str, &str, &str)] = &[
     ("post", "/krl/uploadfile", "uploadFileThesis"),
     ("get", "/api/v1/state", "getState"),
     ("get", "/api/v1/model", "getModel"),
+    ("get", "/api/v1/workspace", "getWorkspace"),
     ("get", "/api/v1/position", "getPosition"),
     ("post", "/api/v1/motions", "createMotions"),
     ("get", "/api/v1/jobs", "listJobs"),

@@ -219,6 +219,36 @@ async fn get_model(State(app): State<AppState>) -> Result<Response, Problem> {
     Ok(ok_json(&ModelInfo::from(model)))
 }
 
+/// Where the TCP may go: the workspace box, the floor and the keep-out zones.
+#[derive(Debug, Serialize, ToSchema)]
+#[schema(example = json!({
+    "box": {"x": [0.0, 500.0], "y": [-400.0, 400.0], "z": [20.0, 700.0]},
+    "floor_z": 0.0,
+    "keep_out": [{"name": "fixture", "x": [300.0, 400.0], "y": [-50.0, 50.0], "z": [0.0, 120.0]}]
+}))]
+pub struct WorkspaceInfo {
+    /// The box the whole TCP path stays in (`[workspace]`), if configured.
+    #[serde(rename = "box")]
+    pub workspace: Option<crate::config::WorkspaceBox>,
+    /// The TCP stays at or above this Z (`zones.floor_z`), if configured.
+    pub floor_z: Option<f64>,
+    /// Boxes the TCP must not enter (`zones.keep_out`).
+    pub keep_out: Vec<crate::config::KeepOut>,
+}
+
+/// The workspace box, floor and keep-out zones every motion's swept path is
+/// checked against (docs/CONFIGURATION.md); the dashboard draws them.
+#[utoipa::path(get, path = "/api/v1/workspace", tag = "robot",
+    responses((status = 200, body = WorkspaceInfo)))]
+async fn get_workspace(State(app): State<AppState>) -> Response {
+    let safety = app.engine.safety();
+    ok_json(&WorkspaceInfo {
+        workspace: safety.workspace().copied(),
+        floor_z: safety.zones().floor_z,
+        keep_out: safety.zones().keep_out.clone(),
+    })
+}
+
 /// Current position, read through the controller program (a round trip).
 #[utoipa::path(get, path = "/api/v1/position", tag = "robot",
     responses((status = 200, body = PositionReport), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
@@ -433,6 +463,7 @@ pub(super) fn router() -> OpenApiRouter<AppState> {
     OpenApiRouter::new()
         .routes(routes!(get_state))
         .routes(routes!(get_model))
+        .routes(routes!(get_workspace))
         .routes(routes!(get_position))
         .routes(routes!(post_motions))
         .routes(routes!(list_jobs))

@@ -27,6 +27,7 @@ from .job_event import JobEvent
 from .job_event_type import JobEventType
 from .job_plan import JobPlan
 from .job_state import JobState
+from .keep_out import KeepOut
 from .lease import Lease
 from .limits_info import LimitsInfo
 from .lin_motion import LinMotion
@@ -68,6 +69,8 @@ from .thesis_response import ThesisResponse
 from .token_info import TokenInfo
 from .trace_sample import TraceSample
 from .upload_form import UploadForm
+from .workspace_box import WorkspaceBox
+from .workspace_info import WorkspaceInfo
 
 __all__ = (
     "AlarmEvent",
@@ -97,6 +100,7 @@ __all__ = (
     "JobEventType",
     "JobPlan",
     "JobState",
+    "KeepOut",
     "Lease",
     "LimitsInfo",
     "LinMotion",
@@ -138,4 +142,6 @@ __all__ = (
     "TokenInfo",
     "TraceSample",
     "UploadForm",
+    "WorkspaceBox",
+    "WorkspaceInfo",
 )
