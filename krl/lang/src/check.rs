@@ -6,6 +6,9 @@
 use std::borrow::Cow;
 use std::path::Path;
 
+use std::collections::HashMap;
+
+use crate::ast::{DatFile, SrcFile, Stmt, StmtKind};
 use crate::{SyntaxError, parse_dat, parse_src};
 
 /// What a KRL file holds, by its extension.
@@ -42,12 +45,139 @@ pub fn decode(bytes: &[u8]) -> Cow<'_, str> {
     }
 }
 
-/// Parses `text` as a file of `kind`.
+/// Parses `text` as a file of `kind`, then checks what a KRC refuses when
+/// it loads a parsed file: a routine defined twice, a name declared twice
+/// in one routine (or data list), a label defined twice or a `GOTO` to a
+/// label its routine does not have, `GLOBAL` in a data list that is not
+/// `PUBLIC`.
 pub fn check(kind: FileKind, text: &str) -> Result<(), SyntaxError> {
     match kind {
-        FileKind::Src => parse_src(text).map(|_| ()),
-        FileKind::Dat => parse_dat(text).map(|_| ()),
+        FileKind::Src => check_src(&parse_src(text)?),
+        FileKind::Dat => check_dat(&parse_dat(text)?),
     }
+}
+
+fn refuse(line: u32, message: String) -> Result<(), SyntaxError> {
+    Err(SyntaxError {
+        line,
+        col: 1,
+        message,
+    })
+}
+
+fn check_src(file: &SrcFile) -> Result<(), SyntaxError> {
+    let mut routines: HashMap<String, u32> = HashMap::new();
+    for r in &file.routines {
+        if let Some(first) = routines.insert(r.name.to_ascii_uppercase(), r.line) {
+            return refuse(
+                r.line,
+                format!(
+                    "routine `{}` is defined twice (first at line {first})",
+                    r.name
+                ),
+            );
+        }
+        // (A parameter is declared in the body too, as KRL requires.)
+        let mut names: HashMap<String, u32> = HashMap::new();
+        for st in &r.body {
+            if let StmtKind::Decl { vars, .. } = &st.kind {
+                for v in vars {
+                    if let Some(first) = names.insert(v.name.to_ascii_uppercase(), st.line) {
+                        return refuse(
+                            st.line,
+                            format!(
+                                "`{}` is declared twice in `{}` (first at line {first})",
+                                v.name, r.name
+                            ),
+                        );
+                    }
+                }
+            }
+        }
+        let mut labels: HashMap<String, u32> = HashMap::new();
+        let mut gotos: Vec<(String, u32)> = Vec::new();
+        jumps(&r.body, &mut labels, &mut gotos)?;
+        if let Some((l, line)) = gotos
+            .iter()
+            .find(|(l, _)| !labels.contains_key(&l.to_ascii_uppercase()))
+        {
+            return refuse(
+                *line,
+                format!("GOTO `{l}`: `{}` has no label `{l}`", r.name),
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Labels (refusing one defined twice) and GOTOs of a routine, in every
+/// nested block.
+fn jumps(
+    body: &[Stmt],
+    labels: &mut HashMap<String, u32>,
+    gotos: &mut Vec<(String, u32)>,
+) -> Result<(), SyntaxError> {
+    for st in body {
+        match &st.kind {
+            StmtKind::Label(l) => {
+                if let Some(first) = labels.insert(l.to_ascii_uppercase(), st.line) {
+                    return refuse(
+                        st.line,
+                        format!("label `{l}` is defined twice (first at line {first})"),
+                    );
+                }
+            }
+            StmtKind::Goto(l) => gotos.push((l.clone(), st.line)),
+            StmtKind::If {
+                then_body,
+                else_body,
+                ..
+            } => {
+                jumps(then_body, labels, gotos)?;
+                jumps(else_body, labels, gotos)?;
+            }
+            StmtKind::While { body, .. }
+            | StmtKind::For { body, .. }
+            | StmtKind::Loop { body }
+            | StmtKind::Repeat { body, .. } => jumps(body, labels, gotos)?,
+            StmtKind::Switch { cases, default, .. } => {
+                for (_, b) in cases {
+                    jumps(b, labels, gotos)?;
+                }
+                if let Some(b) = default {
+                    jumps(b, labels, gotos)?;
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+fn check_dat(file: &DatFile) -> Result<(), SyntaxError> {
+    let mut names: HashMap<String, u32> = HashMap::new();
+    for st in &file.items {
+        if let StmtKind::Decl { global, vars, .. } = &st.kind {
+            if *global && !file.public {
+                return refuse(
+                    st.line,
+                    format!(
+                        "GLOBAL in data list `{}`, which is not PUBLIC (write `DEFDAT {} PUBLIC`)",
+                        file.name, file.name
+                    ),
+                );
+            }
+            for v in vars {
+                if let Some(first) = names.insert(v.name.to_ascii_uppercase(), st.line) {
+                    return refuse(
+                        st.line,
+                        format!("`{}` is declared twice (first at line {first})", v.name),
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -59,6 +189,35 @@ mod tests {
         assert_eq!(decode(b"\xEF\xBB\xBFDEF a()"), "DEF a()");
         assert_eq!(decode(b";Gr\xFC\xDFe\nDEF a()"), ";Grüße\nDEF a()");
         assert_eq!(decode(";Grüße".as_bytes()), ";Grüße");
+    }
+
+    #[test]
+    fn what_a_krc_refuses_after_parsing() {
+        let line = |kind, text| check(kind, text).map_err(|e| (e.line, e.message));
+        assert!(line(FileKind::Src, "DEF a()\n  GOTO L1\n  L1:\nEND\n").is_ok());
+        let e = line(FileKind::Src, "DEF a()\n  GOTO L2\n  L1:\nEND\n").unwrap_err();
+        assert_eq!(e.0, 2, "{e:?}");
+        let e = line(
+            FileKind::Src,
+            "DEF a()\n  L1:\n  IF TRUE THEN\n    L1:\n  ENDIF\nEND\n",
+        )
+        .unwrap_err();
+        assert_eq!(e.0, 4, "{e:?}");
+        let e = line(FileKind::Src, "DEF a()\n  DECL INT x\n  DECL REAL x\nEND\n").unwrap_err();
+        assert_eq!(e.0, 3, "{e:?}");
+        let e = line(FileKind::Src, "DEF a()\nEND\nDEF A()\nEND\n").unwrap_err();
+        assert_eq!(e.0, 3, "{e:?}");
+        let e = line(FileKind::Dat, "DEFDAT d\n  DECL GLOBAL INT x\nENDDAT\n").unwrap_err();
+        assert!(e.1.contains("PUBLIC"), "{e:?}");
+        assert!(
+            line(
+                FileKind::Dat,
+                "DEFDAT d PUBLIC\n  DECL GLOBAL INT x\nENDDAT\n"
+            )
+            .is_ok()
+        );
+        let e = line(FileKind::Src, "DEF a()\n  DECL INT END\nEND\n").unwrap_err();
+        assert!(e.0 == 2 && e.1.contains("keyword"), "{e:?}");
     }
 
     #[test]

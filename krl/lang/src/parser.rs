@@ -103,6 +103,51 @@ const IMPLICIT_DECL_TYPES: [&str; 9] = [
     "INT", "REAL", "BOOL", "CHAR", "FRAME", "POS", "E6POS", "AXIS", "E6AXIS",
 ];
 
+/// Keywords a name may not be (structure, declarations, operators,
+/// literals).
+const RESERVED: [&str; 40] = [
+    "DEF",
+    "END",
+    "DEFFCT",
+    "ENDFCT",
+    "DEFDAT",
+    "ENDDAT",
+    "DECL",
+    "GLOBAL",
+    "PUBLIC",
+    "CONST",
+    "IF",
+    "THEN",
+    "ELSE",
+    "ENDIF",
+    "FOR",
+    "TO",
+    "ENDFOR",
+    "WHILE",
+    "ENDWHILE",
+    "REPEAT",
+    "UNTIL",
+    "LOOP",
+    "ENDLOOP",
+    "SWITCH",
+    "CASE",
+    "ENDSWITCH",
+    "GOTO",
+    "RETURN",
+    "EXIT",
+    "AND",
+    "OR",
+    "NOT",
+    "EXOR",
+    "B_AND",
+    "B_OR",
+    "B_NOT",
+    "B_EXOR",
+    "TRUE",
+    "FALSE",
+    "STRUC",
+];
+
 /// Keywords that end a block; seeing one where a statement should start
 /// means a block is not closed properly.
 const BLOCK_ENDS: [&str; 14] = [
@@ -243,10 +288,18 @@ impl Parser {
         }
     }
 
-    /// A user-chosen name: at most 24 characters, as KRL requires.
+    /// A user-chosen name: at most 24 characters and not a keyword, as
+    /// KRL requires.
     fn name(&mut self) -> Result<String, SyntaxError> {
         let (line, col) = (self.line(), self.toks[self.pos].col);
         let s = self.ident()?;
+        if RESERVED.contains(&s.to_ascii_uppercase().as_str()) {
+            return Err(SyntaxError {
+                line,
+                col,
+                message: format!("`{s}` is a KRL keyword and cannot be a name"),
+            });
+        }
         if s.len() > MAX_NAME_LEN && !s.starts_with('$') {
             return Err(SyntaxError {
                 line,

@@ -34,6 +34,16 @@ const NOT_KRL: &[(&str, &str, &str)] = &[
         "found `ENDFCT`",
     ),
     (
+        "unlicensed/danielmuellernavarro__KRL_utils/string_from_bus/STRING_FROM_BUS.dat",
+        "`GLOBAL` in a data list that is not `PUBLIC`",
+        "which is not PUBLIC",
+    ),
+    (
+        "unlicensed/danielmuellernavarro__KRL_utils/trig/trig.src",
+        "`F_TRIG` defined twice (the second was meant to be X_TRIG)",
+        "routine `F_TRIG` is defined twice",
+    ),
+    (
         "unlicensed/LEMUR-DIMEC__KUKA_EXTRUDER/Archivos_KRL/Pruebas_KRL/flujo.dat",
         "not a data list: generated text with a call where DEFDAT belongs",
         "found `(`",
