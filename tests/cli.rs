@@ -239,7 +239,7 @@ fn krl_check_lints_files_and_folders() {
     // Windows-1252 in a comment, as KSS writes it.
     std::fs::write(
         dir.path().join("good.dat"),
-        b"DEFDAT good\n;Gr\xFC\xDFe\nGLOBAL INT counter=0\nENDDAT\n",
+        b"DEFDAT good PUBLIC\n;Gr\xFC\xDFe\nGLOBAL INT counter=0\nENDDAT\n",
     )
     .expect("write");
     let bad = dir.path().join("sub").join("bad.SRC");
