@@ -277,7 +277,7 @@ async fn the_swept_path_must_stay_in_the_workspace_and_out_of_keep_out_zones() {
     );
     assert_eq!(v["motion"], 1, "{v}");
     let detail = v["detail"].as_str().unwrap_or_default();
-    assert!(detail.contains("between the targets"), "{detail}");
+    assert!(detail.contains("the path passes"), "{detail}");
     let y: f64 = detail
         .split(", ")
         .nth(1)
@@ -334,5 +334,100 @@ async fn the_swept_path_must_stay_in_the_workspace_and_out_of_keep_out_zones() {
         ]))
         .await;
     assert_eq!((s, &v["state"]), (200, &json!("done")), "{v}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// The way home and uploaded programs are held to the same zones as the
+/// motions: HOME whose joint path passes through a keep-out zone and a
+/// program whose LIN crosses it are refused, naming the program's line.
+#[tokio::test]
+async fn home_and_programs_keep_out_of_the_zones() {
+    use kuka_bridge::config::KeepOut;
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.zones.keep_out = vec![KeepOut {
+                name: "fixture".into(),
+                x: [200.0, 230.0],
+                y: [-20.0, 20.0],
+                z: [0.0, 120.0],
+            }];
+        }),
+        ..Options::default()
+    })
+    .await;
+    // Beside the fixture, reached from the side (a PTP straight there
+    // would sweep through it and is refused).
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 180, "y": 0, "z": 100, "a": 0, "b": 180, "c": 0}}]))
+        .await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (422, Some("workspace_violation")),
+        "{v}"
+    );
+    let (s, v) = t
+        .motions(json!([
+            {"type": "ptp", "target": {"x": 180, "y": 100, "z": 100, "a": 0, "b": 180, "c": 0}},
+            {"type": "lin", "target": {"y": 0}}
+        ]))
+        .await;
+    assert_eq!((s, &v["state"]), (200, &json!("done")), "{v}");
+    let (s, v) = t.post("/api/v1/home").await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (422, Some("workspace_violation")),
+        "{v}"
+    );
+    assert!(
+        v["detail"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("the way home"),
+        "{v}"
+    );
+    let src = "DEF cross()\n  LIN {X 180, Y 0, Z 100, A 0, B 180, C 0}\n  LIN {X 260, Y 0, Z 100, A 0, B 180, C 0}\nEND\n";
+    let (s, v) = t
+        .post_json("/api/v1/programs", &json!({"name": "cross", "src": src}))
+        .await;
+    assert_eq!(s, 201, "{v}");
+    let (s, v) = t.post_json("/api/v1/programs/cross/run", &json!({})).await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (422, Some("workspace_violation")),
+        "{v}"
+    );
+    assert_eq!(v["line"], 3, "{v}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
+/// A fast PTP samples its path several mm apart: a thin zone between two
+/// samples is still found (the pieces between samples are checked too).
+#[tokio::test]
+async fn a_thin_zone_between_two_samples_is_found() {
+    use kuka_bridge::config::KeepOut;
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.zones.keep_out = vec![KeepOut {
+                name: "sheet".into(),
+                x: [300.0, 300.5],
+                y: [-20.0, 20.0],
+                z: [600.0, 720.0],
+            }];
+        }),
+        ..Options::default()
+    })
+    .await;
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 250}, "velocity_pct": 100}]))
+        .await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (422, Some("workspace_violation")),
+        "{v}"
+    );
+    assert!(
+        v["detail"].as_str().unwrap_or_default().contains("`sheet`"),
+        "{v}"
+    );
     t.service.shutdown().await.expect("shutdown");
 }

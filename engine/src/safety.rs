@@ -86,6 +86,45 @@ impl Safety {
         }
     }
 
+    /// Checks the way home (an axis PTP to the model's home at `velocity_pct`)
+    /// against the workspace rules, as any motion's swept path is.
+    pub fn check_home(
+        &self,
+        start: &StartPoint,
+        tool: &Frame,
+        base: &Frame,
+        velocity_pct: f64,
+    ) -> Result<()> {
+        let Some(model) = &self.model else {
+            return Ok(());
+        };
+        let home = plan::Motion {
+            kind: MotionKind::PtpAxes { axes: model.home },
+            velocity: velocity_pct.clamp(1.0, 100.0),
+            acceleration_pct: 100.0,
+            approx_mm: 0.0,
+        };
+        let to_pose = |f: &Frame| kuka_krl_runtime::frame_to_pose(f);
+        let run = plan::plan(
+            model,
+            &start.axes,
+            &to_pose(tool),
+            &to_pose(base),
+            &[home],
+            &plan::PlanSettings::for_model(model),
+        );
+        match self.sweep_violation(&run.samples, |_| 0.0) {
+            Some((_, p, why)) => Err(BridgeError::new(
+                ErrorCode::WorkspaceViolation,
+                format!(
+                    "the way home passes ({:.1}, {:.1}, {:.1}) mm, {why}",
+                    p[0], p[1], p[2]
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// The workspace box, if one is configured.
     pub fn workspace(&self) -> Option<&WorkspaceBox> {
         self.workspace.as_ref()
@@ -94,6 +133,53 @@ impl Safety {
     /// The floor and keep-out zones.
     pub fn zones(&self) -> &Zones {
         &self.zones
+    }
+
+    /// The first place a swept path breaks the workspace rules: the motion
+    /// (index into the planned motions), the point and why. Every sample is
+    /// checked, and between two samples the straight piece too (a fast PTP
+    /// samples several mm apart, enough to step over a thin zone). Where a
+    /// motion is approximated its corner is cut by up to `approx(i)` mm, so
+    /// keep-out zones are grown by it there.
+    fn sweep_violation(
+        &self,
+        samples: &[plan::Sample],
+        approx: impl Fn(usize) -> f64,
+    ) -> Option<(usize, [f64; 3], String)> {
+        if self.workspace.is_none()
+            && self.zones.floor_z.is_none()
+            && self.zones.keep_out.is_empty()
+        {
+            return None;
+        }
+        let mut prev: Option<[f64; 3]> = None;
+        for sample in samples {
+            let q = sample.pose.position();
+            let p = [q.x, q.y, q.z];
+            let i = sample.motion;
+            let margin = approx(i).max(if i > 0 { approx(i - 1) } else { 0.0 });
+            if let Some(why) = self.place_violation(p, margin) {
+                return Some((i, p, why));
+            }
+            if let Some(a) = prev
+                && let Some(k) = self
+                    .zones
+                    .keep_out
+                    .iter()
+                    .find(|k| segment_hits_box(a, p, [k.x, k.y, k.z], margin))
+            {
+                return Some((
+                    i,
+                    p,
+                    format!(
+                        "passing through the keep-out zone `{}` x {:?}, y {:?}, z {:?} just before it",
+                        k.name, k.x, k.y, k.z
+                    ),
+                ));
+            }
+            prev = Some(p);
+        }
+        None
     }
 
     /// Why a TCP position is not allowed (outside the box, below the
@@ -307,34 +393,39 @@ impl Safety {
         tool: &Frame,
         base: &Frame,
     ) -> Result<Vec<(u8, u8)>> {
-        // Targets (and CIRC auxiliary points) first: without a robot model
-        // they are all that can be checked.
-        for (i, m) in motions.iter().enumerate() {
-            let mut points: Vec<[f64; 3]> = Vec::with_capacity(2);
-            match m {
-                MotionRecord::Ptp { target, .. } | MotionRecord::Lin { target, .. } => {
-                    points.push([target.x, target.y, target.z])
+        // The targets (and CIRC auxiliary points): without a robot model all
+        // that can be checked; with one, after the swept path (which names
+        // the first point outside), for a path the dry run cannot finish.
+        let targets = || -> Result<()> {
+            for (i, m) in motions.iter().enumerate() {
+                let mut points: Vec<[f64; 3]> = Vec::with_capacity(2);
+                match m {
+                    MotionRecord::Ptp { target, .. } | MotionRecord::Lin { target, .. } => {
+                        points.push([target.x, target.y, target.z])
+                    }
+                    MotionRecord::Circ { aux, target, .. } => {
+                        points.push(*aux);
+                        points.push([target.x, target.y, target.z]);
+                    }
+                    MotionRecord::PtpAxes { .. } => {}
                 }
-                MotionRecord::Circ { aux, target, .. } => {
-                    points.push(*aux);
-                    points.push([target.x, target.y, target.z]);
+                for p in points {
+                    if let Some(why) = self.place_violation(p, 0.0) {
+                        return Err(BridgeError::new(
+                            ErrorCode::WorkspaceViolation,
+                            format!(
+                                "motion {i}: point ({:.1}, {:.1}, {:.1}) mm lies {why}",
+                                p[0], p[1], p[2]
+                            ),
+                        )
+                        .at_motion(i));
+                    }
                 }
-                MotionRecord::PtpAxes { .. } => {}
             }
-            for p in points {
-                if let Some(why) = self.place_violation(p, 0.0) {
-                    return Err(BridgeError::new(
-                        ErrorCode::WorkspaceViolation,
-                        format!(
-                            "motion {i}: point ({:.1}, {:.1}, {:.1}) mm lies {why}",
-                            p[0], p[1], p[2]
-                        ),
-                    )
-                    .at_motion(i));
-                }
-            }
-        }
+            Ok(())
+        };
         let Some(model) = &self.model else {
+            targets()?;
             return Ok(Vec::new());
         };
         let records = motions;
@@ -349,9 +440,7 @@ impl Safety {
             &plan::PlanSettings::for_model(model),
         );
         // The swept path: every sample of the dry run (PTP joint paths, LIN
-        // lines, CIRC arcs), up to where it stops. Blended corners are cut
-        // inside the polyline by up to the approximation distance, so
-        // keep-out zones are grown by it there.
+        // lines, CIRC arcs) and the pieces between, up to where it stops.
         let approx = |i: usize| {
             records.get(i).map_or(0.0, |r| match r {
                 MotionRecord::Ptp { params, .. }
@@ -360,28 +449,29 @@ impl Safety {
                 | MotionRecord::Circ { params, .. } => params.approx_mm,
             })
         };
-        for sample in &execution.samples {
-            let p = sample.pose.position();
-            let i = sample.motion;
-            let margin = approx(i).max(if i > 0 { approx(i - 1) } else { 0.0 });
-            if let Some(why) = self.place_violation([p.x, p.y, p.z], margin) {
-                return Err(BridgeError::new(
-                    ErrorCode::WorkspaceViolation,
-                    format!(
-                        "motion {i}: the path between the targets passes ({:.1}, {:.1}, {:.1}) mm, {why}",
-                        p.x, p.y, p.z
-                    ),
-                )
-                .at_motion(i));
-            }
+        if let Some((i, p, why)) = self.sweep_violation(&execution.samples, approx) {
+            return Err(BridgeError::new(
+                ErrorCode::WorkspaceViolation,
+                format!(
+                    "motion {i}: the path passes ({:.1}, {:.1}, {:.1}) mm, {why}",
+                    p[0], p[1], p[2]
+                ),
+            )
+            .at_motion(i));
         }
+        targets()?;
         match execution.error {
             None => {
-                let mut ends =
-                    vec![(model.status(&start.axes), RobotModel::turn(&start.axes)); records.len()];
+                // S/T as the controller will report them: from the axes
+                // with the protocol's 3 decimals (an axis at -0.0002° is 0).
+                let st = |a: &[f64; 6]| {
+                    let a = a.map(|v| (v * 1000.0).round() / 1000.0);
+                    (model.status(&a), RobotModel::turn(&a))
+                };
+                let mut ends = vec![st(&start.axes); records.len()];
                 for sample in &execution.samples {
                     if let Some(end) = ends.get_mut(sample.motion) {
-                        *end = (model.status(&sample.axes), RobotModel::turn(&sample.axes));
+                        *end = st(&sample.axes);
                     }
                 }
                 Ok(ends)
@@ -534,19 +624,69 @@ impl Safety {
             }
         }
         let phases = kuka_krl_runtime::program::phases(steps);
-        kuka_krl_runtime::program::dry_run(
-            model,
-            &start.axes,
-            &phases,
-            &plan::PlanSettings::for_model(model),
-        )
-        .map_err(|e| at(motion_error(&e.error), e.line))?;
+        let settings = plan::PlanSettings::for_model(model);
+        // Phase by phase, as the program runs: the swept path of each
+        // checked against the workspace rules, then its planning error.
+        let mut axes = start.axes;
+        for phase in &phases {
+            let kuka_krl_runtime::program::Phase::Moves {
+                tool,
+                base,
+                motions,
+                lines,
+            } = phase
+            else {
+                continue;
+            };
+            let run = plan::plan(model, &axes, tool, base, motions, &settings);
+            let approx = |i: usize| motions.get(i).map_or(0.0, |m| m.approx_mm);
+            if let Some((i, p, why)) = self.sweep_violation(&run.samples, approx) {
+                let e = BridgeError::new(
+                    ErrorCode::WorkspaceViolation,
+                    format!(
+                        "the path passes ({:.1}, {:.1}, {:.1}) mm, {why}",
+                        p[0], p[1], p[2]
+                    ),
+                );
+                return Err(at(e, lines.get(i).copied().unwrap_or(0)));
+            }
+            if let Some((i, error)) = run.error {
+                return Err(at(motion_error(&error), lines.get(i).copied().unwrap_or(0)));
+            }
+            axes = run.end_axes;
+        }
         Ok(ProgramCheck {
             checked: true,
             complete,
             steps: Some(count),
         })
     }
+}
+
+/// Whether the segment `a`–`b` meets the box (grown by `margin`): the slab
+/// test, axis by axis.
+fn segment_hits_box(a: [f64; 3], b: [f64; 3], r: [[f64; 2]; 3], margin: f64) -> bool {
+    let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
+    for k in 0..3 {
+        let (lo, hi) = (r[k][0] - margin, r[k][1] + margin);
+        let d = b[k] - a[k];
+        if d.abs() < 1e-12 {
+            if a[k] <= lo || a[k] >= hi {
+                return false;
+            }
+            continue;
+        }
+        let (mut u, mut v) = ((lo - a[k]) / d, (hi - a[k]) / d);
+        if u > v {
+            std::mem::swap(&mut u, &mut v);
+        }
+        t0 = t0.max(u);
+        t1 = t1.min(v);
+        if t0 >= t1 {
+            return false;
+        }
+    }
+    true
 }
 
 /// What [`Safety::check_program`] could check.

@@ -151,6 +151,12 @@ impl Zones {
             bad.push(Problem::new("floor_z", "is not a finite number"));
         }
         for (i, k) in self.keep_out.iter().enumerate() {
+            if self.keep_out[..i].iter().any(|o| o.name == k.name) {
+                bad.push(Problem::new(
+                    "keep_out",
+                    format!("entry {i}: the name `{}` is used twice", k.name),
+                ));
+            }
             if k.name.trim().is_empty() {
                 bad.push(Problem::new(
                     "keep_out",

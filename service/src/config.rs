@@ -177,6 +177,11 @@ pub struct RobotConfig {
     pub model: String,
     /// A custom model (OPW parameters, limits, speeds, home); overrides `model`.
     pub custom: Option<RobotModel>,
+    /// The axis accelerations at 100 % (deg/s², A1..A6) of the built-in
+    /// model, when the site knows its machine data (default: 300 on every
+    /// axis, an assumption). A custom model sets its own.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_acc_deg_s2: Option<[f64; 6]>,
 }
 
 /// The embedded simulator.
@@ -392,6 +397,7 @@ impl Default for RobotConfig {
         RobotConfig {
             model: "kr3_r540".into(),
             custom: None,
+            max_acc_deg_s2: None,
         }
     }
 }
@@ -913,16 +919,23 @@ impl RobotConfig {
         if self.model == "none" {
             return Ok(None);
         }
-        RobotModel::by_name(&self.model).map(Some).ok_or_else(|| {
-            Problem::new(
-                "model",
-                format!(
-                    "unknown model {:?}; built-in models: {}, or \"none\"",
-                    self.model,
-                    RobotModel::builtin_names().join(", ")
-                ),
-            )
-        })
+        RobotModel::by_name(&self.model)
+            .map(|mut m| {
+                if let Some(acc) = self.max_acc_deg_s2 {
+                    m.max_acc_deg_s2 = acc;
+                }
+                Some(m)
+            })
+            .ok_or_else(|| {
+                Problem::new(
+                    "model",
+                    format!(
+                        "unknown model {:?}; built-in models: {}, or \"none\"",
+                        self.model,
+                        RobotModel::builtin_names().join(", ")
+                    ),
+                )
+            })
     }
 
     /// Every problem of this section (keys without the `robot.` prefix).
@@ -930,6 +943,17 @@ impl RobotConfig {
         let mut bad = Vec::new();
         if let Err(p) = self.model() {
             bad.push(p);
+        }
+        for (i, a) in self.max_acc_deg_s2.iter().flatten().enumerate() {
+            if !(a.is_finite() && (1.0..=100_000.0).contains(a)) {
+                bad.push(Problem::new(
+                    "max_acc_deg_s2",
+                    format!(
+                        "axis A{}: {a} is not an acceleration in [1, 100000] deg/s²",
+                        i + 1
+                    ),
+                ));
+            }
         }
         let Some(m) = &self.custom else {
             return bad;
@@ -964,11 +988,11 @@ impl RobotConfig {
                 ));
             }
             let a = m.max_acc_deg_s2[i];
-            if !(a.is_finite() && a > 0.0 && a <= 100_000.0) {
+            if !(a.is_finite() && (1.0..=100_000.0).contains(&a)) {
                 bad.push(Problem::new(
                     "custom.max_acc_deg_s2",
                     format!(
-                        "axis A{}: {a} is not an acceleration in (0, 100000] deg/s²",
+                        "axis A{}: {a} is not an acceleration in [1, 100000] deg/s²",
                         i + 1
                     ),
                 ));

@@ -693,10 +693,19 @@ impl Actor {
                         let MotionRequest::Ptp { target, .. } = req else {
                             return None;
                         };
-                        let chosen = match (target.s, chosen) {
-                            (Some(_), _) => ConfigurationSource::Given,
-                            (None, Some(_)) => ConfigurationSource::Auto,
-                            (None, None) => ConfigurationSource::Keep,
+                        // What was sent: the request's S/T as given, the
+                        // chosen ones, or (keep) what the dry run reached.
+                        let given = |v: Option<i64>, or: u8| {
+                            v.and_then(|v| u8::try_from(v).ok()).unwrap_or(or)
+                        };
+                        let (chosen, s, t) = match (target.s, chosen) {
+                            (Some(_), _) => (
+                                ConfigurationSource::Given,
+                                given(target.s, s),
+                                given(target.t, t),
+                            ),
+                            (None, Some(c)) => (ConfigurationSource::Auto, c.s, c.t),
+                            (None, None) => (ConfigurationSource::Keep, s, t),
                         };
                         Some(PtpConfiguration {
                             motion,
@@ -713,7 +722,16 @@ impl Actor {
                 Command::Move(records)
             }
             Operation::GetPosition => Command::GetPosition,
-            Operation::Home => Command::Home,
+            Operation::Home => {
+                let (start, tool, base) = self.start_point()?;
+                self.shared.safety.check_home(
+                    &start,
+                    &tool,
+                    &base,
+                    self.speeds.ptp_velocity_pct,
+                )?;
+                Command::Home
+            }
             Operation::SetTool(f) => Command::SetTool((*f).into()),
             Operation::GetTool => Command::GetTool,
             Operation::SetBase(f) => Command::SetBase((*f).into()),
