@@ -18,7 +18,9 @@
 //!   `max_acc_cp × acceleration_pct %`. The orientation speed is bounded by
 //!   [`ORI_SPEED_DEG_S`] ($VEL.ORI1): a segment's path parameter is its
 //!   "effective length" `max(length, angle × v / ORI_SPEED_DEG_S)`, so pure
-//!   re-orientations take time too.
+//!   re-orientations take time too; its acceleration is also bounded so
+//!   that the orientation accelerates at most [`ORI_ACC_DEG_S2`]
+//!   ($ACC.ORI1).
 //! * **Approximation** (C_DIS): a LIN/CIRC with `approx_mm > 0` followed by
 //!   another LIN/CIRC does not stop at the corner. Like a CNC junction-speed
 //!   planner, each corner gets a speed limit `√(a · r)` with
@@ -203,6 +205,13 @@ pub const MAX_CP_VELOCITY: f64 = 2.0;
 /// Orientation speed (deg/s, like $VEL.ORI1) at 100 % override that bounds
 /// re-orientation during LIN/CIRC.
 pub const ORI_SPEED_DEG_S: f64 = 200.0;
+
+/// Orientation acceleration (deg/s², like $ACC.ORI1/ORI2) at 100 %:
+/// `DEF_ACC_ORI1/2` of real `$config.dat` files, which `kb_main` commands
+/// (`$ACC.ORI1 = DEF_ACC_ORI1 × pct / 100`). A segment that re-orients
+/// accelerates its path parameter no faster than keeps the orientation
+/// within it.
+pub const ORI_ACC_DEG_S2: f64 = 100.0;
 
 /// An axis moving faster than this multiple of its maximum speed between two
 /// LIN/CIRC samples is reported as a singularity.
@@ -450,7 +459,16 @@ impl Segment {
             dir_in,
             dir_out,
             vmax: v_prog * settings.override_pct / 100.0,
-            acc: settings.max_acc_cp * 1000.0 * m.acceleration_pct / 100.0,
+            acc: {
+                let path = settings.max_acc_cp * 1000.0 * m.acceleration_pct / 100.0;
+                // The orientation turns angle_deg over the path parameter's
+                // le mm: its angular acceleration is angle_deg / le × acc.
+                if angle_deg > 1e-6 && le > EPS {
+                    path.min(ORI_ACC_DEG_S2 * m.acceleration_pct / 100.0 * le / angle_deg)
+                } else {
+                    path
+                }
+            },
             approx: m.approx_mm,
             profile: Trapezoid::default(),
             t_start: 0.0,

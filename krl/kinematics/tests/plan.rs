@@ -211,10 +211,16 @@ fn lin_stays_on_the_line() {
     assert!(on_lin > 50);
     let end = m.forward(&ex.end_axes, &NONE, &NONE);
     assert!(end.approx_eq(&target, 1e-6, 1e-6), "{end:?}");
-    // Timing: the LIN alone is L/v + v/a (it reaches cruise speed).
+    // Timing: the LIN alone is L/v + v/a (it reaches cruise speed), with a
+    // the path acceleration (2.3 m/s²) or, if lower, the one that keeps the
+    // re-orientation within ORI_ACC_DEG_S2 (100 °/s²).
     let t_ptp = plan(&m, &HOME, &NONE, &NONE, &[ptp(start_pose)], &settings).duration_s;
     let len = start_pose.distance_mm(&target);
-    let want = len / (v * 1000.0) + v / 2.3;
+    let angle = start_pose.angle_deg(&target);
+    let le = len.max(angle * v * 1000.0 / kuka_kinematics::plan::ORI_SPEED_DEG_S);
+    let a = (2.3_f64).min(kuka_kinematics::plan::ORI_ACC_DEG_S2 * le / angle / 1000.0);
+    assert!(a < 2.3, "this LIN is limited by its re-orientation: {a}");
+    let want = le / (v * 1000.0) + v / a;
     let got = ex.duration_s - t_ptp;
     assert!((got - want).abs() < 1e-6, "{got} vs {want}");
 }

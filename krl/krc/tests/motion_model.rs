@@ -5,7 +5,7 @@
 //! planner's constants, and fails when they differ.
 
 use kuka_kinematics::PlanSettings;
-use kuka_kinematics::plan::ORI_SPEED_DEG_S;
+use kuka_kinematics::plan::{ORI_ACC_DEG_S2, ORI_SPEED_DEG_S};
 use kuka_krc::{KRL_FILES, simulated_config_dat};
 
 fn kb_main() -> &'static str {
@@ -70,13 +70,15 @@ fn the_krl_program_commands_what_the_planner_assumes() {
             assert_eq!(cap, ORI_SPEED_DEG_S, "{var} = {r}");
         }
     }
-    // Orientation acceleration: DEF_ACC_ORI1/2 × pct / 100 (BAS semantics).
+    // Orientation acceleration: DEF_ACC_ORI1/2 × pct / 100 (BAS semantics),
+    // DEF_ACC_ORI1/2 (100 °/s²) = the planner's ORI_ACC_DEG_S2.
     for (var, def) in [("$ACC.ORI1", "DEF_ACC_ORI1"), ("$ACC.ORI2", "DEF_ACC_ORI2")] {
         assert_eq!(
             assignments(src, var),
             vec![format!("{def} * m.ACC / 100.0")],
             "{var}"
         );
+        assert_eq!(config_value(def), ORI_ACC_DEG_S2, "{def}");
     }
 
     // Axis speed and acceleration: percentages of the machine data, which
