@@ -15,7 +15,7 @@ use kuka_protocol::{Frame, MAX_REAL, MotionRecord, SpeedRecord};
 use crate::error::{BridgeError, ErrorCode, Result};
 use crate::motion::{MotionRequest, StartPoint, TargetSpec};
 use crate::settings::{MotionConfig, WorkspaceBox, Zones};
-use kuka_kinematics::configure::{self, ConfigError, Margins};
+use kuka_kinematics::configure::{self, ConfigError, Failure, Margins};
 
 /// The safety gate shared by HTTP handlers and (later) plugins.
 #[derive(Debug, Clone)]
@@ -341,21 +341,51 @@ impl Safety {
         let motions: Vec<_> = records.iter().map(kuka_krl_runtime::to_motion).collect();
         let to_pose = |f: &Frame| kuka_krl_runtime::frame_to_pose(f);
         let (tool, base) = (to_pose(tool), to_pose(base));
+        // A configuration whose PTP or following path would break the
+        // workspace rules is dropped, as one that cannot reach is.
+        let approx = |i: usize| {
+            records.get(i).map_or(0.0, |r| match r {
+                MotionRecord::Ptp { params, .. }
+                | MotionRecord::PtpAxes { params, .. }
+                | MotionRecord::Lin { params, .. }
+                | MotionRecord::Circ { params, .. } => params.approx_mm,
+            })
+        };
+        let check = |first: usize, samples: &[plan::Sample]| {
+            self.sweep_violation(samples, |k| approx(first + k))
+                .map(|(k, p, why)| {
+                    (
+                        first + k,
+                        format!(
+                            "the path passes ({:.1}, {:.1}, {:.1}) mm, {why}",
+                            p[0], p[1], p[2]
+                        ),
+                    )
+                })
+        };
         let cx = configure::Context {
             model,
             tool: &tool,
             base: &base,
             settings: &plan::PlanSettings::for_model(model),
             margins: &Margins::default(),
+            // (Only with rules to check: planning the PTP too costs time.)
+            path_check: (self.workspace.is_some()
+                || self.zones.floor_z.is_some()
+                || !self.zones.keep_out.is_empty())
+            .then_some(&check),
         };
         let chosen = configure::choose(&cx, &start.axes, &motions, &modes).map_err(|e| {
             let (code, axis, at) = match &e {
                 ConfigError::NoConfiguration { tried, index } => {
                     tried
                         .first()
-                        .map_or((ErrorCode::Unreachable, 0, *index), |c| {
-                            let m = motion_error(&c.error);
-                            (m.code, m.axis.unwrap_or(0), c.failed_motion)
+                        .map_or((ErrorCode::Unreachable, 0, *index), |c| match &c.error {
+                            Failure::Motion(e) => {
+                                let m = motion_error(e);
+                                (m.code, m.axis.unwrap_or(0), c.failed_motion)
+                            }
+                            Failure::Path(_) => (ErrorCode::WorkspaceViolation, 0, c.failed_motion),
                         })
                 }
                 ConfigError::OutOfReach { index, per_status } => {

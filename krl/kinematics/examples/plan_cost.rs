@@ -82,6 +82,7 @@ fn main() {
         base: &zero,
         settings: &settings,
         margins: &margins,
+        path_check: None,
     };
     println!("| batch of 1000 | configuration planning | dry run | total | per motion |");
     println!("|---|---|---|---|---|");

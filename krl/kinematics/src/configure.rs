@@ -28,7 +28,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::model::{Axes, IkError, RobotModel};
-use crate::plan::{self, Motion, MotionError, MotionKind, PlanSettings};
+use crate::plan::{self, Motion, MotionError, MotionKind, PlanSettings, Sample};
 use crate::pose::Pose;
 
 /// How a Cartesian PTP without `s` gets its configuration.
@@ -94,7 +94,19 @@ pub struct Tried {
     /// The first motion (batch index) that failed from it.
     pub failed_motion: usize,
     /// Why.
-    pub error: MotionError,
+    pub error: Failure,
+}
+
+/// Why a configuration could not be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Failure {
+    /// A motion cannot be executed from it (reachability, limits,
+    /// singularities).
+    #[error(transparent)]
+    Motion(#[from] MotionError),
+    /// The swept path breaks a workspace rule ([`Context::path_check`]).
+    #[error("{0}")]
+    Path(String),
 }
 
 /// Why no configuration could be chosen.
@@ -154,9 +166,16 @@ fn describe(index: usize, tried: &[Tried]) -> String {
 /// each are ordered by travel.
 pub const MAX_TRIED: usize = 16;
 
+/// Checks a planned path against rules the planner does not know (the
+/// service's workspace box and keep-out zones): given the batch index of
+/// the first planned motion and the samples, the batch index of the motion
+/// where the path breaks a rule and why, or `None`.
+pub type PathCheck<'a> = &'a dyn Fn(usize, &[Sample]) -> Option<(usize, String)>;
+
 /// What configuration planning works with: the robot, its tool and base,
-/// the planner's settings and the singularity margins.
-#[derive(Debug, Clone, Copy)]
+/// the planner's settings, the singularity margins and an optional check of
+/// the swept path.
+#[derive(Clone, Copy)]
 pub struct Context<'a> {
     /// The robot.
     pub model: &'a RobotModel,
@@ -168,6 +187,9 @@ pub struct Context<'a> {
     pub settings: &'a PlanSettings,
     /// Singularity margins.
     pub margins: &'a Margins,
+    /// With it, a configuration is also dropped when the PTP's own joint
+    /// path or the motions after it break the check.
+    pub path_check: Option<PathCheck<'a>>,
 }
 
 /// Chooses the configuration of every Cartesian PTP whose mode is
@@ -211,7 +233,7 @@ pub fn choose(
             {
                 // Where the block ends comes with the choice (its tail was
                 // planned from it).
-                let (chosen, block_end) = choose_one(cx, &axes, target, *t, tail, i)?;
+                let (chosen, block_end) = choose_one(cx, &axes, &motions[i], target, *t, tail, i)?;
                 out[i] = Some(chosen);
                 axes = block_end;
             }
@@ -235,6 +257,7 @@ pub fn choose(
 fn choose_one(
     cx: &Context<'_>,
     from: &Axes,
+    ptp: &Motion,
     target: &Pose,
     t: Option<u8>,
     tail: &[Motion],
@@ -246,6 +269,7 @@ fn choose_one(
         base,
         settings,
         margins,
+        path_check,
     } = *cx;
     let mut candidates: Vec<(Axes, u8, u8)> = model
         .solutions(target, tool, base, from)
@@ -268,15 +292,38 @@ fn choose_one(
     }
     let mut tried = Vec::new();
     for (axes, s, t) in candidates.into_iter().take(MAX_TRIED) {
-        let run = plan::plan(model, &axes, tool, base, tail, settings);
+        let fail = |k: usize, error: Failure| Tried {
+            s,
+            t,
+            failed_motion: k,
+            error,
+        };
+        let Some(check) = path_check else {
+            // The tail alone, from the candidate.
+            let run = plan::plan(model, &axes, tool, base, tail, settings);
+            match run.error {
+                None => return Ok((Chosen { s, t, axes }, run.end_axes)),
+                Some((k, e)) => tried.push(fail(index + 1 + k, e.into())),
+            }
+            continue;
+        };
+        // The PTP's own joint path too (as an axis PTP to the candidate),
+        // then the tail, all checked against the path rules.
+        let mut run_motions = Vec::with_capacity(tail.len() + 1);
+        run_motions.push(Motion {
+            kind: MotionKind::PtpAxes { axes },
+            approx_mm: 0.0,
+            ..ptp.clone()
+        });
+        run_motions.extend_from_slice(tail);
+        let run = plan::plan(model, from, tool, base, &run_motions, settings);
+        if let Some((k, why)) = check(index, &run.samples) {
+            tried.push(fail(k, Failure::Path(why)));
+            continue;
+        }
         match run.error {
             None => return Ok((Chosen { s, t, axes }, run.end_axes)),
-            Some((k, e)) => tried.push(Tried {
-                s,
-                t,
-                failed_motion: index + 1 + k,
-                error: e,
-            }),
+            Some((k, e)) => tried.push(fail(index + k, e.into())),
         }
     }
     Err(ConfigError::NoConfiguration { index, tried })

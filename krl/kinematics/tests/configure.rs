@@ -43,6 +43,7 @@ fn auto_finds_what_a_brute_force_finds_and_moves_no_more() {
             base: &zero,
             settings: &settings,
             margins: &margins,
+            path_check: None,
         };
         let mut rng = Rng(0xC0FF_EE00 ^ name.len() as u64);
         for n in 0..1000 {
@@ -92,4 +93,84 @@ fn auto_finds_what_a_brute_force_finds_and_moves_no_more() {
         }
     }
     assert!(checked > 3000, "{checked} targets with a configuration");
+}
+
+/// A path check (the service's workspace rules) drops configurations whose
+/// PTP or following path breaks it: when it refuses every path, no
+/// configuration is chosen and each one tried says why; when it refuses
+/// only paths that pass below z = 300, the configuration chosen keeps its
+/// whole PTP sweep above.
+#[test]
+fn a_path_check_drops_configurations() {
+    use kuka_kinematics::configure::{ConfigError, Failure};
+    let m = RobotModel::kr3_r540();
+    let zero = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    let settings = PlanSettings::for_model(&m);
+    let margins = Margins::default();
+    let target = Pose::new(250.0, 0.0, 350.0, 0.0, 180.0, 0.0);
+    let ptp = Motion {
+        kind: MotionKind::Ptp {
+            target,
+            s: None,
+            t: None,
+        },
+        velocity: 50.0,
+        acceleration_pct: 100.0,
+        approx_mm: 0.0,
+    };
+    let never = |first: usize, _: &[kuka_kinematics::Sample]| Some((first, "refused".to_string()));
+    let cx = Context {
+        model: &m,
+        tool: &zero,
+        base: &zero,
+        settings: &settings,
+        margins: &margins,
+        path_check: Some(&never),
+    };
+    match configure::choose(
+        &cx,
+        &m.home,
+        std::slice::from_ref(&ptp),
+        &[ConfigMode::Auto],
+    ) {
+        Err(ConfigError::NoConfiguration { tried, .. }) => {
+            assert!(!tried.is_empty());
+            assert!(
+                tried
+                    .iter()
+                    .all(|c| matches!(&c.error, Failure::Path(w) if w == "refused"))
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    let above = |first: usize, samples: &[kuka_kinematics::Sample]| {
+        samples
+            .iter()
+            .find(|s| s.pose.z < 300.0)
+            .map(|s| (first + s.motion, format!("z {:.1}", s.pose.z)))
+    };
+    let cx = Context {
+        path_check: Some(&above),
+        ..cx
+    };
+    let chosen = configure::choose(
+        &cx,
+        &m.home,
+        std::slice::from_ref(&ptp),
+        &[ConfigMode::Auto],
+    )
+    .expect("a configuration whose sweep stays above z = 300");
+    let c = chosen[0].expect("chosen");
+    let run = kuka_kinematics::plan::plan(
+        &m,
+        &m.home,
+        &zero,
+        &zero,
+        &[Motion {
+            kind: MotionKind::PtpAxes { axes: c.axes },
+            ..ptp.clone()
+        }],
+        &settings,
+    );
+    assert!(run.samples.iter().all(|s| s.pose.z >= 300.0), "{c:?}");
 }
