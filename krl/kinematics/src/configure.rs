@@ -317,13 +317,15 @@ fn choose_one(
         });
         run_motions.extend_from_slice(tail);
         let run = plan::plan(model, from, tool, base, &run_motions, settings);
-        if let Some((k, why)) = check(index, &run.samples) {
-            tried.push(fail(k, Failure::Path(why)));
+        // A motion that cannot run at all is the first reason; then the
+        // path rules.
+        if let Some((k, e)) = run.error {
+            tried.push(fail(index + k, e.into()));
             continue;
         }
-        match run.error {
+        match check(index, &run.samples) {
+            Some((k, why)) => tried.push(fail(k, Failure::Path(why))),
             None => return Ok((Chosen { s, t, axes }, run.end_axes)),
-            Some((k, e)) => tried.push(fail(index + k, e.into())),
         }
     }
     Err(ConfigError::NoConfiguration { index, tried })
