@@ -9,28 +9,7 @@ use utoipa::ToSchema;
 use crate::error::{BridgeError, Result};
 use crate::settings::MotionConfig;
 
-/// How a Cartesian PTP without `s` gets its arm configuration
-/// (docs/CONFIGURATION.md).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize, ToSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum Configuration {
-    /// The bridge chooses Status and Turn: reachable, the Cartesian motions
-    /// after it executable, away from singularities, least axis travel.
-    #[default]
-    Auto,
-    /// KUKA's rule: keep the current Status (the PTP may then fail where
-    /// another configuration would reach).
-    Keep,
-}
-
-impl From<Configuration> for kuka_kinematics::ConfigMode {
-    fn from(c: Configuration) -> Self {
-        match c {
-            Configuration::Auto => kuka_kinematics::ConfigMode::Auto,
-            Configuration::Keep => kuka_kinematics::ConfigMode::Keep,
-        }
-    }
-}
+pub use crate::settings::Configuration;
 
 /// A Cartesian target; omitted components keep their current value (the
 /// previous motion's target inside a batch).

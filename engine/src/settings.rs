@@ -57,6 +57,29 @@ pub struct ChannelConfig {
     pub request_spin_us: Option<u64>,
 }
 
+/// How a Cartesian PTP without `s` gets its arm configuration
+/// (docs/CONFIGURATION.md).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize, utoipa::ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Configuration {
+    /// The bridge chooses Status and Turn: reachable, the Cartesian motions
+    /// after it executable, away from singularities, least axis travel.
+    #[default]
+    Auto,
+    /// KUKA's rule: keep the current Status (the PTP may then fail where
+    /// another configuration would reach).
+    Keep,
+}
+
+impl From<Configuration> for kuka_kinematics::ConfigMode {
+    fn from(c: Configuration) -> Self {
+        match c {
+            Configuration::Auto => kuka_kinematics::ConfigMode::Auto,
+            Configuration::Keep => kuka_kinematics::ConfigMode::Keep,
+        }
+    }
+}
+
 /// Default speeds and the caps no request may exceed.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -82,7 +105,7 @@ pub struct MotionConfig {
     /// How a Cartesian PTP without `s` gets its arm configuration when
     /// the request does not say: `auto` (the bridge chooses) or `keep`
     /// (KUKA's rule). The thesis endpoints always use `auto`.
-    pub configuration: crate::motion::Configuration,
+    pub configuration: Configuration,
 }
 
 /// An axis-aligned box in the base frame (mm).
@@ -206,7 +229,7 @@ impl Default for MotionConfig {
             max_approx_mm: 100.0,
             max_batch: kuka_protocol::MAX_BATCH,
             max_queue: 100,
-            configuration: crate::motion::Configuration::Auto,
+            configuration: Configuration::Auto,
         }
     }
 }
