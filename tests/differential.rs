@@ -143,6 +143,30 @@ fn krc_recover(krc: &KrcController, dir: &Path, cid: &mut i32) {
     );
 }
 
+/// Sends both controllers home with the next CID (a common pose after a
+/// difference or an error stop); the KRL program's answer.
+fn both_home(
+    native_dir: &Path,
+    krc: &KrcController,
+    krc_dir: &Path,
+    cid: &mut i32,
+    rng: &mut Rng,
+    model: &RobotModel,
+) -> ResultRecord {
+    *cid += 1;
+    let reset = CommandFile {
+        cid: *cid,
+        command: Command::Move(vec![MotionRecord::PtpAxes {
+            axes: model.home,
+            params: params(rng, false, false),
+        }]),
+    }
+    .encode()
+    .expect("encodes");
+    native_round_trip(native_dir, *cid, &reset);
+    krc_round_trip(krc, krc_dir, *cid, &reset).expect("answered")
+}
+
 fn frame(p: &Pose) -> Frame {
     let [x, y, z, a, b, c] = p.to_array();
     Frame { x, y, z, a, b, c }
@@ -354,18 +378,14 @@ fn native_simulator_and_shipped_krl_program_answer_alike() {
             }
             error_stops += 1;
             krc_recover(&krc, krc_dir.path(), &mut cid);
-            cid += 1;
-            let reset = CommandFile {
-                cid,
-                command: Command::Move(vec![MotionRecord::PtpAxes {
-                    axes: model.home,
-                    params: params(&mut rng, false, false),
-                }]),
-            }
-            .encode()
-            .expect("encodes");
-            native_round_trip(native_dir.path(), cid, &reset);
-            let r = krc_round_trip(&krc, krc_dir.path(), cid, &reset).expect("answered");
+            let r = both_home(
+                native_dir.path(),
+                &krc,
+                krc_dir.path(),
+                &mut cid,
+                &mut rng,
+                &model,
+            );
             assert_eq!(r.code, ResultCode::Ok, "{r:?}");
             axes = model.home;
             continue;
@@ -392,7 +412,9 @@ fn native_simulator_and_shipped_krl_program_answer_alike() {
         if end_point_vs_path {
             end_point_refusals += 1;
         }
-        if !end_point_vs_path && (a.code != b.code || a.completed != b.completed || !same_axes) {
+        let differs =
+            !end_point_vs_path && (a.code != b.code || a.completed != b.completed || !same_axes);
+        if differs {
             differences.push(format!(
                 "command {i} (CID {cid}) {}:\n  native {:?} {} {:?}\n  krc    {:?} {} {:?}\n  sent: {}",
                 cmd.name(),
@@ -404,34 +426,17 @@ fn native_simulator_and_shipped_krl_program_answer_alike() {
                 b.axes,
                 text.lines().nth(1).unwrap_or("")
             ));
+        }
+        if differs || end_point_vs_path {
             // Both go to a common pose again.
-            let reset = CommandFile {
-                cid: cid + 1,
-                command: Command::Move(vec![MotionRecord::PtpAxes {
-                    axes: model.home,
-                    params: params(&mut rng, false, false),
-                }]),
-            }
-            .encode()
-            .expect("encodes");
-            cid += 1;
-            native_round_trip(native_dir.path(), cid, &reset);
-            krc_round_trip(&krc, krc_dir.path(), cid, &reset).expect("answered");
-            axes = model.home;
-        } else if end_point_vs_path {
-            // Both go to a common pose again.
-            cid += 1;
-            let reset = CommandFile {
-                cid,
-                command: Command::Move(vec![MotionRecord::PtpAxes {
-                    axes: model.home,
-                    params: params(&mut rng, false, false),
-                }]),
-            }
-            .encode()
-            .expect("encodes");
-            native_round_trip(native_dir.path(), cid, &reset);
-            krc_round_trip(&krc, krc_dir.path(), cid, &reset).expect("answered");
+            both_home(
+                native_dir.path(),
+                &krc,
+                krc_dir.path(),
+                &mut cid,
+                &mut rng,
+                &model,
+            );
             axes = model.home;
         } else {
             axes = a.axes;

@@ -135,6 +135,11 @@ impl Safety {
         &self.zones
     }
 
+    /// A workspace box, a floor or a keep-out zone is configured.
+    fn has_path_rules(&self) -> bool {
+        self.workspace.is_some() || self.zones.floor_z.is_some() || !self.zones.keep_out.is_empty()
+    }
+
     /// The first place a swept path breaks the workspace rules: the motion
     /// (index into the planned motions), the point and why. Every sample is
     /// checked, and between two samples the straight piece too (a fast PTP
@@ -146,10 +151,7 @@ impl Safety {
         samples: &[plan::Sample],
         approx: impl Fn(usize) -> f64,
     ) -> Option<(usize, [f64; 3], String)> {
-        if self.workspace.is_none()
-            && self.zones.floor_z.is_none()
-            && self.zones.keep_out.is_empty()
-        {
+        if !self.has_path_rules() {
             return None;
         }
         let mut prev: Option<[f64; 3]> = None;
@@ -343,14 +345,7 @@ impl Safety {
         let (tool, base) = (to_pose(tool), to_pose(base));
         // A configuration whose PTP or following path would break the
         // workspace rules is dropped, as one that cannot reach is.
-        let approx = |i: usize| {
-            records.get(i).map_or(0.0, |r| match r {
-                MotionRecord::Ptp { params, .. }
-                | MotionRecord::PtpAxes { params, .. }
-                | MotionRecord::Lin { params, .. }
-                | MotionRecord::Circ { params, .. } => params.approx_mm,
-            })
-        };
+        let approx = |i: usize| motions.get(i).map_or(0.0, |m| m.approx_mm);
         let check = |first: usize, samples: &[plan::Sample]| {
             self.sweep_violation(samples, |k| approx(first + k))
                 .map(|(k, p, why)| {
@@ -370,10 +365,7 @@ impl Safety {
             settings: &plan::PlanSettings::for_model(model),
             margins: &Margins::default(),
             // (Only with rules to check: planning the PTP too costs time.)
-            path_check: (self.workspace.is_some()
-                || self.zones.floor_z.is_some()
-                || !self.zones.keep_out.is_empty())
-            .then_some(&check),
+            path_check: self.has_path_rules().then_some(&check),
         };
         let chosen = configure::choose(&cx, &start.axes, &motions, &modes).map_err(|e| {
             let (code, axis, at) = match &e {
@@ -471,14 +463,7 @@ impl Safety {
         );
         // The swept path: every sample of the dry run (PTP joint paths, LIN
         // lines, CIRC arcs) and the pieces between, up to where it stops.
-        let approx = |i: usize| {
-            records.get(i).map_or(0.0, |r| match r {
-                MotionRecord::Ptp { params, .. }
-                | MotionRecord::PtpAxes { params, .. }
-                | MotionRecord::Lin { params, .. }
-                | MotionRecord::Circ { params, .. } => params.approx_mm,
-            })
-        };
+        let approx = |i: usize| motions.get(i).map_or(0.0, |m| m.approx_mm);
         if let Some((i, p, why)) = self.sweep_violation(&execution.samples, approx) {
             return Err(BridgeError::new(
                 ErrorCode::WorkspaceViolation,
