@@ -1003,3 +1003,87 @@ async fn bare_refusals_say_the_status_they_answer() {
         );
     }
 }
+
+/// Issue 22, live position: while a 2 s LIN runs, `GET /api/v1/position`
+/// and the thesis `getpos` answer at once from the controller's live state
+/// (`source: live`, with its age), with a position on the path — they no
+/// longer queue behind the motion. At rest the answer is a GETPOS round trip.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn position_is_live_while_a_motion_runs() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    // The start of the line, flange down.
+    let (s, j) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 300, "y": -100, "z": 300, "a": 0, "b": 180, "c": 0}}]))
+        .await;
+    assert_eq!(s, 200, "{j}");
+    let (s, at_rest) = t.get("/api/v1/position").await;
+    assert_eq!(s, 200, "{at_rest}");
+    assert_eq!(at_rest["source"], "controller", "{at_rest}");
+    assert_eq!(at_rest["age_ms"], 0);
+    // 200 mm at 0.1 m/s: about 2 s.
+    let body = json!({"motions": [{"type": "lin", "target": {"y": 100}, "velocity_m_s": 0.1}], "wait": false});
+    let (s, job) = t.post_json("/api/v1/motions", &body).await;
+    assert_eq!(s, 202, "{job}");
+    let location = format!("/api/v1/jobs/{}", job["id"]);
+    t.wait_job(job["id"].as_u64().expect("id"), "the LIN to execute", |j| {
+        j["state"] == "executing"
+    })
+    .await;
+    let mut mid_path = 0;
+    let mut thesis_mid_path = 0;
+    loop {
+        let (s, p) = t.get("/api/v1/position").await;
+        assert_eq!(s, 200, "{p}");
+        let (_, j) = t.get(&location).await;
+        let running = j["state"] == "executing";
+        let y = p["position"]["y"].as_f64().expect("y");
+        assert_close(
+            p["position"]["x"].as_f64().expect("x"),
+            300.0,
+            0.01,
+            "x on the line",
+        );
+        assert_close(
+            p["position"]["z"].as_f64().expect("z"),
+            300.0,
+            0.01,
+            "z on the line",
+        );
+        assert!((-100.001..=100.001).contains(&y), "y on the line: {p}");
+        if running {
+            // Answered while the motion still runs: from the live state.
+            assert_eq!(p["source"], "live", "{p}");
+            assert!(p["age_ms"].as_u64().expect("age") < 1000, "{p}");
+            if y > -99.0 && y < 99.0 {
+                mid_path += 1;
+            }
+            let (s, g) = t.post("/krl/getpos").await;
+            assert_eq!((s, g["statuscode"].as_i64()), (200, Some(1)), "{g}");
+            let gy = g["position"][1].as_f64().expect("y");
+            assert_close(
+                g["position"][0].as_f64().expect("x"),
+                300.0,
+                0.01,
+                "getpos x",
+            );
+            if gy > -99.0 && gy < 99.0 && t.get(&location).await.1["state"] == "executing" {
+                thesis_mid_path += 1;
+            }
+        } else if j["state"] == "done" {
+            break;
+        } else {
+            assert_eq!(j["state"], "sent", "{j}");
+        }
+        // Every 50 ms a new reading (the heartbeat moves the position on).
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert!(mid_path >= 5, "live positions along the path: {mid_path}");
+    assert!(
+        thesis_mid_path >= 5,
+        "thesis getpos along the path: {thesis_mid_path}"
+    );
+}

@@ -320,7 +320,9 @@ export interface paths {
             cookie?: never;
         };
         /**
-         * Current position, read through the controller program (a round trip).
+         * Current position. While the robot stands it is read through the controller
+         *     program (a round trip); while a job runs it comes at once from the controller's
+         *     live state (`source: live`, with its age) instead of waiting behind the motion.
          * @description **Access:** role `viewer` or higher.
          */
         get: operations["getPosition"];
@@ -758,7 +760,9 @@ export interface paths {
         get?: never;
         put?: never;
         /**
-         * Current position (thesis method 3), read through the controller program.
+         * Current position (thesis method 3): read through the controller program while
+         *     the robot stands; while a motion runs, at once from the controller's live state
+         *     (as `GET /api/v1/position` with `source: live`).
          * @description **Access:** role `viewer` or higher.
          */
         post: operations["getPositionThesis"];
@@ -1885,14 +1889,35 @@ export interface components {
          *         "a4": 0,
          *         "a5": 0,
          *         "a6": 0
-         *       }
+         *       },
+         *       "source": "controller",
+         *       "age_ms": 0
          *     }
          */
         PositionReport: {
+            /**
+             * Format: int64
+             * @description For `live`: milliseconds since the service read the state file that
+             *     carried the position (the controller writes it every heartbeat,
+             *     100 ms in the shipped KRL program). 0 for `controller`.
+             */
+            age_ms: number;
             axes?: components["schemas"]["AxisAngles"] | null;
             /** @description TCP in the base frame with Status/Turn. */
             position: components["schemas"]["Position"];
+            /**
+             * @description Where it comes from: `controller` (a GETPOS round trip through the
+             *     controller program, while the robot stands) or `live` (while a job
+             *     runs: the controller's newest state file, answered at once instead
+             *     of waiting behind the motion).
+             */
+            source: components["schemas"]["PositionSource"];
         };
+        /**
+         * @description Where a reported position comes from.
+         * @enum {string}
+         */
+        PositionSource: "controller" | "live";
         /** @description Who is making a request. */
         Principal: {
             /** @description Token name (`anonymous` when auth is off). */

@@ -155,6 +155,7 @@ impl Engine {
             queue_length: 0,
             position: None,
             axes: None,
+            position_read_at: None,
             tool: None,
             base: None,
             speed: speeds,
@@ -210,6 +211,24 @@ impl Engine {
     }
 
     /// Current robot state.
+    /// While a job runs on the online controller: the position of the
+    /// newest state file (or result) the service has read, and how long
+    /// ago it read it; `None` when the controller is idle, offline or has
+    /// not reported a position. A read that would queue behind the running
+    /// motion answers from this instead (issue 22, live position).
+    pub fn live_position(&self) -> Option<LivePosition> {
+        let s = self.shared.state.borrow();
+        if !s.busy || s.connection != Connection::Online {
+            return None;
+        }
+        Some(LivePosition {
+            position: s.position?,
+            axes: s.axes,
+            age: s.position_read_at?.elapsed(),
+        })
+    }
+
+    /// The robot state as last read from the controller.
     pub fn state(&self) -> RobotState {
         self.shared.state.borrow().clone()
     }

@@ -355,6 +355,10 @@ pub struct RobotState {
     pub position: Option<Position>,
     /// Axis angles.
     pub axes: Option<AxisAngles>,
+    /// When the service read the file that carried `position` and `axes`
+    /// (the state file's heartbeat or a result); not serialised.
+    #[serde(skip)]
+    pub position_read_at: Option<std::time::Instant>,
     /// Tool frame ($TOOL).
     pub tool: Option<CartesianFrame>,
     /// Base frame ($BASE).
@@ -369,6 +373,17 @@ pub struct RobotState {
     /// `shutting_down`) and a sentence. `/health` says `degraded` while
     /// this is not empty.
     pub degraded: Vec<BridgeError>,
+}
+
+/// The robot's position as the controller last reported it while moving.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LivePosition {
+    /// TCP in the base frame with Status/Turn.
+    pub position: Position,
+    /// Axis angles.
+    pub axes: Option<AxisAngles>,
+    /// Time since the service read the file that carried it.
+    pub age: std::time::Duration,
 }
 
 /// A push event (Server-Sent Events on `/api/v1/events`).

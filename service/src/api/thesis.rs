@@ -358,10 +358,15 @@ async fn circ(
     run(&app, &who, Operation::Move(vec![m]), false).await
 }
 
-/// Current position (thesis method 3), read through the controller program.
+/// Current position (thesis method 3): read through the controller program while
+/// the robot stands; while a motion runs, at once from the controller's live state
+/// (as `GET /api/v1/position` with `source: live`).
 #[utoipa::path(post, path = "/krl/getpos", tag = "thesis",
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
 async fn getpos(State(app): State<AppState>, who: Who, _: ThesisQuery<NoParams>) -> Response {
+    if let Some(live) = app.engine.live_position() {
+        return done(live.position.xyzabc());
+    }
     run(&app, &who, Operation::GetPosition, false).await
 }
 

@@ -52,13 +52,33 @@ pub struct MotionBatch {
 #[derive(Debug, Serialize, ToSchema)]
 #[schema(example = json!({
     "position": {"x": 355.0, "y": 0.0, "z": 625.0, "a": 0.0, "b": 90.0, "c": 0.0, "s": 2, "t": 2},
-    "axes": {"a1": 0.0, "a2": -90.0, "a3": 90.0, "a4": 0.0, "a5": 0.0, "a6": 0.0}
+    "axes": {"a1": 0.0, "a2": -90.0, "a3": 90.0, "a4": 0.0, "a5": 0.0, "a6": 0.0},
+    "source": "controller", "age_ms": 0
 }))]
 pub struct PositionReport {
     /// TCP in the base frame with Status/Turn.
     pub position: Position,
     /// Axis angles.
     pub axes: Option<AxisAngles>,
+    /// Where it comes from: `controller` (a GETPOS round trip through the
+    /// controller program, while the robot stands) or `live` (while a job
+    /// runs: the controller's newest state file, answered at once instead
+    /// of waiting behind the motion).
+    pub source: PositionSource,
+    /// For `live`: milliseconds since the service read the state file that
+    /// carried the position (the controller writes it every heartbeat,
+    /// 100 ms in the shipped KRL program). 0 for `controller`.
+    pub age_ms: u64,
+}
+
+/// Where a reported position comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum PositionSource {
+    /// Read through the controller program (GETPOS).
+    Controller,
+    /// The controller's live state while a job runs.
+    Live,
 }
 
 /// Partial update of the speed settings; omitted fields keep their value.
@@ -249,10 +269,20 @@ async fn get_workspace(State(app): State<AppState>) -> Response {
     })
 }
 
-/// Current position, read through the controller program (a round trip).
+/// Current position. While the robot stands it is read through the controller
+/// program (a round trip); while a job runs it comes at once from the controller's
+/// live state (`source: live`, with its age) instead of waiting behind the motion.
 #[utoipa::path(get, path = "/api/v1/position", tag = "robot",
     responses((status = 200, body = PositionReport), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn get_position(State(app): State<AppState>, who: Who) -> Result<Response, Problem> {
+    if let Some(live) = app.engine.live_position() {
+        return Ok(ok_json(&PositionReport {
+            position: live.position,
+            axes: live.axes,
+            source: PositionSource::Live,
+            age_ms: live.age.as_millis() as u64,
+        }));
+    }
     let job = execute(&app, &who, Operation::GetPosition).await?;
     let position = job
         .position
@@ -260,6 +290,8 @@ async fn get_position(State(app): State<AppState>, who: Who) -> Result<Response,
     Ok(ok_json(&PositionReport {
         position,
         axes: job.axes,
+        source: PositionSource::Controller,
+        age_ms: 0,
     }))
 }
 

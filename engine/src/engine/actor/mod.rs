@@ -155,6 +155,8 @@ struct ControllerView {
     /// The command whose result last set `pose`/`axes`: a state file
     /// written before that result must not set them back.
     result_cid: Option<Cid>,
+    /// When the file that last set `pose`/`axes` was read.
+    pose_at: Option<Instant>,
 }
 
 pub(crate) struct Actor {
@@ -838,6 +840,7 @@ impl Actor {
             queue_length: self.queue.len(),
             position: self.ctl.pose.map(|(f, s, t)| Position::new(&f, s, t)),
             axes: self.ctl.axes.map(Into::into),
+            position_read_at: self.ctl.pose_at,
             tool: self.ctl.tool.map(Into::into),
             base: self.ctl.base.map(Into::into),
             speed: self.speeds,
@@ -848,6 +851,7 @@ impl Actor {
             // The heartbeat age changes every call; publish only real changes.
             let mut a = cur.clone();
             a.controller.heartbeat_age_ms = next.controller.heartbeat_age_ms;
+            a.position_read_at = next.position_read_at;
             let differs = a != next;
             *cur = next.clone();
             differs

@@ -100,6 +100,7 @@ impl Actor {
         if !stale {
             self.ctl.pose = Some((s.position, s.s, s.t));
             self.ctl.axes = Some(s.axes);
+            self.ctl.pose_at = Some(now);
             self.ctl.tool = Some(s.tool);
             self.ctl.base = Some(s.base);
         }
@@ -159,6 +160,7 @@ impl Actor {
             }
             self.ctl.pose = Some((r.position, r.s, r.t));
             self.ctl.axes = Some(r.axes);
+            self.ctl.pose_at = Some(Instant::now());
             self.ctl.result_cid = Some(r.cid);
             // Results come in command-id order: a command older than the STOP
             // without a result of its own was superseded before the controller
@@ -204,6 +206,7 @@ impl Actor {
         };
         self.answered_at = Some(Instant::now());
         self.ctl.axes = Some(r.axes);
+        self.ctl.pose_at = self.answered_at;
         self.ctl.result_cid = Some(r.cid);
         match &f.op {
             Operation::SetTool(_) | Operation::GetTool if r.code == ResultCode::Ok => {

@@ -43,6 +43,7 @@ from .plugin_info import PluginInfo
 from .plugin_route_info import PluginRouteInfo
 from .position import Position
 from .position_report import PositionReport
+from .position_source import PositionSource
 from .principal import Principal
 from .problem_details import ProblemDetails
 from .program_info import ProgramInfo
@@ -116,6 +117,7 @@ __all__ = (
     "PluginRouteInfo",
     "Position",
     "PositionReport",
+    "PositionSource",
     "Principal",
     "ProblemDetails",
     "ProgramInfo",

@@ -8,6 +8,7 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
+from ..models.position_source import PositionSource
 from ..types import UNSET, Unset
 from typing import cast
 
@@ -29,15 +30,21 @@ class PositionReport:
 
         Example:
             {'position': {'x': 355.0, 'y': 0.0, 'z': 625.0, 'a': 0.0, 'b': 90.0, 'c': 0.0, 's': 2, 't': 2}, 'axes': {'a1':
-                0.0, 'a2': -90.0, 'a3': 90.0, 'a4': 0.0, 'a5': 0.0, 'a6': 0.0}}
+                0.0, 'a2': -90.0, 'a3': 90.0, 'a4': 0.0, 'a5': 0.0, 'a6': 0.0}, 'source': 'controller', 'age_ms': 0}
 
         Attributes:
+            age_ms (int): For `live`: milliseconds since the service read the state file that
+                carried the position (the controller writes it every heartbeat,
+                100 ms in the shipped KRL program). 0 for `controller`.
             position (Position): TCP position in the base frame with Status and Turn (a KUKA E6POS without external axes).
                 Example: {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c': 0.0, 's': 2, 't': 2}.
+            source (PositionSource): Where a reported position comes from.
             axes (AxisAngles | None | Unset):
      """
 
+    age_ms: int
     position: Position
+    source: PositionSource
     axes: AxisAngles | None | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
@@ -48,7 +55,11 @@ class PositionReport:
     def to_dict(self) -> dict[str, Any]:
         from ..models.axis_angles import AxisAngles # noqa: PLC0415
         from ..models.position import Position # noqa: PLC0415
+        age_ms = self.age_ms
+
         position = self.position.to_dict()
+
+        source = self.source.value
 
         axes: dict[str, Any] | None | Unset
         if isinstance(self.axes, Unset):
@@ -62,7 +73,9 @@ class PositionReport:
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
         field_dict.update({
+            "age_ms": age_ms,
             "position": position,
+            "source": source,
         })
         if axes is not UNSET:
             field_dict["axes"] = axes
@@ -76,7 +89,14 @@ class PositionReport:
         from ..models.axis_angles import AxisAngles # noqa: PLC0415
         from ..models.position import Position # noqa: PLC0415
         d = dict(src_dict)
+        age_ms = d.pop("age_ms")
+
         position = Position.from_dict(d.pop("position"))
+
+
+
+
+        source = PositionSource(d.pop("source"))
 
 
 
@@ -102,7 +122,9 @@ class PositionReport:
 
 
         position_report = cls(
+            age_ms=age_ms,
             position=position,
+            source=source,
             axes=axes,
         )
 

@@ -96,7 +96,9 @@ def sync_detailed(
     client: AuthenticatedClient,
 
 ) -> Response[PositionReport | ProblemDetails]:
-    """ Current position, read through the controller program (a round trip).
+    """ Current position. While the robot stands it is read through the controller
+    program (a round trip); while a job runs it comes at once from the controller's
+    live state (`source: live`, with its age) instead of waiting behind the motion.
 
      
 
@@ -126,7 +128,9 @@ def sync(
     client: AuthenticatedClient,
 
 ) -> PositionReport | ProblemDetails | None:
-    """ Current position, read through the controller program (a round trip).
+    """ Current position. While the robot stands it is read through the controller
+    program (a round trip); while a job runs it comes at once from the controller's
+    live state (`source: live`, with its age) instead of waiting behind the motion.
 
      
 
@@ -151,7 +155,9 @@ async def asyncio_detailed(
     client: AuthenticatedClient,
 
 ) -> Response[PositionReport | ProblemDetails]:
-    """ Current position, read through the controller program (a round trip).
+    """ Current position. While the robot stands it is read through the controller
+    program (a round trip); while a job runs it comes at once from the controller's
+    live state (`source: live`, with its age) instead of waiting behind the motion.
 
      
 
@@ -181,7 +187,9 @@ async def asyncio(
     client: AuthenticatedClient,
 
 ) -> PositionReport | ProblemDetails | None:
-    """ Current position, read through the controller program (a round trip).
+    """ Current position. While the robot stands it is read through the controller
+    program (a round trip); while a job runs it comes at once from the controller's
+    live state (`source: live`, with its age) instead of waiting behind the motion.
 
      
 

@@ -108,7 +108,9 @@ def sync_detailed(
     access_token: str | Unset = UNSET,
 
 ) -> Response[ProblemDetails | ThesisProblem | ThesisResponse]:
-    """ Current position (thesis method 3), read through the controller program.
+    """ Current position (thesis method 3): read through the controller program while
+    the robot stands; while a motion runs, at once from the controller's live state
+    (as `GET /api/v1/position` with `source: live`).
 
      
 
@@ -143,7 +145,9 @@ def sync(
     access_token: str | Unset = UNSET,
 
 ) -> ProblemDetails | ThesisProblem | ThesisResponse | None:
-    """ Current position (thesis method 3), read through the controller program.
+    """ Current position (thesis method 3): read through the controller program while
+    the robot stands; while a motion runs, at once from the controller's live state
+    (as `GET /api/v1/position` with `source: live`).
 
      
 
@@ -173,7 +177,9 @@ async def asyncio_detailed(
     access_token: str | Unset = UNSET,
 
 ) -> Response[ProblemDetails | ThesisProblem | ThesisResponse]:
-    """ Current position (thesis method 3), read through the controller program.
+    """ Current position (thesis method 3): read through the controller program while
+    the robot stands; while a motion runs, at once from the controller's live state
+    (as `GET /api/v1/position` with `source: live`).
 
      
 
@@ -208,7 +214,9 @@ async def asyncio(
     access_token: str | Unset = UNSET,
 
 ) -> ProblemDetails | ThesisProblem | ThesisResponse | None:
-    """ Current position (thesis method 3), read through the controller program.
+    """ Current position (thesis method 3): read through the controller program while
+    the robot stands; while a motion runs, at once from the controller's live state
+    (as `GET /api/v1/position` with `source: live`).
 
      
 
