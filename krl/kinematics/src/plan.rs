@@ -184,6 +184,25 @@ pub struct Execution {
     pub duration_s: f64,
     /// The first failing motion (index) and why; motions before it are executed.
     pub error: Option<(usize, MotionError)>,
+    /// Where each motion starts (in order; a motion that does not move has
+    /// none): the points a path that grows while it is played re-plans
+    /// from ([`plan_from`]).
+    pub junctions: Vec<Junction>,
+}
+
+/// Where a motion starts in a planned execution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Junction {
+    /// Index of the motion that starts here.
+    pub motion: usize,
+    /// Time (s) at which it starts.
+    pub t: f64,
+    /// Axes there.
+    pub axes: Axes,
+    /// Path speed (mm/s of the path parameter, orientation included) with
+    /// which it is entered: 0 from a standstill, more where the motion
+    /// before blends into it.
+    pub speed: f64,
 }
 
 /// Plans a batch of motions from `start`, blending consecutive motions that
@@ -197,6 +216,37 @@ pub fn plan(
     settings: &PlanSettings,
 ) -> Execution {
     Planner::new(model, start, tool, base, settings).run(motions)
+}
+
+/// Plans `motions` as the continuation of an execution from one of its
+/// junctions: the first motion starts at `from.t` with `from.axes` and,
+/// when it is a LIN/CIRC, with the path speed `from.speed` (the motion
+/// before it blends into it and keeps the profile already played). Samples
+/// stay on the same time grid; motion and junction indices count from 0 at
+/// `motions[0]`.
+///
+/// This is how a path that grows while it is played (a motion stream) is
+/// planned: when motions are appended, the part not yet played is planned
+/// again from the next junction, and what the robot already does never
+/// changes. The result equals [`plan`] of the whole path wherever the
+/// appended motions do not change the speeds before that junction (they
+/// can only raise them: a KRC with a bounded advance run plans the same way).
+pub fn plan_from(
+    model: &RobotModel,
+    tool: &Pose,
+    base: &Pose,
+    motions: &[Motion],
+    settings: &PlanSettings,
+    from: &Junction,
+) -> Execution {
+    let mut p = Planner::new(model, &from.axes, tool, base, settings);
+    p.t = from.t;
+    p.entry_speed = from.speed;
+    let dt = settings.sample_period_s;
+    if dt > 0.0 && from.t.is_finite() && from.t > 0.0 {
+        p.next_k = (from.t / dt).floor() as u64 + 1;
+    }
+    p.run(motions)
 }
 
 /// Highest LIN/CIRC speed accepted (m/s).
@@ -564,18 +614,21 @@ fn junction_speed(a: &Segment, b: &Segment) -> f64 {
 }
 
 /// Sets entry/exit speeds, profiles and start times of a blended block.
-fn time_block(segs: &mut [Segment], t0: f64) {
+fn time_block(segs: &mut [Segment], t0: f64, v0: f64) {
     let n = segs.len();
     if n == 0 {
         return;
     }
-    // v[i] = speed at the start of segment i; v[n] = 0 at the end.
+    // v[i] = speed at the start of segment i; v[n] = 0 at the end. v[0] is
+    // the entry speed: 0 from a standstill, or a continuation's (already
+    // played, so the backward pass leaves it alone).
     let mut v = vec![0.0; n + 1];
+    v[0] = v0.min(segs[0].vmax).max(0.0);
     for i in 1..n {
         v[i] = junction_speed(&segs[i - 1], &segs[i]);
     }
     // Backward pass: able to brake to the next limit.
-    for i in (0..n).rev() {
+    for i in (1..n).rev() {
         let s = &segs[i];
         v[i] = v[i].min((v[i + 1] * v[i + 1] + 2.0 * s.acc * s.le).sqrt());
     }
@@ -607,6 +660,9 @@ struct Planner<'a> {
     /// Next grid time to sample.
     next_k: u64,
     samples: Vec<Sample>,
+    /// Path speed into the first motion (a continuation's; else 0).
+    entry_speed: f64,
+    junctions: Vec<Junction>,
 }
 
 /// Result of one block: `Err` stops the batch.
@@ -630,6 +686,8 @@ impl<'a> Planner<'a> {
             motion: 0,
             next_k: 1,
             samples: Vec::new(),
+            entry_speed: 0.0,
+            junctions: Vec::new(),
         }
     }
 
@@ -640,7 +698,7 @@ impl<'a> Planner<'a> {
     fn run(mut self, motions: &[Motion]) -> Execution {
         let start_pose = self.pose(&self.axes);
         self.samples.push(Sample {
-            t: 0.0,
+            t: self.t,
             motion: 0,
             axes: self.axes,
             pose: start_pose,
@@ -700,6 +758,7 @@ impl<'a> Planner<'a> {
             duration_s: self.t,
             samples: self.samples,
             error,
+            junctions: self.junctions,
         }
     }
 
@@ -737,6 +796,13 @@ impl<'a> Planner<'a> {
             }
         };
         let start = self.axes;
+        self.junctions.push(Junction {
+            motion: index,
+            t: self.t,
+            axes: start,
+            speed: 0.0,
+        });
+        self.entry_speed = 0.0;
         let profile = ptp_profile(self.model, self.settings, m, &start, &target);
         let t0 = self.t;
         let t_end = t0 + profile.duration();
@@ -790,10 +856,20 @@ impl<'a> Planner<'a> {
             }
             start = target;
         }
-        time_block(&mut segs, self.t);
+        // Only the first block of a continuation enters at speed.
+        let v0 = std::mem::take(&mut self.entry_speed);
+        time_block(&mut segs, self.t, v0);
         let Some(last) = segs.last() else {
             return pending.map_or(Ok(()), Err);
         };
+        if let Some(first) = segs.first() {
+            self.junctions.push(Junction {
+                motion: first.motion,
+                t: first.t_start,
+                axes: self.axes,
+                speed: first.profile.v0,
+            });
+        }
         let t_end = last.t_end();
         let grid = self.grid_until(t_end);
         let mut seg_i = 0;
@@ -810,6 +886,20 @@ impl<'a> Planner<'a> {
             }
             while seg_i + 1 < segs.len() && t > segs[seg_i].t_end() {
                 seg_i += 1;
+                // A junction passed since the last sample: its axes continue
+                // from that sample's.
+                let next = &segs[seg_i];
+                let at = next.pose_at(next.t_start);
+                let axes = self
+                    .model
+                    .inverse_continuing(&at, self.tool, self.base, &self.axes)
+                    .unwrap_or(self.axes);
+                self.junctions.push(Junction {
+                    motion: next.motion,
+                    t: next.t_start,
+                    axes,
+                    speed: next.profile.v0,
+                });
             }
             let seg = &segs[seg_i];
             let pose = seg.pose_at(t);
