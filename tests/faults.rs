@@ -175,7 +175,8 @@ async fn paused_embedded_controller_times_out_then_recovers() {
     t.pause_controller();
     let started = Instant::now();
     // A synchronous request queued behind it fails too, and does not hang.
-    let (s, v) = t.post("/krl/getpos").await;
+    // (Not getpos: while a job runs it answers from the live state.)
+    let (s, v) = t.post("/krl/gettcp").await;
     assert!(started.elapsed() < Duration::from_secs(3), "no hang");
     assert_eq!(
         (s, v["code"].as_str()),
@@ -257,6 +258,8 @@ fn scripted_controller(
             error_axis: 0,
             override_pct: 100.0,
             simulated: true,
+            room: 0,
+            stored: 0,
             position: Frame {
                 x: 1.0,
                 y: 2.0,

@@ -89,6 +89,10 @@ pub enum ErrorCode {
     Gone,
     /// The service is shutting down: it takes no new jobs (stop and reads still work).
     ShuttingDown,
+    /// The path is no longer open: it was closed, ended, failed or stopped.
+    PathClosed,
+    /// The path's buffer stayed full for the request's wait; retry after `Retry-After`.
+    PathFull,
 }
 
 impl ErrorCode {
@@ -126,6 +130,8 @@ impl ErrorCode {
             ErrorCode::StorageUnavailable | ErrorCode::ShuttingDown => 503,
             ErrorCode::CommandLost => 502,
             ErrorCode::Gone => 410,
+            ErrorCode::PathClosed => 409,
+            ErrorCode::PathFull => 503,
         }
     }
 
@@ -171,6 +177,8 @@ impl ErrorCode {
             ErrorCode::CommandLost => "Command lost by the controller",
             ErrorCode::Gone => "Gone",
             ErrorCode::ShuttingDown => "Shutting down",
+            ErrorCode::PathClosed => "Path closed",
+            ErrorCode::PathFull => "Path buffer full",
         }
     }
 
@@ -216,6 +224,8 @@ impl ErrorCode {
             ErrorCode::CommandLost => "command_lost",
             ErrorCode::Gone => "gone",
             ErrorCode::ShuttingDown => "shutting_down",
+            ErrorCode::PathClosed => "path_closed",
+            ErrorCode::PathFull => "path_full",
         }
     }
 }

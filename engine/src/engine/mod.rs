@@ -17,6 +17,10 @@ use tokio::sync::{broadcast, oneshot, watch};
 pub use history::{HISTORY_EVENTS, Published, Replay};
 pub use types::*;
 
+/// The oldest live position [`Engine::live_position`] answers with: five
+/// heartbeats of the shipped KRL program (100 ms each).
+pub const LIVE_POSITION_MAX_AGE: std::time::Duration = std::time::Duration::from_millis(500);
+
 use crate::channel::{Channel, ChannelError, CidStore};
 use crate::error::{BridgeError, ErrorCode, Result};
 use crate::motion::SpeedSettings;
@@ -210,21 +214,27 @@ impl Engine {
         &self.shared.safety
     }
 
-    /// Current robot state.
     /// While a job runs on the online controller: the position of the
-    /// newest state file (or result) the service has read, and how long
-    /// ago it read it; `None` when the controller is idle, offline or has
-    /// not reported a position. A read that would queue behind the running
-    /// motion answers from this instead (issue 22, live position).
+    /// newest state file (or result), if the service read it less than
+    /// [`LIVE_POSITION_MAX_AGE`] ago, and how long ago; `None` when the
+    /// controller is idle, offline or has not reported a position. A read
+    /// that would queue behind the running motion answers from this
+    /// instead (issue 22, live position).
     pub fn live_position(&self) -> Option<LivePosition> {
         let s = self.shared.state.borrow();
         if !s.busy || s.connection != Connection::Online {
             return None;
         }
+        let age = s.position_read_at?.elapsed();
+        // A heartbeat that stalls makes the position stale: then the read
+        // goes to the controller (and waits, or fails, with it).
+        if age > LIVE_POSITION_MAX_AGE {
+            return None;
+        }
         Some(LivePosition {
             position: s.position?,
             axes: s.axes,
-            age: s.position_read_at?.elapsed(),
+            age,
         })
     }
 

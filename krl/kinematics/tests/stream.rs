@@ -11,7 +11,14 @@ use kuka_kinematics::{Motion, MotionKind, PlanSettings, Pose, RobotModel};
 fn circle(n: usize) -> (Pose, Vec<Motion>) {
     let p = |i: usize| {
         let a = std::f64::consts::TAU * i as f64 / n as f64;
-        Pose::new(190.0 + 50.0 * a.cos(), 50.0 * a.sin(), 100.0, 0.0, 180.0, 0.0)
+        Pose::new(
+            190.0 + 50.0 * a.cos(),
+            50.0 * a.sin(),
+            100.0,
+            0.0,
+            180.0,
+            0.0,
+        )
     };
     let motions = (1..=n)
         .map(|i| Motion {
@@ -43,7 +50,11 @@ fn a_continuation_from_any_junction_reproduces_the_whole_plan() {
     let id = Pose::IDENTITY;
     let whole = plan::plan(&m, &axes, &id, &id, &motions, &settings);
     assert!(whole.error.is_none(), "{:?}", whole.error);
-    assert_eq!(whole.junctions.len(), motions.len(), "one junction per motion");
+    assert_eq!(
+        whole.junctions.len(),
+        motions.len(),
+        "one junction per motion"
+    );
     for j in whole.junctions.iter().step_by(7) {
         let rest = plan_from(&m, &id, &id, &motions[j.motion..], &settings, j);
         assert!(rest.error.is_none(), "{:?}", rest.error);
@@ -59,7 +70,10 @@ fn a_continuation_from_any_junction_reproduces_the_whole_plan() {
             let w = pose_at(&whole, s.t);
             let d = (s.pose.position() - w.position()).length();
             assert!(d < 1e-6, "junction {} t {}: {d} mm apart", j.motion, s.t);
-            assert_eq!(s.motion + j.motion, whole.samples[whole.samples.partition_point(|x| x.t < s.t - 1e-9)].motion);
+            assert_eq!(
+                s.motion + j.motion,
+                whole.samples[whole.samples.partition_point(|x| x.t < s.t - 1e-9)].motion
+            );
         }
     }
 }
@@ -85,13 +99,17 @@ fn a_path_appended_while_it_plays_does_not_stop_between_pieces() {
     while known < motions.len() {
         t += 0.030;
         // The next junction ahead of the robot.
-        let j: Junction = *exec
-            .junctions
-            .iter()
-            .find(|j| j.t > t)
-            .expect("the robot has not reached the last motion: appends come faster than it moves");
+        let j: Junction =
+            *exec.junctions.iter().find(|j| j.t > t).expect(
+                "the robot has not reached the last motion: appends come faster than it moves",
+            );
         let last = played.last().map_or(-1.0, |p| p.0);
-        played.extend(exec.samples.iter().filter(|s| s.t <= j.t && s.t > last).map(|s| (s.t, s.pose)));
+        played.extend(
+            exec.samples
+                .iter()
+                .filter(|s| s.t <= j.t && s.t > last)
+                .map(|s| (s.t, s.pose)),
+        );
         known = (known + 5).min(motions.len());
         let from = offset + j.motion;
         exec = plan_from(&m, &id, &id, &motions[from..known], &settings, &j);
@@ -105,7 +123,12 @@ fn a_path_appended_while_it_plays_does_not_stop_between_pieces() {
         whole.duration_s
     );
     let last = played.last().map_or(-1.0, |p| p.0);
-    played.extend(exec.samples.iter().filter(|s| s.t > last).map(|s| (s.t, s.pose)));
+    played.extend(
+        exec.samples
+            .iter()
+            .filter(|s| s.t > last)
+            .map(|s| (s.t, s.pose)),
+    );
     // No stop: between two samples the TCP keeps its speed (a stop would
     // show as a slow-down towards 0), after the first acceleration and
     // before the last deceleration.

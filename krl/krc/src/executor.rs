@@ -8,12 +8,15 @@
 //! started that last motion — the advance run delivered the motion in
 //! time, as a KRC needs it to blend. Otherwise it waits for the chain to
 //! end and starts a new one: an exact stop. A joining motion re-plans the
-//! chain from its start (the planner is deterministic, so the part
-//! already played stays the same up to the new blend).
+//! chain from the next junction the robot has not reached
+//! ([`plan::plan_from`]): what the robot already does never changes, and
+//! the cost of a join does not grow with the chain. Motions the robot has
+//! finished leave the chain, so a path of any length (a motion stream)
+//! runs in bounded memory.
 
 use std::collections::VecDeque;
 
-use kuka_kinematics::plan::{self, Execution, PlanSettings};
+use kuka_kinematics::plan::{self, Junction, PlanSettings, Sample};
 use kuka_kinematics::{Axes, Motion, MotionError, Pose, RobotModel};
 use kuka_krl_runtime::interp::{Step, TriggerAt};
 
@@ -26,31 +29,62 @@ struct Queued {
     triggers: Vec<TriggerAt>,
 }
 
-/// Motions being played.
-/// Plans a chain's motions from its start (again, when motions joined).
-fn plan_chain(model: &RobotModel, settings: &PlanSettings, chain: &Chain) -> Execution {
-    plan::plan(
-        model,
-        &chain.start,
-        &chain.tool,
-        &chain.base,
-        &chain.motions,
-        settings,
-    )
-}
-
+/// Motions being played (chain-wide indices count from the chain's start).
 struct Chain {
-    start: Axes,
     tool: Pose,
     base: Pose,
-    motions: Vec<Motion>,
-    lines: Vec<u32>,
-    triggers: Vec<Vec<TriggerAt>>,
-    exec: Execution,
+    /// Chain-wide index of `motions[0]`: the motions before it are done.
+    first: usize,
+    motions: VecDeque<Motion>,
+    lines: VecDeque<u32>,
+    triggers: VecDeque<Vec<TriggerAt>>,
+    /// Planned samples (chain time, chain-wide motion indices) of the
+    /// motions from `first` on.
+    samples: VecDeque<Sample>,
+    /// Where the planned motions start.
+    junctions: VecDeque<Junction>,
+    end_axes: Axes,
+    duration_s: f64,
+    /// The first failing motion (chain-wide) and why.
+    error: Option<(usize, MotionError)>,
     /// Seconds played.
     t: f64,
     /// Triggers already fired.
     fired: Vec<u64>,
+}
+
+impl Chain {
+    /// Motions in the chain so far.
+    fn total(&self) -> usize {
+        self.first + self.motions.len()
+    }
+
+    /// Plans `self.motions[from - first ..]` from junction `j` (chain-wide
+    /// motion `from`) and puts the plan in place of what followed `j`.
+    fn plan_tail(&mut self, model: &RobotModel, settings: &PlanSettings, from: usize, j: Junction) {
+        let motions: Vec<Motion> = self.motions.range(from - self.first..).cloned().collect();
+        let local = Junction { motion: 0, ..j };
+        let exec = plan::plan_from(model, &self.tool, &self.base, &motions, settings, &local);
+        self.samples.retain(|s| s.t <= j.t + 1e-9);
+        self.junctions.retain(|x| x.motion < from);
+        self.samples.extend(
+            exec.samples
+                .iter()
+                .filter(|s| s.t > j.t + 1e-9)
+                .map(|s| Sample {
+                    motion: s.motion + from,
+                    ..*s
+                }),
+        );
+        self.junctions
+            .extend(exec.junctions.iter().map(|x| Junction {
+                motion: x.motion + from,
+                ..*x
+            }));
+        self.end_axes = exec.end_axes;
+        self.duration_s = exec.duration_s.max(j.t);
+        self.error = exec.error.map(|(k, e)| (k + from, e));
+    }
 }
 
 /// A motion that failed.
@@ -123,7 +157,7 @@ impl Executor {
         let in_chain = self
             .chain
             .as_ref()
-            .map_or(0, |c| c.motions.len().saturating_sub(self.motion_index + 1));
+            .map_or(0, |c| c.total().saturating_sub(self.motion_index + 1));
         self.queue.len() + in_chain
     }
 
@@ -166,11 +200,11 @@ impl Executor {
         chain.t += dt;
         self.moving_s += dt;
         let t = chain.t;
-        let samples = &chain.exec.samples;
-        let i = samples.partition_point(|s| s.t <= t);
-        let sample = &samples[i.saturating_sub(1).min(samples.len().saturating_sub(1))];
-        self.axes = sample.axes;
-        self.motion_index = sample.motion;
+        let i = chain.samples.partition_point(|s| s.t <= t);
+        if let Some(sample) = chain.samples.get(i.saturating_sub(1)) {
+            self.axes = sample.axes;
+            self.motion_index = sample.motion;
+        }
         // Triggers: DISTANCE=0 at the motion's start, =1 (and PATH) at its
         // end, plus DELAY.
         for (k, list) in chain.triggers.iter().enumerate() {
@@ -179,18 +213,22 @@ impl Executor {
                     continue;
                 }
                 let at_end = tr.path || tr.at >= 0.5;
-                let when = motion_time(&chain.exec, k, at_end) + tr.delay_ms / 1000.0;
+                let when = motion_time(chain, chain.first + k, at_end) + tr.delay_ms / 1000.0;
                 if when <= t {
                     chain.fired.push(tr.id);
                     fired.push(tr.id);
                 }
             }
         }
-        if t >= chain.exec.duration_s {
-            self.axes = chain.exec.end_axes;
-            if let Some((k, error)) = chain.exec.error.clone() {
+        if t >= chain.duration_s {
+            self.axes = chain.end_axes;
+            if let Some((k, error)) = chain.error.clone() {
                 self.failures.push(MotionFailure {
-                    line: chain.lines.get(k).copied().unwrap_or(0),
+                    line: chain
+                        .lines
+                        .get(k.saturating_sub(chain.first))
+                        .copied()
+                        .unwrap_or(0),
                     error,
                 });
                 if self.failures.len() > 100 {
@@ -206,7 +244,7 @@ impl Executor {
                 self.motion_index = 0;
                 return fired;
             }
-            self.motions_done += chain.motions.len() as u64;
+            self.motions_done += chain.total() as u64;
             // Triggers not reached by the path (e.g. a DELAY past the end)
             // fire now, so that the program's bookkeeping goes on.
             for list in &chain.triggers {
@@ -218,6 +256,31 @@ impl Executor {
             }
             self.chain = None;
             self.motion_index = 0;
+            return fired;
+        }
+        // Motions done whose triggers have all fired leave the chain.
+        while chain.first < self.motion_index
+            && chain.motions.len() > 1
+            && chain
+                .triggers
+                .front()
+                .is_some_and(|l| l.iter().all(|tr| chain.fired.contains(&tr.id)))
+        {
+            if let Some(list) = chain.triggers.pop_front() {
+                chain.fired.retain(|id| !list.iter().any(|tr| tr.id == *id));
+            }
+            chain.motions.pop_front();
+            chain.lines.pop_front();
+            chain.first += 1;
+        }
+        let first = chain.first;
+        // Keep one sample before the window for the position in between.
+        while chain.samples.len() > 1 && chain.samples[1].motion < first && chain.samples[1].t <= t
+        {
+            chain.samples.pop_front();
+        }
+        while chain.junctions.front().is_some_and(|j| j.motion < first) {
+            chain.junctions.pop_front();
         }
         fired
     }
@@ -234,34 +297,50 @@ impl Executor {
                 self.tool = first.tool;
                 self.base = first.base;
                 let mut chain = Chain {
-                    start: self.axes,
                     tool: first.tool,
                     base: first.base,
-                    motions: vec![first.motion],
-                    lines: vec![first.line],
-                    triggers: vec![first.triggers],
-                    exec: Execution {
-                        samples: Vec::new(),
-                        end_axes: self.axes,
-                        duration_s: 0.0,
-                        error: None,
-                    },
+                    first: 0,
+                    motions: VecDeque::from([first.motion]),
+                    lines: VecDeque::from([first.line]),
+                    triggers: VecDeque::from([first.triggers]),
+                    samples: VecDeque::new(),
+                    junctions: VecDeque::new(),
+                    end_axes: self.axes,
+                    duration_s: 0.0,
+                    error: None,
                     t: 0.0,
                     fired: Vec::new(),
                 };
                 self.chains_started += 1;
                 Self::extend(&mut chain, &mut self.queue);
-                chain.exec = plan_chain(&self.model, &self.settings, &chain);
+                let start = Junction {
+                    motion: 0,
+                    t: 0.0,
+                    axes: self.axes,
+                    speed: 0.0,
+                };
+                chain.plan_tail(&self.model, &self.settings, 0, start);
                 self.motion_index = 0;
                 self.chain = Some(chain);
             }
             Some(chain) => {
                 // Only while the robot has not started the chain's last
-                // motion: later, the blend is missed (exact stop).
-                if self.motion_index + 1 < chain.motions.len()
-                    && Self::extend(chain, &mut self.queue)
-                {
-                    chain.exec = plan_chain(&self.model, &self.settings, chain);
+                // motion (a junction lies ahead) and nothing failed: later,
+                // the blend is missed (exact stop).
+                if chain.error.is_some() {
+                    return;
+                }
+                let (current, t) = (self.motion_index, chain.t);
+                let Some(j) = chain
+                    .junctions
+                    .iter()
+                    .find(|j| j.motion > current && j.t > t + 1e-9)
+                    .copied()
+                else {
+                    return;
+                };
+                if Self::extend(chain, &mut self.queue) {
+                    chain.plan_tail(&self.model, &self.settings, j.motion, j);
                 }
             }
         }
@@ -272,14 +351,14 @@ impl Executor {
     fn extend(chain: &mut Chain, queue: &mut VecDeque<Queued>) -> bool {
         let mut any = false;
         while let Some(next) = queue.front() {
-            let last = chain.motions.last().map_or(0.0, |m| m.approx_mm);
+            let last = chain.motions.back().map_or(0.0, |m| m.approx_mm);
             if last <= 0.0 || next.tool != chain.tool || next.base != chain.base {
                 break;
             }
             let q = queue.pop_front().expect("front exists");
-            chain.motions.push(q.motion);
-            chain.lines.push(q.line);
-            chain.triggers.push(q.triggers);
+            chain.motions.push_back(q.motion);
+            chain.lines.push_back(q.line);
+            chain.triggers.push_back(q.triggers);
             any = true;
         }
         any
@@ -291,17 +370,17 @@ impl Executor {
     }
 }
 
-/// When motion `k` of an execution starts (or ends).
-fn motion_time(exec: &Execution, k: usize, end: bool) -> f64 {
-    let s = &exec.samples;
+/// When motion `k` (chain-wide) starts (or ends) in the chain's plan.
+fn motion_time(chain: &Chain, k: usize, end: bool) -> f64 {
+    let s = &chain.samples;
     if end {
         match s.iter().rposition(|x| x.motion == k) {
             Some(i) => s[i].t,
-            None => exec.duration_s,
+            None => chain.duration_s,
         }
     } else {
         s.iter()
             .find(|x| x.motion >= k)
-            .map_or(exec.duration_s, |x| x.t)
+            .map_or(chain.duration_s, |x| x.t)
     }
 }

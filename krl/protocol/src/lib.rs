@@ -1,4 +1,4 @@
-//! The kuka-bridge file protocol, version 1: the one contract between the
+//! The kuka-bridge file protocol, version 2: the one contract between the
 //! service and the controller side (the KRL program or the simulated
 //! controller). Nothing else in the project knows the file format.
 //!
@@ -20,7 +20,7 @@ pub use codec::{DecodeError, EncodeError, MAX_LINE_LEN, MAX_REAL, REAL_STEP, che
 pub use records::*;
 
 /// Protocol version written into every header record.
-pub const PROTOCOL_VERSION: i32 = 1;
+pub const PROTOCOL_VERSION: i32 = 2;
 /// Command file name (service → controller).
 pub const COMMAND_FILE: &str = "kb_cmd.txt";
 /// Result file name (controller → service).

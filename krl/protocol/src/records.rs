@@ -154,6 +154,13 @@ pub enum Command {
     Move(Vec<MotionRecord>),
     /// Op 3: report the current position (a round trip through the program).
     GetPosition,
+    /// Op 4 (version 2): open a motion stream (a path): the command's own
+    /// id names it; the controller executes motions as they arrive and
+    /// answers this id when the path ends.
+    OpenPath(PathChunk),
+    /// Op 5 (version 2): append motions to the open path; answered at once
+    /// with the path's stored count.
+    Append(PathChunk),
     /// Op 6: PTP to the home position.
     Home,
     /// Op 8: set the tool frame ($TOOL).
@@ -182,6 +189,8 @@ impl Command {
         match self {
             Command::Move(_) => 1,
             Command::GetPosition => 3,
+            Command::OpenPath(_) => 4,
+            Command::Append(_) => 5,
             Command::Home => 6,
             Command::SetTool(_) => 8,
             Command::GetTool => 9,
@@ -199,6 +208,8 @@ impl Command {
         match self {
             Command::Move(_) => "move",
             Command::GetPosition => "get_position",
+            Command::OpenPath(_) => "open_path",
+            Command::Append(_) => "append",
             Command::Home => "home",
             Command::SetTool(_) => "set_tool",
             Command::GetTool => "get_tool",
@@ -212,7 +223,174 @@ impl Command {
     }
 }
 
-/// The command file: `CMD 1 cid op n K`, `n` body lines, `END cid n K`.
+/// The body of a PATH (op 4) or APPEND (op 5) command: `APD path first
+/// close K`, then the motions with indices `first`, `first + 1`, ...
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathChunk {
+    /// The path: the id of the PATH command that opened it (for op 4 its
+    /// own id).
+    pub path: Cid,
+    /// Index of the first motion in the path (0-based, path-wide). For
+    /// op 4 always 0.
+    pub first: u32,
+    /// The motions, at most [`MAX_BATCH`].
+    pub motions: Vec<MotionRecord>,
+    /// After these motions the path ends: the controller answers the path
+    /// when the last one has run.
+    pub close: bool,
+}
+
+/// Writes motion records with indices `first..`, appending to `body`.
+fn encode_motions(
+    body: &mut String,
+    motions: &[MotionRecord],
+    first: u32,
+) -> Result<i32, EncodeError> {
+    let mut f = Vec::with_capacity(16);
+    let mut n = 0;
+    for (i, m) in motions.iter().enumerate() {
+        f.clear();
+        let index = i32::try_from(u64::from(first) + i as u64)
+            .map_err(|_| EncodeError::Shape("motion index beyond 2147483647".into()))?;
+        f.push(Field::Int(index));
+        let tag = match m {
+            MotionRecord::Ptp {
+                target,
+                s,
+                t,
+                params,
+            } => {
+                target.fields(&mut f)?;
+                f.push(Field::Int(s.map_or(-1, i32::from)));
+                f.push(Field::Int(t.map_or(-1, i32::from)));
+                params.fields(&mut f)?;
+                "PTP"
+            }
+            MotionRecord::PtpAxes { axes, params } => {
+                for (name, v) in ["a1", "a2", "a3", "a4", "a5", "a6"].into_iter().zip(axes) {
+                    f.push(real(name, *v)?);
+                }
+                params.fields(&mut f)?;
+                "PTA"
+            }
+            MotionRecord::Lin { target, params } => {
+                target.fields(&mut f)?;
+                params.fields(&mut f)?;
+                "LIN"
+            }
+            MotionRecord::Circ {
+                aux,
+                target,
+                params,
+            } => {
+                for (name, v) in ["aux_x", "aux_y", "aux_z"].into_iter().zip(aux) {
+                    f.push(real(name, *v)?);
+                }
+                target.fields(&mut f)?;
+                params.fields(&mut f)?;
+                "CIR"
+            }
+        };
+        write_line(body, tag, &f);
+        n += 1;
+    }
+    Ok(n)
+}
+
+/// Reads `n` motion records whose indices must be `first`, `first + 1`, ...
+fn decode_motions(
+    r: &mut Reader<'_>,
+    n: i32,
+    first: i64,
+) -> Result<Vec<MotionRecord>, DecodeError> {
+    let mut motions = Vec::with_capacity(n.max(0) as usize);
+    for k in 0..i64::from(n) {
+        let tag = r.peek_tag().ok_or(DecodeError::Truncated)?;
+        let (l, m) = match tag {
+            "PTP" => {
+                let mut l = r.line("PTP", "irrrrrriirrr")?;
+                let idx = l.int();
+                let target = Frame::read(&mut l);
+                let s = l.int();
+                let t = l.int();
+                let params = MotionParams::read(&mut l);
+                let st = |v: i32, max: i32| {
+                    if v == -1 {
+                        Ok(None)
+                    } else if (0..=max).contains(&v) {
+                        Ok(Some(v as u8))
+                    } else {
+                        Err(v)
+                    }
+                };
+                let s =
+                    st(s, 7).map_err(|v| l.invalid(format!("Status {v} is not in 0..=7 or -1")))?;
+                let t =
+                    st(t, 63).map_err(|v| l.invalid(format!("Turn {v} is not in 0..=63 or -1")))?;
+                (
+                    l,
+                    (
+                        idx,
+                        MotionRecord::Ptp {
+                            target,
+                            s,
+                            t,
+                            params,
+                        },
+                    ),
+                )
+            }
+            "PTA" => {
+                let mut l = r.line("PTA", "irrrrrrrrr")?;
+                let idx = l.int();
+                let axes = [l.real(), l.real(), l.real(), l.real(), l.real(), l.real()];
+                let params = MotionParams::read(&mut l);
+                (l, (idx, MotionRecord::PtpAxes { axes, params }))
+            }
+            "LIN" => {
+                let mut l = r.line("LIN", "irrrrrrrrr")?;
+                let idx = l.int();
+                let target = Frame::read(&mut l);
+                let params = MotionParams::read(&mut l);
+                (l, (idx, MotionRecord::Lin { target, params }))
+            }
+            "CIR" => {
+                let mut l = r.line("CIR", "irrrrrrrrrrrr")?;
+                let idx = l.int();
+                let aux = [l.real(), l.real(), l.real()];
+                let target = Frame::read(&mut l);
+                let params = MotionParams::read(&mut l);
+                (
+                    l,
+                    (
+                        idx,
+                        MotionRecord::Circ {
+                            aux,
+                            target,
+                            params,
+                        },
+                    ),
+                )
+            }
+            "END" => return Err(DecodeError::Truncated),
+            other => {
+                return Err(DecodeError::Tag {
+                    line: r.next_line_number(),
+                    expected: "PTP, PTA, LIN or CIR",
+                    found: other.to_string(),
+                });
+            }
+        };
+        let want = first + k;
+        if i64::from(m.0) != want {
+            return Err(l.invalid(format!("motion index {} where {want} was expected", m.0)));
+        }
+        motions.push(m.1);
+    }
+    Ok(motions)
+}
+
+/// The command file: `CMD 2 cid op n K`, `n` body lines, `END cid n K`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CommandFile {
     /// Command id.
@@ -241,52 +419,32 @@ impl CommandFile {
                         motions.len()
                     )));
                 }
-                for (i, m) in motions.iter().enumerate() {
-                    f.clear();
-                    f.push(Field::Int(i as i32));
-                    let tag = match m {
-                        MotionRecord::Ptp {
-                            target,
-                            s,
-                            t,
-                            params,
-                        } => {
-                            target.fields(&mut f)?;
-                            f.push(Field::Int(s.map_or(-1, i32::from)));
-                            f.push(Field::Int(t.map_or(-1, i32::from)));
-                            params.fields(&mut f)?;
-                            "PTP"
-                        }
-                        MotionRecord::PtpAxes { axes, params } => {
-                            for (name, v) in
-                                ["a1", "a2", "a3", "a4", "a5", "a6"].into_iter().zip(axes)
-                            {
-                                f.push(real(name, *v)?);
-                            }
-                            params.fields(&mut f)?;
-                            "PTA"
-                        }
-                        MotionRecord::Lin { target, params } => {
-                            target.fields(&mut f)?;
-                            params.fields(&mut f)?;
-                            "LIN"
-                        }
-                        MotionRecord::Circ {
-                            aux,
-                            target,
-                            params,
-                        } => {
-                            for (name, v) in ["aux_x", "aux_y", "aux_z"].into_iter().zip(aux) {
-                                f.push(real(name, *v)?);
-                            }
-                            target.fields(&mut f)?;
-                            params.fields(&mut f)?;
-                            "CIR"
-                        }
-                    };
-                    write_line(&mut body, tag, &f);
-                    n += 1;
+                n = encode_motions(&mut body, motions, 0)?;
+            }
+            Command::OpenPath(chunk) | Command::Append(chunk) => {
+                if chunk.motions.len() > MAX_BATCH {
+                    return Err(EncodeError::Shape(format!(
+                        "a path chunk holds at most {MAX_BATCH} motions, not {}",
+                        chunk.motions.len()
+                    )));
                 }
+                let first_ok = matches!(self.command, Command::Append(_)) || chunk.first == 0;
+                if chunk.path <= 0 || !first_ok || i32::try_from(chunk.first).is_err() {
+                    return Err(EncodeError::Shape(format!(
+                        "path {} from motion {} is not a valid chunk",
+                        chunk.path, chunk.first
+                    )));
+                }
+                write_line(
+                    &mut body,
+                    "APD",
+                    &[
+                        Field::Int(chunk.path),
+                        Field::Int(chunk.first as i32),
+                        Field::Int(i32::from(chunk.close)),
+                    ],
+                );
+                n = 1 + encode_motions(&mut body, &chunk.motions, chunk.first)?;
             }
             Command::SetTool(frame) | Command::SetBase(frame) => {
                 frame.fields(&mut f)?;
@@ -342,6 +500,9 @@ impl CommandFile {
 
     /// Decodes a complete command file.
     pub fn decode(text: &str) -> Result<Self, DecodeError> {
+        if let Some(v) = other_version(text, "CMD") {
+            return Err(DecodeError::Version(v));
+        }
         let mut r = Reader::new(text)?;
         let mut h = r.line("CMD", "iiii")?;
         let version = h.int();
@@ -368,94 +529,39 @@ impl CommandFile {
                         h.invalid(format!("a batch holds 1 to {MAX_BATCH} motions, not {n}"))
                     );
                 }
-                let mut motions = Vec::with_capacity(n as usize);
-                for i in 0..n {
-                    let tag = r.peek_tag().ok_or(DecodeError::Truncated)?;
-                    let (l, m) = match tag {
-                        "PTP" => {
-                            let mut l = r.line("PTP", "irrrrrriirrr")?;
-                            let idx = l.int();
-                            let target = Frame::read(&mut l);
-                            let s = l.int();
-                            let t = l.int();
-                            let params = MotionParams::read(&mut l);
-                            let st = |v: i32, max: i32| {
-                                if v == -1 {
-                                    Ok(None)
-                                } else if (0..=max).contains(&v) {
-                                    Ok(Some(v as u8))
-                                } else {
-                                    Err(v)
-                                }
-                            };
-                            let s = st(s, 7).map_err(|v| {
-                                l.invalid(format!("Status {v} is not in 0..=7 or -1"))
-                            })?;
-                            let t = st(t, 63).map_err(|v| {
-                                l.invalid(format!("Turn {v} is not in 0..=63 or -1"))
-                            })?;
-                            (
-                                l,
-                                (
-                                    idx,
-                                    MotionRecord::Ptp {
-                                        target,
-                                        s,
-                                        t,
-                                        params,
-                                    },
-                                ),
-                            )
-                        }
-                        "PTA" => {
-                            let mut l = r.line("PTA", "irrrrrrrrr")?;
-                            let idx = l.int();
-                            let axes = [l.real(), l.real(), l.real(), l.real(), l.real(), l.real()];
-                            let params = MotionParams::read(&mut l);
-                            (l, (idx, MotionRecord::PtpAxes { axes, params }))
-                        }
-                        "LIN" => {
-                            let mut l = r.line("LIN", "irrrrrrrrr")?;
-                            let idx = l.int();
-                            let target = Frame::read(&mut l);
-                            let params = MotionParams::read(&mut l);
-                            (l, (idx, MotionRecord::Lin { target, params }))
-                        }
-                        "CIR" => {
-                            let mut l = r.line("CIR", "irrrrrrrrrrrr")?;
-                            let idx = l.int();
-                            let aux = [l.real(), l.real(), l.real()];
-                            let target = Frame::read(&mut l);
-                            let params = MotionParams::read(&mut l);
-                            (
-                                l,
-                                (
-                                    idx,
-                                    MotionRecord::Circ {
-                                        aux,
-                                        target,
-                                        params,
-                                    },
-                                ),
-                            )
-                        }
-                        "END" => return Err(DecodeError::Truncated),
-                        other => {
-                            return Err(DecodeError::Tag {
-                                line: r.next_line_number(),
-                                expected: "PTP, PTA, LIN or CIR",
-                                found: other.to_string(),
-                            });
-                        }
-                    };
-                    if m.0 != i {
-                        return Err(
-                            l.invalid(format!("motion index {} where {i} was expected", m.0))
-                        );
-                    }
-                    motions.push(m.1);
-                }
+                let motions = decode_motions(&mut r, n, 0)?;
                 Command::Move(motions)
+            }
+            4 | 5 => {
+                if n < 1 || n as usize > MAX_BATCH + 1 {
+                    return Err(h.invalid(format!(
+                        "a path chunk has its APD line and at most {MAX_BATCH} motions, not {n} lines"
+                    )));
+                }
+                let mut l = r.line("APD", "iii")?;
+                let path = l.int();
+                let first = l.int();
+                let close = l.int();
+                if path <= 0 || first < 0 || !(0..=1).contains(&close) {
+                    return Err(l.invalid("path, first motion or close flag out of range"));
+                }
+                if op == 4 && (path != cid || first != 0) {
+                    return Err(
+                        l.invalid("a PATH command opens the path of its own id from motion 0")
+                    );
+                }
+                let motions = decode_motions(&mut r, n - 1, i64::from(first))?;
+                let chunk = PathChunk {
+                    path,
+                    first: first as u32,
+                    motions,
+                    close: close == 1,
+                };
+                if op == 4 {
+                    Command::OpenPath(chunk)
+                } else {
+                    Command::Append(chunk)
+                }
             }
             3 | 6 | 9 | 12 | 20 | 21 => {
                 expect_n(0)?;
@@ -522,6 +628,9 @@ pub enum ResultCode {
     BadCommand,
     /// 11: op not supported by this controller program.
     Unsupported,
+    /// 12 (version 2): an APPEND for a path that is not open (it ended,
+    /// failed or was cancelled, or never existed).
+    PathClosed,
     /// 20: target or path point out of reach.
     Unreachable,
     /// 21: a software limit switch would be passed (`axis` names it).
@@ -551,6 +660,7 @@ impl ResultCode {
             ResultCode::Busy => 3,
             ResultCode::BadCommand => 10,
             ResultCode::Unsupported => 11,
+            ResultCode::PathClosed => 12,
             ResultCode::Unreachable => 20,
             ResultCode::SoftwareLimit => 21,
             ResultCode::Singularity => 22,
@@ -571,6 +681,7 @@ impl ResultCode {
             3 => ResultCode::Busy,
             10 => ResultCode::BadCommand,
             11 => ResultCode::Unsupported,
+            12 => ResultCode::PathClosed,
             20 => ResultCode::Unreachable,
             21 => ResultCode::SoftwareLimit,
             22 => ResultCode::Singularity,
@@ -646,6 +757,9 @@ impl ResultFile {
 
     /// Decodes a complete result file.
     pub fn decode(text: &str) -> Result<Self, DecodeError> {
+        if let Some(v) = other_version(text, "RES") {
+            return Err(DecodeError::Version(v));
+        }
         let mut r = Reader::new(text)?;
         let mut h = r.line("RES", "ii")?;
         let version = h.int();
@@ -743,7 +857,7 @@ impl OperatingMode {
 }
 
 /// The state (heartbeat) file, rewritten by the controller at a fixed rate:
-/// `STA 1 seq status mode busy_cid busy_idx last_cid err err_axis ovr sim K`,
+/// `STA 2 seq status mode busy_cid busy_idx last_cid err err_axis ovr sim room stored K`,
 /// `POS x y z a b c s t K`, `AXS a1..a6 K`, `TOL x..c K`, `BAS x..c K`, `END seq K`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StateFile {
@@ -767,6 +881,13 @@ pub struct StateFile {
     pub override_pct: f64,
     /// True when the controller is the simulator.
     pub simulated: bool,
+    /// Free motion slots of the controller's stream buffer: how many
+    /// motions an APPEND could store now (0 = none; a controller without
+    /// streams always reports 0).
+    pub room: u32,
+    /// Motions of the running path stored so far (the controller's read
+    /// position: the next APPEND starts there); 0 when no path runs.
+    pub stored: u32,
     /// TCP pose in the base frame.
     pub position: Frame,
     /// Status bits.
@@ -805,6 +926,8 @@ impl StateFile {
                 Field::Int(i32::from(self.error_axis)),
                 real("override", self.override_pct)?,
                 Field::Int(i32::from(self.simulated)),
+                Field::Int(i32::try_from(self.room).unwrap_or(i32::MAX)),
+                Field::Int(i32::try_from(self.stored).unwrap_or(i32::MAX)),
             ],
         );
         let mut f = Vec::with_capacity(8);
@@ -831,8 +954,13 @@ impl StateFile {
 
     /// Decodes a complete state file.
     pub fn decode(text: &str) -> Result<Self, DecodeError> {
+        // Another version's header may have another field count: name the
+        // version rather than the shape.
+        if let Some(v) = other_version(text, "STA") {
+            return Err(DecodeError::Version(v));
+        }
         let mut r = Reader::new(text)?;
-        let mut h = r.line("STA", "iiiiiiiiiri")?;
+        let mut h = r.line("STA", "iiiiiiiiiriii")?;
         let version = h.int();
         if version != PROTOCOL_VERSION {
             return Err(DecodeError::Version(i64::from(version)));
@@ -852,8 +980,10 @@ impl StateFile {
         let error_axis = h.int();
         let override_pct = h.real();
         let simulated = h.int() != 0;
-        if busy_index < 0 || !(0..=6).contains(&error_axis) {
-            return Err(h.invalid("busy index or error axis out of range"));
+        let room = h.int();
+        let stored = h.int();
+        if busy_index < 0 || !(0..=6).contains(&error_axis) || room < 0 || stored < 0 {
+            return Err(h.invalid("busy index, error axis, room or stored count out of range"));
         }
         let mut p = r.line("POS", "rrrrrrii")?;
         let position = Frame::read(&mut p);
@@ -881,6 +1011,8 @@ impl StateFile {
             error_axis: error_axis as u8,
             override_pct,
             simulated,
+            room: room as u32,
+            stored: stored as u32,
             position,
             s: s as u8,
             t: t as u8,
@@ -889,4 +1021,13 @@ impl StateFile {
             base,
         })
     }
+}
+
+/// The version of a file whose first line is a `tag` header of another
+/// protocol version (its first field), whatever the rest of the line.
+fn other_version(text: &str, tag: &str) -> Option<i64> {
+    let line = text.lines().next()?;
+    let mut fields = line.strip_prefix(tag)?.strip_prefix(' ')?.split(' ');
+    let v: i64 = fields.next()?.parse().ok()?;
+    (v != i64::from(PROTOCOL_VERSION)).then_some(v)
 }

@@ -84,7 +84,13 @@ fn state_file() -> impl Strategy<Value = StateFile> {
     (
         (any::<i32>(), 0..3, 0usize..5, 0i32..=i32::MAX, 0u32..=1000),
         (0i32..=i32::MAX, -50i32..50, 0u8..=6, real(), any::<bool>()),
-        (frame(), 0u8..=7, 0u8..=63),
+        (
+            frame(),
+            0u8..=7,
+            0u8..=63,
+            0u32..=4096,
+            0u32..=i32::MAX as u32,
+        ),
         (
             [real(), real(), real(), real(), real(), real()],
             frame(),
@@ -95,7 +101,7 @@ fn state_file() -> impl Strategy<Value = StateFile> {
             |(
                 (seq, status, mode, busy_cid, busy_index),
                 (last_cid, err, error_axis, override_pct, simulated),
-                (position, s, t),
+                (position, s, t, room, stored),
                 (axes, tool, base),
             )| StateFile {
                 seq,
@@ -118,6 +124,8 @@ fn state_file() -> impl Strategy<Value = StateFile> {
                 error_axis,
                 override_pct,
                 simulated,
+                room,
+                stored,
                 position,
                 s,
                 t,
@@ -183,7 +191,7 @@ proptest! {
     fn protocol_like_lines_decode_or_fail(
         lines in prop::collection::vec(
             (
-                prop::sample::select(vec!["RES", "RSL", "STA", "POS", "AXS", "TOL", "BAS", "END", "CMD", "PTP", "LIN", "PTA", "CIR", ""]),
+                prop::sample::select(vec!["RES", "RSL", "STA", "POS", "AXS", "TOL", "BAS", "END", "CMD", "PTP", "LIN", "PTA", "CIR", "APD", ""]),
                 prop::collection::vec(
                     prop_oneof![
                         (-2_147_483_648i64..=2_147_483_647).prop_map(|v| v.to_string()),
@@ -249,16 +257,17 @@ fn hostile_files_are_refused() {
         "RES 1 -1 65520\nEND -1 65520\n",
         "RES 1 2147483647 0\n",
         "STA 1 0 0 0 0 0 0 0 0 0.000 0 0\n",
-        "RES 1 0 31\nEND 0 0\nEND 0 0\n",
+        "RES 2 0 62\nEND 0 0\nEND 0 0\n",
         "RES 99999999999 0 0\n",
         "RES -0 0 0\nEND 0 0\n",
-        "RES 1 0 31\r\nEND 0 0\r\n",
-        "RES 1 0 31\nEND 0 0\nä",
+        "RES 2 0 62\r\nEND 0 0\r\n",
+        "RES 2 0 62\nEND 0 0\nä",
+        "RES 1 0 31\nEND 0 0\n",
         &huge_line,
     ] {
         decode_all(text);
         assert!(
-            ResultFile::decode(text).is_err() || text.starts_with("RES 1 0 31"),
+            ResultFile::decode(text).is_err() || text.starts_with("RES 2 0 62"),
             "{text:?}"
         );
     }

@@ -87,6 +87,46 @@ fn sample_commands() -> Vec<CommandFile> {
             cid: 14,
             command: Command::Reset,
         },
+        CommandFile {
+            cid: 15,
+            command: Command::OpenPath(PathChunk {
+                path: 15,
+                first: 0,
+                motions: vec![MotionRecord::Lin {
+                    target: f,
+                    params: params(0.2),
+                }],
+                close: false,
+            }),
+        },
+        CommandFile {
+            cid: 16,
+            command: Command::Append(PathChunk {
+                path: 15,
+                first: 1,
+                motions: vec![
+                    MotionRecord::Lin {
+                        target: f,
+                        params: params(0.2),
+                    },
+                    MotionRecord::Circ {
+                        aux: [1.0, 2.0, 3.0],
+                        target: f,
+                        params: params(0.1),
+                    },
+                ],
+                close: true,
+            }),
+        },
+        CommandFile {
+            cid: 17,
+            command: Command::Append(PathChunk {
+                path: 15,
+                first: 3,
+                motions: vec![],
+                close: true,
+            }),
+        },
     ]
 }
 
@@ -102,6 +142,8 @@ fn sample_state() -> StateFile {
         error_axis: 5,
         override_pct: 100.0,
         simulated: true,
+        room: 240,
+        stored: 17,
         position: Frame {
             x: 470.0,
             y: 0.0,
@@ -277,8 +319,49 @@ fn invalid_values_are_refused() {
         .encode()
         .is_err()
     );
-    let wrong_version = "CMD 2 5 3 0 K\n";
-    assert!(CommandFile::decode(wrong_version).is_err());
+    let wrong_version = "CMD 1 5 3 0 K\n";
+    assert_eq!(
+        CommandFile::decode(wrong_version),
+        Err(DecodeError::Version(1))
+    );
+    // A version 1 state file (two fields fewer) is named as such.
+    let v1_state = format!(
+        "STA 1 294 0 4 0 0 22 0 0 100.000 1 {}\n",
+        checksum([1, 294, 0, 4, 0, 0, 22, 0, 0, 100_000, 1])
+    );
+    assert_eq!(StateFile::decode(&v1_state), Err(DecodeError::Version(1)));
+    // A path chunk's motion indices continue from `first`; op 4 opens the
+    // path of its own id from motion 0.
+    let bad_index = CommandFile {
+        cid: 16,
+        command: Command::Append(PathChunk {
+            path: 15,
+            first: 4,
+            motions: vec![MotionRecord::Lin {
+                target: Frame::default(),
+                params: params(0.2),
+            }],
+            close: false,
+        }),
+    }
+    .encode()
+    .expect("ok")
+    .replace("LIN 4 ", "LIN 5 ");
+    assert!(CommandFile::decode(&bad_index).is_err());
+    assert!(
+        CommandFile {
+            cid: 20,
+            command: Command::OpenPath(PathChunk {
+                path: 19,
+                first: 0,
+                motions: vec![],
+                close: false,
+            }),
+        }
+        .encode()
+        .is_ok(),
+        "the encoder writes what it is given"
+    );
     let trailing = format!(
         "{}junk 1\n",
         CommandFile {
@@ -304,8 +387,8 @@ fn checksum_matches_the_documented_example() {
     .encode()
     .expect("ok");
     let first = text.lines().next().expect("line");
-    assert_eq!(first, format!("CMD 1 17 3 0 {}", checksum([1, 17, 3, 0])));
-    assert_eq!(checksum([1, 17, 3, 0]), 46221);
+    assert_eq!(first, format!("CMD 2 17 3 0 {}", checksum([2, 17, 3, 0])));
+    assert_eq!(checksum([2, 17, 3, 0]), 10491);
     // Negative values and values beyond the modulus, as KRL computes them.
     assert_eq!(checksum([-1000, 2_147_483_647, 359_999]), 24905);
 }

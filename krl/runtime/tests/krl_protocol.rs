@@ -37,8 +37,8 @@ use kuka_krl::{DatFile, Expr, Program, SrcFile, Stmt, StmtKind, parse_dat, parse
 use kuka_krl_runtime::interp::{Globals, Start, run_with_files};
 use kuka_protocol::{
     COMMAND_FILE, Command, CommandFile, ControllerStatus, Frame, MotionParams, MotionRecord,
-    OperatingMode, RESULT_FILE, ResultCode, ResultFile, ResultRecord, STATE_FILE, SpeedRecord,
-    StateFile, checksum,
+    OperatingMode, PathChunk, RESULT_FILE, ResultCode, ResultFile, ResultRecord, STATE_FILE,
+    SpeedRecord, StateFile, checksum,
 };
 
 // ---------------------------------------------------------------- the program
@@ -437,6 +437,39 @@ fn sample_commands() -> Vec<CommandFile> {
         c(26, Command::GetBase),
         c(21, Command::Stop),
         c(28, Command::Reset),
+        c(
+            31,
+            Command::OpenPath(PathChunk {
+                path: 31,
+                first: 0,
+                motions: match doc_batch().command {
+                    Command::Move(m) => m,
+                    _ => Vec::new(),
+                },
+                close: false,
+            }),
+        ),
+        c(
+            32,
+            Command::Append(PathChunk {
+                path: 31,
+                first: 1_000_000,
+                motions: match edge_batch().command {
+                    Command::Move(m) => m,
+                    _ => Vec::new(),
+                },
+                close: true,
+            }),
+        ),
+        c(
+            33,
+            Command::Append(PathChunk {
+                path: 31,
+                first: 7,
+                motions: Vec::new(),
+                close: true,
+            }),
+        ),
     ]
 }
 
@@ -456,10 +489,25 @@ fn params_vals(p: &MotionParams) -> [Val; 3] {
 /// order (not read from the text).
 fn command_records(cmd: &CommandFile) -> Vec<(&'static str, Vec<Val>)> {
     let mut body: Vec<(&'static str, Vec<Val>)> = Vec::new();
+    let (motions, first): (&[MotionRecord], i64) = match &cmd.command {
+        Command::Move(m) => (m, 0),
+        Command::OpenPath(c) | Command::Append(c) => {
+            body.push((
+                "APD",
+                vec![
+                    Val::I(i64::from(c.path)),
+                    Val::I(i64::from(c.first)),
+                    Val::I(i64::from(c.close)),
+                ],
+            ));
+            (&c.motions, i64::from(c.first))
+        }
+        _ => (&[], 0),
+    };
     match &cmd.command {
-        Command::Move(motions) => {
+        Command::Move(_) | Command::OpenPath(_) | Command::Append(_) => {
             for (i, m) in motions.iter().enumerate() {
-                let mut v = vec![Val::I(i as i64)];
+                let mut v = vec![Val::I(first + i as i64)];
                 let tag = match m {
                     MotionRecord::Ptp {
                         target,
@@ -516,7 +564,7 @@ fn command_records(cmd: &CommandFile) -> Vec<(&'static str, Vec<Val>)> {
     let mut out = vec![(
         "CMD",
         vec![
-            Val::I(1),
+            Val::I(2),
             Val::I(cid),
             Val::I(i64::from(cmd.command.op())),
             Val::I(n),
@@ -661,7 +709,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(
         tags,
         [
-            "CIR", "CMD", "END", "FRM", "LIN", "PRG", "PTA", "PTP", "SPD"
+            "APD", "CIR", "CMD", "END", "FRM", "LIN", "PRG", "PTA", "PTP", "SPD"
         ],
         "the samples cover every command record"
     );
@@ -683,6 +731,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(formats["FRM"], one(6, 0b11_1111));
     assert_eq!(formats["SPD"], one(5, 0b1_1111));
     assert_eq!(formats["PRG"], one(1, 0));
+    assert_eq!(formats["APD"], one(3, 0));
     // The files the KRL program reads back at start (KsRecover) in the
     // shapes the Rust encoder writes them.
     let results = sample_results(3).encode().expect("encodes");
@@ -708,7 +757,8 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(
         tags,
         BTreeSet::from([
-            "CIR", "CMD", "END", "FRM", "LIN", "PRG", "PTA", "PTP", "RES", "RSL", "SPD", "STA"
+            "APD", "CIR", "CMD", "END", "FRM", "LIN", "PRG", "PTA", "PTP", "RES", "RSL", "SPD",
+            "STA"
         ]),
         "kb_submit.src parses exactly the protocol's records"
     );
@@ -809,7 +859,7 @@ fn krl_refuses_corrupted_and_truncated_lines() {
 #[test]
 fn protocol_checksum_examples_computed_by_krl() {
     let driver = "DEF t_main( )
-  t_c1 = KbMix(KbMix(KbMix(KbMix(0, 1), 17), 3), 0)
+  t_c1 = KbMix(KbMix(KbMix(KbMix(0, 2), 17), 3), 0)
   t_c2 = KbMix(0, KbMilli(500.0))
   t_c2 = KbMix(t_c2, KbMilli(-250.0))
   t_c2 = KbMix(t_c2, KbMilli(0.0))
@@ -817,7 +867,7 @@ fn protocol_checksum_examples_computed_by_krl() {
   t_c2 = KbMix(t_c2, KbMilli(0.0))
   t_c2 = KbMix(t_c2, KbMilli(0.0))
   KbOBeg(67, 77, 68)
-  KbOI(1)
+  KbOI(2)
   KbOI(17)
   KbOI(3)
   KbOI(0)
@@ -838,13 +888,13 @@ END
 ";
     let dat = "DECL GLOBAL INT t_c1\nDECL GLOBAL INT t_c2\nDECL GLOBAL CHAR t_l1[256]\nDECL GLOBAL CHAR t_l2[256]\nDECL GLOBAL INT t_n1\nDECL GLOBAL INT t_n2";
     let g = run_driver(driver, dat, &mut BTreeMap::new());
-    assert_eq!(g.int("t_c1", &[]), Some(46221));
+    assert_eq!(g.int("t_c1", &[]), Some(10491));
     assert_eq!(g.int("t_c2", &[]), Some(4787));
     let line = |arr: &str, n: &str| {
         let n = usize::try_from(g.int(n, &[]).expect("length")).expect("length");
         g.chars(arr, n).expect("characters")
     };
-    assert_eq!(line("t_l1", "t_n1"), "CMD 1 17 3 0 46221");
+    assert_eq!(line("t_l1", "t_n1"), "CMD 2 17 3 0 10491");
     assert_eq!(
         line("t_l2", "t_n2"),
         "FRM 500.000 -250.000 0.000 90.000 0.000 0.000 4787"
@@ -934,6 +984,8 @@ fn sample_state() -> StateFile {
         error_axis: 0,
         override_pct: 100.0,
         simulated: false,
+        room: 200,
+        stored: 0,
         position: Frame::from_array(POSE),
         s: POSE_S,
         t: POSE_T,
@@ -977,7 +1029,7 @@ fn result_files_written_by_krl_decode_in_rust() {
     // No result yet (PROTOCOL.md 6.2).
     let mut files = BTreeMap::new();
     run_driver("DEF t_main( )\n  KsWriteRes()\nEND\n", "", &mut files);
-    assert_eq!(files[RESULT_FILE], "RES 1 0 31\nEND 0 0\n");
+    assert_eq!(files[RESULT_FILE], "RES 2 0 62\nEND 0 0\n");
     assert_eq!(
         ResultFile::decode(&files[RESULT_FILE]),
         Ok(ResultFile::default())
@@ -1460,7 +1512,7 @@ fn stale_damaged_and_foreign_commands() {
 
     // A damaged header is ignored; a damaged body with an intact header is
     // answered BAD_COMMAND (PROTOCOL.md 9.3 step 4).
-    let mut files = channel(&settool.replacen("CMD 1 18", "CMD 1 19", 1));
+    let mut files = channel(&settool.replacen("CMD 2 18", "CMD 2 19", 1));
     let g = submit(&mut files, &setup, 1);
     assert_eq!(g.int("kb_last_cid", &[]), Some(0));
     assert_eq!(results(&files), []);
@@ -1518,7 +1570,7 @@ fn stale_damaged_and_foreign_commands() {
 
     // Another protocol version, or an unknown op, with an intact header:
     // BAD_COMMAND.
-    for (ver, op) in [(2, 3), (1, 2), (1, 99)] {
+    for (ver, op) in [(1, 3), (3, 3), (2, 2), (2, 99)] {
         let cid = 40;
         let text = format!(
             "CMD {ver} {cid} {op} 0 {}\nEND {cid} 0 {}\n",

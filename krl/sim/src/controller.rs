@@ -16,6 +16,8 @@ use kuka_protocol::{
 };
 use serde::Serialize;
 
+use crate::path::{PathEnd, PathRun};
+
 /// One executed point of the TCP trace.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
@@ -145,7 +147,15 @@ pub(crate) struct Controller {
     active: Option<Active>,
     /// A RUN command being prepared on its thread.
     preparing: Option<Preparing>,
+    /// The open motion stream (protocol version 2), with the wall time of
+    /// its path time 0 and of its last APPEND.
+    path: Option<(PathRun, Instant, Instant)>,
 }
+
+/// An open path whose robot has stood at the end of its motions this long
+/// without an APPEND ends (its service is gone); as `kb_path_idle_ms` in
+/// the KRL program.
+pub(crate) const PATH_IDLE: std::time::Duration = std::time::Duration::from_secs(5);
 
 /// What handling a command changed, so the runner knows whether to write
 /// the result file. (The state file follows the heartbeat, and at once when
@@ -205,6 +215,7 @@ impl Controller {
             trace_capacity,
             active: None,
             preparing: None,
+            path: None,
         }
     }
 
@@ -219,11 +230,28 @@ impl Controller {
     }
 
     pub(crate) fn is_busy(&self) -> bool {
-        self.active.is_some() || self.preparing.is_some()
+        self.active.is_some() || self.preparing.is_some() || self.path.is_some()
     }
 
     /// Wall-clock instant when the next sample of the active batch is due.
     pub(crate) fn next_sample_due(&self, time_scale: f64) -> Option<Instant> {
+        if let Some((p, wall, last)) = &self.path {
+            if time_scale <= 0.0 {
+                // Instant: what is playable plays now; the held last motion
+                // waits for more (or the idle timeout).
+                return match p.next_sample_t() {
+                    Some(t) if t <= p.hold_t() => Some(*wall),
+                    _ => Some(*last + PATH_IDLE),
+                };
+            }
+            return match p.next_sample_t() {
+                Some(t) => {
+                    Some(*wall + std::time::Duration::from_secs_f64((t / time_scale).max(0.0)))
+                }
+                // Standing at the end: the idle timeout is the next thing due.
+                None => Some(*last + PATH_IDLE),
+            };
+        }
         let a = self.active.as_ref()?;
         let s = a.execution.samples.get(a.next_sample)?;
         if time_scale <= 0.0 {
@@ -277,12 +305,33 @@ impl Controller {
             self.push_result(cid, ResultCode::ControllerError, 0, 0, None);
             return Changes::results();
         }
+        if let Command::Append(chunk) = command {
+            return self.append(cid, chunk, now);
+        }
         if self.is_busy() && !matches!(command, Command::Stop) {
             self.push_result(cid, ResultCode::Busy, 0, 0, None);
             return Changes::results();
         }
         match command {
+            Command::Append(_) => {}
+            Command::OpenPath(chunk) => {
+                let mut run = PathRun::new(cid, self.axes);
+                let take = chunk
+                    .motions
+                    .len()
+                    .min(crate::path::STREAM_CAPACITY as usize);
+                let motions: Vec<Motion> = chunk.motions[..take].iter().map(to_motion).collect();
+                run.append(&self.model, &self.tool, &self.base, &self.plan, motions);
+                run.closed = chunk.close && take == chunk.motions.len();
+                self.path = Some((run, now, now));
+                // Answered when the path ends.
+                return Changes::default();
+            }
             Command::Stop => {
+                if let Some((run, _, _)) = self.path.take() {
+                    self.sim_time += run.t;
+                    self.push_result(run.cid, ResultCode::Cancelled, run.current as u32, 0, None);
+                }
                 if let Some(p) = self.preparing.take() {
                     // Nothing moved yet; the program thread's answer is dropped.
                     self.push_result(p.cid, ResultCode::Cancelled, 0, 0, None);
@@ -362,6 +411,99 @@ impl Controller {
             Command::Run(n) => {
                 let loaded = program.unwrap_or_else(|| Err("program not loaded".into()));
                 self.run_program(cid, n, loaded, now);
+            }
+        }
+        Changes::results()
+    }
+
+    /// APPEND: stores what fits of the chunk into the open path and answers
+    /// at once with the path's stored count.
+    fn append(&mut self, cid: Cid, chunk: kuka_protocol::PathChunk, now: Instant) -> Changes {
+        let Some((run, _, last)) = self.path.as_mut().filter(|(r, _, _)| r.cid == chunk.path)
+        else {
+            self.push_result(cid, ResultCode::PathClosed, 0, 0, None);
+            return Changes::results();
+        };
+        if chunk.first > run.stored {
+            // A gap: motions between the stored ones and these are missing.
+            self.push_result(cid, ResultCode::BadCommand, 0, 0, None);
+            return Changes::results();
+        }
+        if run.closed {
+            let stored = run.stored;
+            self.push_result(cid, ResultCode::PathClosed, stored, 0, None);
+            return Changes::results();
+        }
+        // Motions already stored (a resend) are skipped: each runs once.
+        let skip = (run.stored - chunk.first) as usize;
+        let fresh = chunk.motions.get(skip..).unwrap_or(&[]);
+        let take = fresh.len().min(run.room() as usize);
+        let motions: Vec<Motion> = fresh[..take].iter().map(to_motion).collect();
+        run.append(&self.model, &self.tool, &self.base, &self.plan, motions);
+        if chunk.close && take == fresh.len() {
+            run.closed = true;
+        }
+        *last = now;
+        let stored = run.stored;
+        self.push_result(cid, ResultCode::Ok, stored, 0, None);
+        Changes::results()
+    }
+
+    /// Plays the open path up to `now`; answers it when it ends.
+    fn advance_path(&mut self, now: Instant, time_scale: f64) -> Changes {
+        let Some((run, wall, last)) = self.path.as_mut() else {
+            return Changes::default();
+        };
+        let until = if time_scale <= 0.0 {
+            run.hold_t()
+        } else {
+            now.saturating_duration_since(*wall).as_secs_f64() * time_scale
+        };
+        let played = run.play(until);
+        let waiting = run.waiting;
+        let n = played.len();
+        let cid = run.cid;
+        for (k, s) in played.into_iter().enumerate() {
+            self.axes = s.axes;
+            if self.trace_capacity > 0 {
+                if self.trace.len() >= self.trace_capacity {
+                    self.trace.pop_front();
+                }
+                self.trace.push_back(TraceSample {
+                    t: self.sim_time + s.t,
+                    cid,
+                    motion: s.motion,
+                    pose: s.pose.to_array(),
+                    axes: s.axes,
+                    stop: waiting && k + 1 == n,
+                });
+            }
+        }
+        if waiting {
+            self.axes = run.end_axes();
+        }
+        let idle = waiting && now.saturating_duration_since(*last) >= PATH_IDLE;
+        let end = match run.ended() {
+            Some(e) => Some(e),
+            None if idle => {
+                tracing::warn!(cid, "path idle: no motions appended; it ends here");
+                Some(PathEnd::Done)
+            }
+            None => None,
+        };
+        let Some(end) = end else {
+            return Changes::default();
+        };
+        let Some((run, _, _)) = self.path.take() else {
+            return Changes::default();
+        };
+        self.sim_time += run.t;
+        match end {
+            PathEnd::Done => self.push_result(run.cid, ResultCode::Ok, run.stored, 0, None),
+            PathEnd::Failed(k, err) => {
+                let (code, axis) = motion_error_code(&err);
+                tracing::info!(cid, motion = k, %err, "path motion failed");
+                self.push_result(run.cid, code, k as u32, axis, None);
             }
         }
         Changes::results()
@@ -465,6 +607,7 @@ impl Controller {
                     end_axes: self.axes,
                     duration_s: seconds,
                     error: None,
+                    junctions: Vec::new(),
                 };
                 (e, 1)
             }
@@ -523,6 +666,9 @@ impl Controller {
     /// Plays the active batch (and, for a program, the phases after it)
     /// up to `now`; returns what changed.
     pub(crate) fn advance(&mut self, now: Instant, time_scale: f64) -> Changes {
+        if self.path.is_some() {
+            return self.advance_path(now, time_scale);
+        }
         if self.preparing.is_some() {
             let c = self.poll_preparing(now);
             if self.active.is_none() {
@@ -625,10 +771,11 @@ impl Controller {
     /// What the service must learn at once rather than at the next
     /// heartbeat: idle/busy/error and the command being executed.
     pub(crate) fn status_key(&self) -> (Cid, bool) {
-        let cid = match (&self.active, &self.preparing) {
-            (Some(a), _) => a.cid,
-            (None, Some(p)) => p.cid,
-            (None, None) => 0,
+        let cid = match (&self.active, &self.preparing, &self.path) {
+            (Some(a), _, _) => a.cid,
+            (None, Some(p), _) => p.cid,
+            (None, None, Some((r, _, _))) => r.cid,
+            (None, None, None) => 0,
         };
         (cid, self.error.is_some())
     }
@@ -637,13 +784,18 @@ impl Controller {
     pub(crate) fn state_record(&mut self) -> StateFile {
         self.seq = self.seq.checked_add(1).unwrap_or(1);
         let (pose, s, t) = self.position();
-        let (status, busy_cid, busy_index) = match (&self.active, &self.error) {
-            (_, Some(_)) => (ControllerStatus::Error, 0, 0),
-            (Some(a), None) => (ControllerStatus::Busy, a.cid, a.progress() as u32),
-            (None, None) => match &self.preparing {
+        let (status, busy_cid, busy_index) = match (&self.active, &self.error, &self.path) {
+            (_, Some(_), _) => (ControllerStatus::Error, 0, 0),
+            (_, None, Some((r, _, _))) => (ControllerStatus::Busy, r.cid, r.current as u32),
+            (Some(a), None, None) => (ControllerStatus::Busy, a.cid, a.progress() as u32),
+            (None, None, None) => match &self.preparing {
                 Some(p) => (ControllerStatus::Busy, p.cid, 0),
                 None => (ControllerStatus::Idle, 0, 0),
             },
+        };
+        let (room, stored) = match &self.path {
+            Some((r, _, _)) => (r.room(), r.stored),
+            None => (crate::path::STREAM_CAPACITY, 0),
         };
         StateFile {
             seq: self.seq,
@@ -656,6 +808,8 @@ impl Controller {
             error_axis: self.error.map_or(0, |e| e.1),
             override_pct: self.plan.override_pct,
             simulated: true,
+            room,
+            stored,
             position: pose_to_frame(&pose),
             s,
             t,

@@ -14,6 +14,7 @@
 #![deny(missing_docs)]
 
 mod controller;
+mod path;
 mod runner;
 
 pub use controller::TraceSample;

@@ -426,6 +426,12 @@ impl Runner {
 
     fn step(&mut self, now: Instant) {
         let mut changes = Changes::default();
+        // Play up to now first: a command acts on where the robot is now
+        // (an APPEND to a path the robot has run out of starts from here).
+        {
+            let mut c = lock(&self.shared.controller);
+            changes.results |= c.advance(now, self.config.time_scale).results;
+        }
         self.read_command(now, &mut changes);
         {
             let mut c = self

@@ -27,7 +27,7 @@ const MARKDOWN: &str = include_str!("../../../docs/errors.md");
 
 /// Every code, in the order of the enum (a test compares this list with
 /// the codes utoipa derives from the enum, so a new code cannot be missed).
-pub(crate) const ALL: [ErrorCode; 39] = [
+pub(crate) const ALL: [ErrorCode; 41] = [
     ErrorCode::InvalidInput,
     ErrorCode::WorkspaceViolation,
     ErrorCode::SpeedLimit,
@@ -67,6 +67,8 @@ pub(crate) const ALL: [ErrorCode; 39] = [
     ErrorCode::CommandLost,
     ErrorCode::Gone,
     ErrorCode::ShuttingDown,
+    ErrorCode::PathClosed,
+    ErrorCode::PathFull,
 ];
 
 /// One code of the catalogue.

@@ -202,6 +202,8 @@ pub fn statuscode(code: ErrorCode) -> i32 {
         ErrorCode::CommandLost => 41,
         ErrorCode::Gone => 77,
         ErrorCode::ShuttingDown => 78,
+        ErrorCode::PathClosed => 79,
+        ErrorCode::PathFull => 80,
         ErrorCode::Internal => 99,
     }
 }

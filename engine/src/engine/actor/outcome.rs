@@ -58,6 +58,10 @@ pub(super) fn result_error(r: &ResultRecord) -> Option<BridgeError> {
             ErrorCode::ControllerError,
             "a KRL runtime error stopped the command".into(),
         ),
+        ResultCode::PathClosed => (
+            ErrorCode::PathClosed,
+            "the path is no longer open on the controller (it ended, failed or was stopped)".into(),
+        ),
         ResultCode::Other(c) => (
             ErrorCode::ProtocolError,
             format!("the controller answered unknown result code {c}"),

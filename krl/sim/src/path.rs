@@ -1,0 +1,232 @@
+//! A motion stream (protocol version 2, ops PATH and APPEND): a path whose
+//! motions arrive while the robot executes it.
+//!
+//! The path keeps a window of its motions (from the first one the robot
+//! has not finished) and the plan being played. When motions are appended,
+//! the part of the plan the robot has not reached yet is planned again from
+//! the next junction ([`kuka_kinematics::plan::plan_from`]): motions that
+//! arrive before the robot starts the last stored one blend into it
+//! (approximation), as a KRC's advance run does; motions that arrive later
+//! start from a standstill. Memory stays bounded by the controller's stream
+//! buffer, however long the path.
+
+use std::collections::VecDeque;
+
+use kuka_kinematics::plan::{self, Junction, Sample};
+use kuka_kinematics::{Axes, Motion, MotionError, PlanSettings, Pose, RobotModel};
+use kuka_protocol::Cid;
+
+/// Motions the stream buffer holds (stored and not yet started), as the
+/// shipped KRL program's ring `kb_sq` (`kb_main.dat`).
+pub(crate) const STREAM_CAPACITY: u32 = 200;
+
+/// How the path ended.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum PathEnd {
+    /// Closed and every stored motion ran.
+    Done,
+    /// A motion failed (path-wide index): the robot stopped where it did.
+    Failed(usize, MotionError),
+}
+
+/// A path being executed.
+pub(crate) struct PathRun {
+    /// The PATH command's id (names the path).
+    pub(crate) cid: Cid,
+    /// Motions stored so far (the next APPEND starts here).
+    pub(crate) stored: u32,
+    /// An APPEND with the close flag has come: the path ends after the
+    /// last stored motion.
+    pub(crate) closed: bool,
+    /// Stored motions from `queue_from` on (planned or not).
+    queue: VecDeque<Motion>,
+    /// Path-wide index of `queue[0]`.
+    queue_from: usize,
+    /// Samples planned and not yet played (path time, path-wide motion
+    /// indices), oldest first.
+    samples: VecDeque<Sample>,
+    /// Where the planned motions start (path-wide indices).
+    junctions: VecDeque<Junction>,
+    /// Path time at which the plan ends, and the axes there.
+    end_t: f64,
+    end_axes: Axes,
+    /// The plan's error (path-wide index), if a motion failed.
+    error: Option<(usize, MotionError)>,
+    /// Path time played so far.
+    pub(crate) t: f64,
+    /// Motion being executed (path-wide index).
+    pub(crate) current: usize,
+    /// The robot stands at the end of what was stored (waiting for more).
+    pub(crate) waiting: bool,
+}
+
+impl PathRun {
+    /// A new path with the robot standing at `axes`.
+    pub(crate) fn new(cid: Cid, axes: Axes) -> Self {
+        PathRun {
+            cid,
+            stored: 0,
+            closed: false,
+            queue: VecDeque::new(),
+            queue_from: 0,
+            samples: VecDeque::new(),
+            junctions: VecDeque::new(),
+            end_t: 0.0,
+            end_axes: axes,
+            error: None,
+            t: 0.0,
+            current: 0,
+            waiting: true,
+        }
+    }
+
+    /// Free slots: motions stored and not yet started count against the
+    /// capacity.
+    pub(crate) fn room(&self) -> u32 {
+        let held = (self.stored as usize).saturating_sub(self.current);
+        STREAM_CAPACITY.saturating_sub(held as u32)
+    }
+
+    /// Stores `motions` (path-wide indices from `self.stored` on) and plans
+    /// them: from the next junction the robot has not reached, or from the
+    /// standstill at the end of the plan.
+    pub(crate) fn append(
+        &mut self,
+        model: &RobotModel,
+        tool: &Pose,
+        base: &Pose,
+        settings: &PlanSettings,
+        motions: Vec<Motion>,
+    ) {
+        if motions.is_empty() {
+            return;
+        }
+        let first_new = self.stored as usize;
+        self.stored += motions.len() as u32;
+        if self.error.is_some() {
+            // The robot stops at the failing motion: nothing after it runs.
+            return;
+        }
+        self.queue.extend(motions);
+        // The first junction ahead of the robot (a motion not yet started).
+        let ahead = self
+            .junctions
+            .iter()
+            .position(|j| j.t > self.t + 1e-9 && j.motion > self.current);
+        let from = match ahead {
+            Some(k) => {
+                let j = self.junctions[k];
+                self.samples.retain(|s| s.t <= j.t + 1e-9);
+                self.junctions.truncate(k);
+                j
+            }
+            None => {
+                // The robot is in the last planned motion, or stands: the
+                // new motions start where the plan ends, from a standstill.
+                Junction {
+                    motion: first_new,
+                    t: self.end_t.max(self.t),
+                    axes: self.end_axes,
+                    speed: 0.0,
+                }
+            }
+        };
+        let start = from.motion - self.queue_from;
+        let motions: Vec<Motion> = self.queue.range(start..).cloned().collect();
+        let local = Junction { motion: 0, ..from };
+        let exec = plan::plan_from(model, tool, base, &motions, settings, &local);
+        let offset = from.motion;
+        self.samples.extend(
+            exec.samples
+                .iter()
+                .filter(|s| s.t > from.t + 1e-9)
+                .map(|s| Sample {
+                    motion: s.motion + offset,
+                    ..*s
+                }),
+        );
+        self.junctions
+            .extend(exec.junctions.iter().map(|j| Junction {
+                motion: j.motion + offset,
+                ..*j
+            }));
+        self.end_t = exec.duration_s.max(from.t);
+        self.end_axes = exec.end_axes;
+        self.error = exec.error.map(|(k, e)| (k + offset, e));
+        self.waiting = false;
+    }
+
+    /// Plays the path up to path time `until` (never past the end of the
+    /// plan); returns the samples reached, oldest first.
+    pub(crate) fn play(&mut self, until: f64) -> Vec<Sample> {
+        let mut out = Vec::new();
+        while let Some(s) = self.samples.front() {
+            if s.t > until + 1e-12 {
+                break;
+            }
+            let s = self.samples.pop_front().expect("front exists");
+            self.current = s.motion;
+            out.push(s);
+        }
+        if self.samples.is_empty() && until >= self.end_t - 1e-12 {
+            // The robot reached the end of the plan: it stands there while
+            // the path's time goes on.
+            self.t = until.max(self.t);
+            self.waiting = true;
+            if self.error.is_none() {
+                // Every stored motion is done.
+                self.current = self.stored as usize;
+            }
+        } else {
+            self.t = until.min(self.end_t).max(self.t);
+        }
+        // Motions finished for good leave the window.
+        let done = self.current.saturating_sub(self.queue_from);
+        let keep_from = done.min(self.queue.len());
+        if keep_from > 0 {
+            self.queue.drain(..keep_from);
+            self.queue_from += keep_from;
+        }
+        while self
+            .junctions
+            .front()
+            .is_some_and(|j| j.motion < self.current)
+        {
+            self.junctions.pop_front();
+        }
+        out
+    }
+
+    /// Path time of the next sample, if any is planned.
+    pub(crate) fn next_sample_t(&self) -> Option<f64> {
+        self.samples.front().map(|s| s.t)
+    }
+
+    /// The start time of the last planned motion: an instant controller
+    /// plays up to there and holds the last motion for the motions still
+    /// to come to blend into (an open path).
+    pub(crate) fn hold_t(&self) -> f64 {
+        match self.junctions.back() {
+            Some(j) if !self.closed && self.error.is_none() => (j.t - 1e-6).max(self.t),
+            _ => self.end_t,
+        }
+    }
+
+    /// The axes at the end of the plan.
+    pub(crate) fn end_axes(&self) -> Axes {
+        self.end_axes
+    }
+
+    /// How the path ended, once the robot has played everything: `None`
+    /// while it runs or waits for motions.
+    pub(crate) fn ended(&self) -> Option<PathEnd> {
+        if !self.samples.is_empty() || self.t < self.end_t - 1e-12 {
+            return None;
+        }
+        match &self.error {
+            Some((k, e)) => Some(PathEnd::Failed(*k, e.clone())),
+            None if self.closed => Some(PathEnd::Done),
+            None => None,
+        }
+    }
+}
