@@ -84,6 +84,8 @@ pub struct Sample {
     pub pose: [f64; 6],
     /// Axes A1..A6.
     pub axes: [f64; 6],
+    /// The robot stands still from here (an exact stop or the end).
+    pub stop: bool,
 }
 
 /// A config for tests: free port, fast heartbeat and short timeouts.
@@ -158,6 +160,7 @@ impl TestService {
                     motion: s.motion,
                     pose: s.pose,
                     axes: s.axes,
+                    stop: s.stop,
                 })
                 .collect();
         }
@@ -170,6 +173,7 @@ impl TestService {
                 motion: s.motion,
                 pose: s.pose,
                 axes: s.axes,
+                stop: s.stop,
             })
             .collect()
     }

@@ -273,6 +273,28 @@ fn pick(given: Option<f64>, relative: bool, previous: f64) -> f64 {
     }
 }
 
+/// Gives every motion whose request leaves `approx_mm` out the default
+/// approximation, the last one too: within a path the last motion of an
+/// append blends into the next append's first (the robot stops exactly at
+/// the path's end, where nothing follows).
+pub fn set_default_approx(
+    requests: &[MotionRequest],
+    records: &mut [MotionRecord],
+    default_approx_mm: f64,
+) {
+    for (req, rec) in requests.iter().zip(records) {
+        if req.speed().2.is_none() {
+            let params = match rec {
+                MotionRecord::Ptp { params, .. }
+                | MotionRecord::PtpAxes { params, .. }
+                | MotionRecord::Lin { params, .. }
+                | MotionRecord::Circ { params, .. } => params,
+            };
+            params.approx_mm = default_approx_mm;
+        }
+    }
+}
+
 /// Resolves a batch against its start: omitted coordinates keep the
 /// previous target's value, relative ones are added to it, speeds fall
 /// back to the defaults; intermediate motions of a batch are approximated

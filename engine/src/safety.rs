@@ -415,6 +415,31 @@ impl Safety {
         tool: &Frame,
         base: &Frame,
     ) -> Result<Vec<(u8, u8)>> {
+        self.check_resolved_with_end(motions, start, tool, base)
+            .map(|(ends, _)| ends)
+    }
+
+    /// [`Self::check_resolved`] for motions appended to a path: where they
+    /// end (the start of the next append). Without a robot model the axes
+    /// stay those of `start` and the pose is the last Cartesian target.
+    pub fn check_resolved_end(
+        &self,
+        motions: &[MotionRecord],
+        start: &StartPoint,
+        tool: &Frame,
+        base: &Frame,
+    ) -> Result<StartPoint> {
+        self.check_resolved_with_end(motions, start, tool, base)
+            .map(|(_, end)| end)
+    }
+
+    fn check_resolved_with_end(
+        &self,
+        motions: &[MotionRecord],
+        start: &StartPoint,
+        tool: &Frame,
+        base: &Frame,
+    ) -> Result<(Vec<(u8, u8)>, StartPoint)> {
         // The targets (and CIRC auxiliary points): without a robot model all
         // that can be checked; with one, after the swept path (which names
         // the first point outside), for a path the dry run cannot finish.
@@ -448,7 +473,23 @@ impl Safety {
         };
         let Some(model) = &self.model else {
             targets()?;
-            return Ok(Vec::new());
+            let pose = motions
+                .iter()
+                .rev()
+                .find_map(|m| match m {
+                    MotionRecord::Ptp { target, .. }
+                    | MotionRecord::Lin { target, .. }
+                    | MotionRecord::Circ { target, .. } => Some(*target),
+                    MotionRecord::PtpAxes { .. } => None,
+                })
+                .unwrap_or(start.pose);
+            return Ok((
+                Vec::new(),
+                StartPoint {
+                    pose,
+                    axes: start.axes,
+                },
+            ));
         };
         let records = motions;
         let motions: Vec<_> = records.iter().map(kuka_krl_runtime::to_motion).collect();
@@ -489,7 +530,13 @@ impl Safety {
                         *end = st(&sample.axes);
                     }
                 }
-                Ok(ends)
+                let axes = execution.end_axes;
+                let pose = kuka_krl_runtime::pose_to_frame(&model.forward(
+                    &axes,
+                    &to_pose(tool),
+                    &to_pose(base),
+                ));
+                Ok((ends, StartPoint { pose, axes }))
             }
             Some((i, e)) => {
                 let mut err = motion_error(&e).at_motion(i);

@@ -23,7 +23,7 @@ pub const LIVE_POSITION_MAX_AGE: std::time::Duration = std::time::Duration::from
 
 use crate::channel::{Channel, ChannelError, CidStore};
 use crate::error::{BridgeError, ErrorCode, Result};
-use crate::motion::SpeedSettings;
+use crate::motion::{MotionRequest, SpeedSettings};
 use crate::safety::Safety;
 use crate::settings::EngineSettings;
 
@@ -40,6 +40,8 @@ pub(crate) enum Msg {
     Shutdown(oneshot::Sender<()>),
     /// The dry run of a program job has finished (on its own thread).
     ProgramChecked(actor::QueuedJob, Result<crate::safety::ProgramCheck>),
+    /// Motions for an open path.
+    Append(actor::AppendRequest),
 }
 
 pub(crate) struct JobTable {
@@ -364,6 +366,7 @@ impl Engine {
             requested_by: caller.name.clone(),
             late_result: false,
             configurations: Vec::new(),
+            path: matches!(op, Operation::Path(_)).then(PathProgress::default),
         };
         if let Some(on_job) = &caller.on_job {
             on_job(id);
@@ -517,6 +520,39 @@ impl Engine {
         self.job(id)?;
         let (tx, rx) = oneshot::channel();
         self.tx.send(Msg::Cancel(id, tx)).map_err(|_| stopped())?;
+        rx.await.map_err(|_| stopped())?
+    }
+
+    /// Appends motions to the open path `path` (a job of
+    /// [`Operation::Path`]), and closes it after them with `close`. The
+    /// motions are checked against the end of what the path already holds
+    /// and appended all or none; while the path's queue in the service is
+    /// full the call waits (back-pressure) for at most `wait`, then fails
+    /// with `path_full`. An empty `motions` with `close` only closes.
+    pub async fn append(
+        &self,
+        path: JobId,
+        motions: Vec<MotionRequest>,
+        close: bool,
+        wait: Duration,
+    ) -> Result<AppendOutcome> {
+        let job = self.job(path)?;
+        if job.operation != "path" {
+            return Err(BridgeError::invalid(format!("job {path} is not a path")));
+        }
+        if !motions.is_empty() {
+            self.shared.safety.check_request(&motions)?;
+        }
+        let (tx, rx) = oneshot::channel();
+        self.tx
+            .send(Msg::Append(actor::AppendRequest {
+                path,
+                motions,
+                close,
+                wait,
+                reply: tx,
+            }))
+            .map_err(|_| stopped())?;
         rx.await.map_err(|_| stopped())?
     }
 

@@ -151,6 +151,45 @@ pub enum Operation {
     Reset,
     /// Run an uploaded KRL program (written as a fresh module first).
     RunProgram(std::sync::Arc<crate::programs::StoredProgram>),
+    /// Open a path (a motion stream): motions are appended while it runs
+    /// ([`crate::engine::Engine::append`]).
+    Path(PathOptions),
+}
+
+/// How an open path treats the motions appended to it.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PathOptions {
+    /// How PTPs without `s` get their arm configuration (default: the
+    /// site's `motion.configuration`).
+    pub config: Option<crate::settings::Configuration>,
+}
+
+/// A path's progress, in its job record.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, ToSchema)]
+#[schema(example = json!({"appended": 120, "sent": 80, "closed": false}))]
+pub struct PathProgress {
+    /// Motions appended by clients (checked and accepted).
+    pub appended: usize,
+    /// Motions the controller has stored (the rest wait in the service).
+    pub sent: usize,
+    /// The path was closed: it ends when its last motion has run.
+    pub closed: bool,
+}
+
+/// The answer to an append.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+#[schema(example = json!({"path": 12, "first": 40, "appended": 20, "total": 60, "closed": false}))]
+pub struct AppendOutcome {
+    /// The path (its job id).
+    pub path: JobId,
+    /// Path-wide index of the first motion of this append.
+    pub first: usize,
+    /// Motions appended by this request.
+    pub appended: usize,
+    /// Motions appended to the path so far.
+    pub total: usize,
+    /// The path is closed now.
+    pub closed: bool,
 }
 
 impl Operation {
@@ -167,6 +206,7 @@ impl Operation {
             Operation::SetSpeed(_) => "set_speed",
             Operation::Reset => "reset",
             Operation::RunProgram(_) => "run_program",
+            Operation::Path(_) => "path",
         }
     }
 }
@@ -264,6 +304,11 @@ pub struct Job {
     /// robot model): send these `s`/`t` to replay it exactly.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub configurations: Vec<PtpConfiguration>,
+    /// For a path: how many motions were appended and sent, and whether it
+    /// is closed. `motions` counts the appended ones, `completed` the ones
+    /// the robot has finished (at the controller's heartbeat rate).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub path: Option<PathProgress>,
 }
 
 /// The arm configuration (Status and Turn) one Cartesian PTP got.

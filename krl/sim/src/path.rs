@@ -20,6 +20,10 @@ use kuka_protocol::Cid;
 /// shipped KRL program's ring `kb_sq` (`kb_main.dat`).
 pub(crate) const STREAM_CAPACITY: u32 = 200;
 
+/// See [`PathRun::hold_t`]: longer than braking from any path speed up to
+/// 2 m/s at the default path acceleration (0.87 s).
+const HOLD_S: f64 = 1.0;
+
 /// How the path ended.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum PathEnd {
@@ -202,14 +206,24 @@ impl PathRun {
         self.samples.front().map(|s| s.t)
     }
 
-    /// The start time of the last planned motion: an instant controller
-    /// plays up to there and holds the last motion for the motions still
-    /// to come to blend into (an open path).
+    /// How far an instant controller plays an open path: [`HOLD_S`] before
+    /// the end of the plan (or further, until half the buffer is free). A real robot is that far behind the motions
+    /// stored ahead of it whenever a client appends faster than it moves;
+    /// an instant one playing to the end would re-plan every append from
+    /// the braking phase of the last motion.
     pub(crate) fn hold_t(&self) -> f64 {
-        match self.junctions.back() {
-            Some(j) if !self.closed && self.error.is_none() => (j.t - 1e-6).max(self.t),
-            _ => self.end_t,
+        if self.closed || self.error.is_some() {
+            return self.end_t;
         }
+        // Never hold so much that the buffer stays full: play on until half
+        // of it is free again.
+        let free_from = (self.stored as usize).saturating_sub(STREAM_CAPACITY as usize / 2);
+        let to_free = self
+            .junctions
+            .iter()
+            .find(|j| j.motion >= free_from)
+            .map_or(self.t, |j| j.t - 1e-6);
+        (self.end_t - HOLD_S).max(to_free).max(self.t)
     }
 
     /// The axes at the end of the plan.

@@ -124,6 +124,10 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("GET", "/api/v1/jobs", READ),
     ("GET", "/api/v1/jobs/{id}", READ),
     ("DELETE", "/api/v1/jobs/{id}", OPERATE),
+    ("POST", "/api/v1/paths", OPERATE),
+    ("GET", "/api/v1/paths/{id}", READ),
+    ("POST", "/api/v1/paths/{id}/motions", OPERATE),
+    ("DELETE", "/api/v1/paths/{id}", OPERATE),
     ("GET", "/api/v1/events", READ),
     ("GET", "/api/v1/events/recent", READ),
     // Control of the robot.

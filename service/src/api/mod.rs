@@ -12,6 +12,7 @@ mod edge;
 mod errors;
 mod events;
 mod openapi;
+mod paths;
 mod plugins;
 pub mod problem;
 mod programs;
@@ -202,6 +203,7 @@ fn documented() -> OpenApiRouter<AppState> {
         .merge(errors::router())
         .merge(thesis::router())
         .merge(v1::router())
+        .merge(paths::router())
         .merge(programs::router())
         .merge(plugins::router())
         .merge(access::router())

@@ -156,10 +156,11 @@ impl IntoResponse for Problem {
         if body.code == ErrorCode::Internal {
             tracing::error!(detail = %self.error.detail, "internal error");
         }
-        let busy = body.code == ErrorCode::QueueFull;
+        let busy = matches!(body.code, ErrorCode::QueueFull | ErrorCode::PathFull);
         let mut resp = json_response(body.status, PROBLEM_JSON, &body);
         if busy {
-            // Full now, free again as soon as something running ends.
+            // Full now, free again as soon as something running ends (or
+            // the robot has run some of the path's motions).
             resp.headers_mut().insert(
                 axum::http::header::RETRY_AFTER,
                 axum::http::HeaderValue::from_static("1"),

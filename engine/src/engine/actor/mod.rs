@@ -15,8 +15,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use kuka_protocol::{
-    Cid, Command, CommandFile, ControllerStatus, Frame, OperatingMode, ResultCode, ResultRecord,
-    SpeedRecord, StateFile,
+    Cid, Command, CommandFile, ControllerStatus, Frame, MotionRecord, OperatingMode, PathChunk,
+    ResultCode, ResultRecord, SpeedRecord, StateFile,
 };
 use std::sync::mpsc::{self, RecvTimeoutError, TryRecvError};
 
@@ -25,9 +25,12 @@ use tokio::sync::oneshot;
 use super::{Msg, Shared};
 
 mod outcome;
+mod paths;
 mod program_jobs;
 mod reads;
 mod writes;
+
+pub(crate) use paths::AppendRequest;
 
 use crate::channel::{Changed, Channel, ChannelError, CidStore, FileStamp, ReadOutcome};
 use crate::engine::types::*;
@@ -132,8 +135,10 @@ struct StopInFlight {
 /// keeps serving (state, stop, cancel) while it retries with backoff.
 struct PendingWrite {
     cmd: CommandFile,
-    /// The job it belongs to; None for a STOP.
+    /// The job it belongs to; None for a STOP or an APPEND.
     job: Option<(QueuedJob, Duration)>,
+    /// An APPEND of the open path.
+    append: bool,
     give_up_at: Instant,
     next_try: Instant,
     backoff: Duration,
@@ -194,6 +199,8 @@ pub(crate) struct Actor {
     probed_at: Option<Instant>,
     /// Channel probes since the last data folder probe.
     probes: u32,
+    /// The open path (a path job on the controller).
+    path: Option<paths::PathState>,
 }
 
 /// How often the engine checks that it can write the channel folder.
@@ -234,6 +241,7 @@ impl Actor {
             faults: Faults::default(),
             probed_at: None,
             probes: 0,
+            path: None,
         }
     }
 
@@ -282,6 +290,8 @@ impl Actor {
             }
             self.retry_pending();
             self.dispatch();
+            self.reconcile_path();
+            self.pump_path();
             self.publish_state();
             if self.shutting_down.is_some() && self.inflight.is_none() && self.pending.is_none() {
                 break;
@@ -364,6 +374,7 @@ impl Actor {
             }
             Msg::Stop(reply) => self.stop(reply),
             Msg::ProgramChecked(job, result) => self.program_checked(job, result),
+            Msg::Append(req) => self.on_append(req),
             Msg::Shutdown(done) => {
                 tracing::info!(
                     queued = self.queue.len(),
@@ -553,6 +564,7 @@ impl Actor {
             // on unobserved.
             self.request_stop(None);
         }
+        self.expire_parked(now);
         // Queued jobs wait at most their own timeout (e.g. behind a command
         // the controller keeps running after its job failed).
         let default_timeout = self.cfg.command_timeout;
@@ -678,6 +690,22 @@ impl Actor {
             self.checking = Some(id);
             return Ok(());
         }
+        if let Operation::Path(options) = &job.op {
+            let (start, _, _) = self.start_point()?;
+            let cid = self.next_cid()?;
+            self.path = Some(paths::PathState::new(job.id, cid, *options, start));
+            // A path has no overall deadline: it runs while motions come
+            // (the controller ends it after kb_path_idle_ms without any).
+            let forever = Duration::from_secs(10 * 365 * 24 * 3600);
+            let command = Command::OpenPath(PathChunk {
+                path: cid,
+                first: 0,
+                motions: Vec::new(),
+                close: false,
+            });
+            self.write(CommandFile { cid, command }, Some((job, forever)));
+            return Ok(());
+        }
         let command = match &job.op {
             Operation::Move(requests) => {
                 let (start, tool, base) = self.start_point()?;
@@ -740,10 +768,10 @@ impl Actor {
             Operation::GetBase => Command::GetBase,
             Operation::SetSpeed(s) => Command::SetSpeed((*s).into()),
             Operation::Reset => Command::Reset,
-            Operation::RunProgram(_) => {
+            Operation::RunProgram(_) | Operation::Path(_) => {
                 return Err(BridgeError::new(
                     ErrorCode::Internal,
-                    "program runs are sent above",
+                    "program runs and paths are sent above",
                 ));
             }
         };
@@ -801,6 +829,22 @@ impl Actor {
             ));
         }
         out
+    }
+
+    /// Ends the path whose job is no longer on the channel (finished,
+    /// failed, cancelled, or never written).
+    fn reconcile_path(&mut self) {
+        let Some(job) = self.path.as_ref().map(|p| p.job) else {
+            return;
+        };
+        let on_channel = self.inflight.as_ref().is_some_and(|f| f.id == job)
+            || self
+                .pending
+                .as_ref()
+                .is_some_and(|p| p.job.as_ref().is_some_and(|(j, _)| j.id == job));
+        if !on_channel {
+            self.end_path(job);
+        }
     }
 
     fn publish_state(&self) {

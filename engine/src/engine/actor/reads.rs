@@ -137,10 +137,14 @@ impl Actor {
                 }
             }
         }
+        self.path_state(&s);
         self.ctl.state = Some(s);
     }
 
     pub(super) fn on_result(&mut self, r: ResultRecord) {
+        if self.on_append_result(&r) {
+            return;
+        }
         let is_frame_op = |op: &Operation| {
             matches!(
                 op,
@@ -220,7 +224,7 @@ impl Actor {
             _ => {}
         }
         let mut error = result_error(&r);
-        if !matches!(f.op, Operation::Move(_))
+        if !matches!(f.op, Operation::Move(_) | Operation::Path(_))
             && let Some(e) = &mut error
         {
             e.motion = None;
@@ -244,7 +248,7 @@ impl Actor {
         self.publish_state();
         self.shared.update(f.id, |j| {
             j.finished_ms = Some(now_ms());
-            j.completed = if matches!(f.op, Operation::Move(_))
+            j.completed = if matches!(f.op, Operation::Move(_) | Operation::Path(_))
                 || (matches!(f.op, Operation::RunProgram(_)) && r.code == ResultCode::Ok)
             {
                 r.completed as usize
@@ -280,6 +284,7 @@ impl Actor {
                 };
                 let mut error = result_error(&r);
                 if job.operation != "move"
+                    && job.operation != "path"
                     && let Some(e) = &mut error
                 {
                     e.motion = None;
@@ -296,7 +301,7 @@ impl Actor {
                     j.error = error;
                     j.late_result = true;
                     j.finished_ms = Some(now_ms());
-                    if j.operation == "move" || r.code == ResultCode::Ok {
+                    if j.operation == "move" || j.operation == "path" || r.code == ResultCode::Ok {
                         j.completed = r.completed as usize;
                     }
                     j.axes = Some(r.axes.into());

@@ -39,6 +39,22 @@ impl Actor {
         self.pending = Some(PendingWrite {
             cmd,
             job,
+            append: false,
+            give_up_at: now + self.cfg.lock_timeout,
+            next_try: now,
+            backoff: Duration::from_micros(500),
+        });
+        self.retry_pending();
+    }
+
+    /// Writes an APPEND of the open path now, or keeps it pending while the
+    /// file is locked.
+    pub(super) fn write_append(&mut self, cmd: CommandFile) {
+        let now = Instant::now();
+        self.pending = Some(PendingWrite {
+            cmd,
+            job: None,
+            append: true,
             give_up_at: now + self.cfg.lock_timeout,
             next_try: now,
             backoff: Duration::from_micros(500),
@@ -67,7 +83,12 @@ impl Actor {
                     self.ctl.locked = false;
                 }
                 if let Some(p) = self.pending.take() {
-                    self.written(p.cmd, p.job, now);
+                    if p.append {
+                        self.ledger.sent(p.cmd.cid, None);
+                        tracing::debug!(cid = p.cmd.cid, "append sent");
+                    } else {
+                        self.written(p.cmd, p.job, now);
+                    }
                 }
             }
             Err(ChannelError::Write(kuka_protocol::files::WriteError::Locked { path })) => {
@@ -111,6 +132,10 @@ impl Actor {
     pub(super) fn write_failed(&mut self, e: BridgeError) {
         let Some(p) = self.pending.take() else { return };
         tracing::error!(cid = p.cmd.cid, code = e.code.as_str(), detail = %e.detail, "command not written");
+        if p.append {
+            self.fail_path(e);
+            return;
+        }
         match p.job {
             Some((job, _)) => {
                 self.shared.finish(job.id, JobState::Failed, e.clone());

@@ -1,0 +1,394 @@
+//! Paths (motion streams, protocol version 2): the open path's motions
+//! between the clients and the controller's buffer.
+//!
+//! A path is a job like any other while it runs: its PATH command is the
+//! one on the controller. Clients append motions ([`AppendRequest`]); each
+//! append is resolved and checked against the end of what is already
+//! appended (omitted coordinates, configuration, reachability, limits, the
+//! swept path against the workspace rules), all or nothing, and waits in
+//! the path's queue. The actor sends the queue in APPEND commands as the
+//! controller's buffer has room (its state file's `room`), in order, each
+//! motion once (the controller's `stored` count is the read position).
+//! While the queue is full an append waits (back-pressure) up to its own
+//! deadline, then fails with `path_full`. The first motions are held back
+//! a moment (a lead) so that a client sending motion after motion gives
+//! the controller enough to blend before the robot starts.
+
+use super::*;
+use crate::motion::set_default_approx;
+
+/// Motions a path holds in the service (appended, not yet stored by the
+/// controller): an append that would go beyond waits for room.
+pub(crate) const MAX_PENDING: usize = 2000;
+/// Motions per APPEND command: the shipped KRL program reads up to
+/// `kb_chunk` (40) lines of a command per Submit cycle and takes only those.
+const APPEND_CHUNK: usize = 40;
+/// The first motions of a path wait this long for more before they are
+/// sent (or until [`LEAD_MOTIONS`] are there, or the path is closed), so
+/// that motions sent one by one blend from the start.
+const LEAD: Duration = Duration::from_millis(100);
+/// See [`LEAD`].
+const LEAD_MOTIONS: usize = 20;
+
+/// Motions for an open path, from a client.
+pub(crate) struct AppendRequest {
+    /// The path (its job id).
+    pub(crate) path: JobId,
+    /// The motions, in order.
+    pub(crate) motions: Vec<MotionRequest>,
+    /// Close the path after them.
+    pub(crate) close: bool,
+    /// How long the append may wait for room.
+    pub(crate) wait: Duration,
+    /// The answer.
+    pub(crate) reply: oneshot::Sender<Result<AppendOutcome>>,
+}
+
+/// An append waiting for room.
+struct Parked {
+    req: AppendRequest,
+    deadline: Instant,
+}
+
+/// An APPEND on the channel.
+struct AppendInFlight {
+    cid: Cid,
+    /// Motions it carries (from the path's `stored` on).
+    count: usize,
+    close: bool,
+}
+
+/// The open path.
+pub(super) struct PathState {
+    pub(super) job: JobId,
+    /// The PATH command's id: the path's name on the channel.
+    pub(super) cid: Cid,
+    options: PathOptions,
+    /// Resolved and checked motions the controller has not stored yet.
+    pending: VecDeque<MotionRecord>,
+    /// Motions appended by clients.
+    appended: usize,
+    /// Motions the controller has stored.
+    stored: u32,
+    /// Free slots of the controller's buffer, as last reported (and
+    /// reduced by what was stored since).
+    room: u32,
+    close_requested: bool,
+    close_sent: bool,
+    /// Where everything appended ends: the start of the next append.
+    end: StartPoint,
+    append: Option<AppendInFlight>,
+    parked: VecDeque<Parked>,
+    /// The first motions wait until then (the lead).
+    lead_until: Option<Instant>,
+    /// The controller no longer takes motions for it (it answered
+    /// PATH_CLOSED or an error): its result is on the way.
+    over: bool,
+}
+
+impl PathState {
+    pub(super) fn new(job: JobId, cid: Cid, options: PathOptions, end: StartPoint) -> Self {
+        PathState {
+            job,
+            cid,
+            options,
+            pending: VecDeque::new(),
+            appended: 0,
+            stored: 0,
+            room: 0,
+            close_requested: false,
+            close_sent: false,
+            end,
+            append: None,
+            parked: VecDeque::new(),
+            lead_until: None,
+            over: false,
+        }
+    }
+
+    fn progress(&self) -> PathProgress {
+        PathProgress {
+            appended: self.appended,
+            sent: self.stored as usize,
+            closed: self.close_requested,
+        }
+    }
+}
+
+fn closed_error(path: JobId) -> BridgeError {
+    BridgeError::new(
+        ErrorCode::PathClosed,
+        format!("path {path} is not open: it was closed, ended, failed or was stopped"),
+    )
+}
+
+impl Actor {
+    /// An append from a client: taken now, parked until there is room, or
+    /// refused.
+    pub(super) fn on_append(&mut self, req: AppendRequest) {
+        let Some(p) = self.path.as_mut().filter(|p| p.job == req.path) else {
+            let e = match self.shared_job(req.path) {
+                Ok(j) if j.operation == "path" && j.state == JobState::Queued => {
+                    // Not on the controller yet: wait like any append.
+                    BridgeError::new(
+                        ErrorCode::PathFull,
+                        format!("path {} is still queued behind other jobs", req.path),
+                    )
+                }
+                Ok(j) if j.operation == "path" => closed_error(req.path),
+                Ok(_) => BridgeError::invalid(format!("job {} is not a path", req.path)),
+                Err(e) => e,
+            };
+            let _ = req.reply.send(Err(e));
+            return;
+        };
+        if p.close_requested || p.over {
+            let _ = req.reply.send(Err(closed_error(req.path)));
+            return;
+        }
+        if req.motions.len() > MAX_PENDING {
+            let _ = req.reply.send(Err(BridgeError::invalid(format!(
+                "an append holds at most {MAX_PENDING} motions, not {}",
+                req.motions.len()
+            ))));
+            return;
+        }
+        let deadline = Instant::now() + req.wait;
+        p.parked.push_back(Parked { req, deadline });
+        self.take_parked();
+    }
+
+    /// Takes parked appends in order while they fit.
+    fn take_parked(&mut self) {
+        loop {
+            let Some(p) = self.path.as_mut() else { return };
+            let fits = p
+                .parked
+                .front()
+                .is_some_and(|a| p.pending.len() + a.req.motions.len() <= MAX_PENDING);
+            if !fits {
+                return;
+            }
+            let Some(a) = p.parked.pop_front() else {
+                return;
+            };
+            let outcome = self.accept_append(&a.req);
+            let _ = a.req.reply.send(outcome);
+        }
+    }
+
+    /// Resolves and checks an append against the end of the path and
+    /// queues it, all or nothing.
+    fn accept_append(&mut self, req: &AppendRequest) -> Result<AppendOutcome> {
+        let (tool, base) = (
+            self.ctl.tool.unwrap_or_default(),
+            self.ctl.base.unwrap_or_default(),
+        );
+        let approx = self.default_approx_mm;
+        let safety = self.shared.safety.clone();
+        let Some(p) = self.path.as_mut() else {
+            return Err(closed_error(req.path));
+        };
+        let first = p.appended;
+        if !req.motions.is_empty() {
+            let mut requests = req.motions.clone();
+            if let Some(c) = p.options.config {
+                requests.iter_mut().for_each(|m| m.default_config(c));
+            }
+            let mut records = resolve(&requests, &p.end, &self.speeds, approx)?;
+            // Within a path the last motion of an append blends into the
+            // next append's first (the robot stops at the path's end).
+            set_default_approx(&requests, &mut records, approx);
+            let at = |mut e: BridgeError| {
+                if let Some(m) = e.motion {
+                    e.motion = Some(first + m);
+                    e.detail = format!("{} (motion {} of the path)", e.detail, first + m);
+                }
+                e
+            };
+            safety
+                .choose_configurations(&requests, &mut records, &p.end, &tool, &base)
+                .map_err(at)?;
+            let end = safety
+                .check_resolved_end(&records, &p.end, &tool, &base)
+                .map_err(at)?;
+            p.end = end;
+            p.pending.extend(records);
+            p.appended += req.motions.len();
+            if p.lead_until.is_none() {
+                p.lead_until = Some(Instant::now() + LEAD);
+            }
+        }
+        if req.close {
+            p.close_requested = true;
+        }
+        let outcome = AppendOutcome {
+            path: p.job,
+            first,
+            appended: req.motions.len(),
+            total: p.appended,
+            closed: p.close_requested,
+        };
+        let (job, progress, appended) = (p.job, p.progress(), p.appended);
+        self.shared.update(job, |j| {
+            j.motions = appended;
+            j.path = Some(progress);
+        });
+        Ok(outcome)
+    }
+
+    /// Sends the next APPEND when the controller runs the path, nothing
+    /// else is on the channel, the lead has passed and its buffer has room.
+    pub(super) fn pump_path(&mut self) {
+        if self.stop.is_some() || self.pending.is_some() {
+            return;
+        }
+        let running = self.inflight.as_ref().is_some_and(|f| f.acked)
+            && self.ctl.state.as_ref().is_some_and(|s| {
+                s.status == ControllerStatus::Busy
+                    && self.path.as_ref().is_some_and(|p| s.busy_cid == p.cid)
+            });
+        let Some(p) = self.path.as_mut() else { return };
+        if !running || p.append.is_some() || p.over || p.close_sent {
+            return;
+        }
+        let now = Instant::now();
+        let lead_over = p.close_requested
+            || p.pending.len() >= LEAD_MOTIONS
+            || p.lead_until.is_some_and(|t| now >= t)
+            || p.stored > 0;
+        if !lead_over {
+            return;
+        }
+        let count = p.pending.len().min(p.room as usize).min(APPEND_CHUNK);
+        let close = p.close_requested && count == p.pending.len();
+        if count == 0 && !close {
+            return;
+        }
+        let chunk = PathChunk {
+            path: p.cid,
+            first: p.stored,
+            motions: p.pending.iter().take(count).cloned().collect(),
+            close,
+        };
+        let cid = match self.next_cid() {
+            Ok(cid) => cid,
+            Err(e) => {
+                self.fail_path(e);
+                return;
+            }
+        };
+        if let Some(p) = self.path.as_mut() {
+            p.append = Some(AppendInFlight { cid, count, close });
+        }
+        self.write_append(CommandFile {
+            cid,
+            command: Command::Append(chunk),
+        });
+    }
+
+    /// The controller's answer to an APPEND; false if `r` is not one.
+    pub(super) fn on_append_result(&mut self, r: &ResultRecord) -> bool {
+        let Some(p) = self.path.as_mut() else {
+            return false;
+        };
+        let Some(a) = p.append.take_if(|a| a.cid == r.cid) else {
+            return false;
+        };
+        match r.code {
+            ResultCode::Ok | ResultCode::BadCommand if r.completed >= p.stored => {
+                // `done` is the controller's stored count: what it took of
+                // this chunk (a resend skips what it already has).
+                let taken = ((r.completed - p.stored) as usize).min(p.pending.len());
+                p.pending.drain(..taken);
+                p.stored = r.completed;
+                p.room = p.room.saturating_sub(taken as u32);
+                if taken < a.count {
+                    // Full: wait for the next state file's room.
+                    p.room = 0;
+                }
+                if a.close && r.code == ResultCode::Ok && taken == a.count {
+                    p.close_sent = true;
+                }
+                if r.code == ResultCode::BadCommand {
+                    tracing::warn!(
+                        cid = r.cid,
+                        path = p.cid,
+                        stored = r.completed,
+                        "append refused; sending again from the controller's stored count"
+                    );
+                }
+            }
+            code => {
+                tracing::warn!(
+                    cid = r.cid,
+                    path = p.cid,
+                    code = code.code(),
+                    "the controller no longer takes motions for the path"
+                );
+                p.over = true;
+            }
+        }
+        let (job, progress) = (p.job, p.progress());
+        self.shared.update(job, |j| j.path = Some(progress));
+        self.take_parked();
+        true
+    }
+
+    /// A state file while the path runs: the controller's buffer room.
+    pub(super) fn path_state(&mut self, s: &StateFile) {
+        let Some(p) = self.path.as_mut() else { return };
+        if s.status == ControllerStatus::Busy && s.busy_cid == p.cid {
+            // Motions stored after this state was written hold room too.
+            p.room = s.room.saturating_sub(p.stored.saturating_sub(s.stored));
+        }
+    }
+
+    /// Appends whose wait has run out fail with `path_full`.
+    pub(super) fn expire_parked(&mut self, now: Instant) {
+        let Some(p) = self.path.as_mut() else { return };
+        while let Some(a) = p.parked.front() {
+            if a.deadline > now {
+                break;
+            }
+            if let Some(a) = p.parked.pop_front() {
+                let e = BridgeError::new(
+                    ErrorCode::PathFull,
+                    format!(
+                        "path {} holds {} motions not yet sent to the controller; none was free for {} ms",
+                        p.job,
+                        p.pending.len(),
+                        a.req.wait.as_millis()
+                    ),
+                );
+                let _ = a.req.reply.send(Err(e));
+            }
+        }
+    }
+
+    /// The path's job has ended (result, failure, stop): waiting appends
+    /// hear that it is closed; the rest is dropped.
+    pub(super) fn end_path(&mut self, job: JobId) {
+        if let Some(p) = self.path.take_if(|p| p.job == job) {
+            let dropped = p.pending.len();
+            if dropped > 0 {
+                tracing::info!(path = p.job, dropped, "path ended with motions not sent");
+            }
+            for a in p.parked {
+                let _ = a.req.reply.send(Err(closed_error(job)));
+            }
+        }
+    }
+
+    /// The path cannot go on (its APPEND could not be written): its job
+    /// fails and the robot stops.
+    pub(super) fn fail_path(&mut self, e: BridgeError) {
+        if let Some(job) = self.path.as_ref().map(|p| p.job) {
+            if self.inflight.as_ref().is_some_and(|f| f.id == job) {
+                self.fail_inflight(e);
+            }
+            self.end_path(job);
+            self.request_stop(None);
+        }
+    }
+}

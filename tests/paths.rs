@@ -1,0 +1,382 @@
+//! Paths (motion streams, issue 22) through HTTP against the simulated
+//! controller (`KB_TEST_SIMULATOR=krc`: the shipped KRL program in the
+//! KRC-like runtime): separately sent motions blend, ordering, JSON-lines
+//! streams, back-pressure, a refused motion, cancel and stop mid-stream, a
+//! client that disconnects, and the position while a path runs.
+
+use std::time::Duration;
+
+use kuka_bridge_tests::{Options, TestService, WAIT, assert_close, wait_for};
+use serde_json::{Value, json};
+
+/// The points of a circle (radius `r` mm around (190, 0), Z 100, flange
+/// down; the KR 3 R540's A5 < 0 region, no singularity).
+fn circle(n: usize, r: f64) -> Vec<[f64; 2]> {
+    (0..=n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            [190.0 + r * a.cos(), r * a.sin()]
+        })
+        .collect()
+}
+
+fn lin(p: &[f64; 2], v: f64) -> Value {
+    json!({"type": "lin", "target": {"x": p[0], "y": p[1]}, "velocity_m_s": v, "approx_mm": 2})
+}
+
+async fn to_start(t: &TestService, p: &[f64; 2]) {
+    let start = json!([{"type": "ptp", "target": {"x": p[0], "y": p[1], "z": 100, "a": 0, "b": 180, "c": 0, "s": 6}}]);
+    let (s, v) = t.motions(start).await;
+    assert_eq!(s, 200, "{v}");
+}
+
+async fn open_path(t: &TestService) -> u64 {
+    let (s, job) = t.post_json("/api/v1/paths", &json!({})).await;
+    assert_eq!(s, 201, "{job}");
+    assert_eq!(job["operation"], "path");
+    job["id"].as_u64().expect("id")
+}
+
+async fn wait_path_end(t: &TestService, id: u64) -> Value {
+    t.wait_job(id, "the path to end", |j| {
+        j["state"]
+            .as_str()
+            .is_some_and(|s| ["done", "failed", "cancelled"].contains(&s))
+    })
+    .await
+}
+
+/// Seconds the path's trace spans, and how many stops it shows before its
+/// end (the robot stood still between two of its motions).
+fn path_trace(t: &TestService, cid: i64) -> (f64, usize, usize) {
+    let trace: Vec<_> = t.trace().into_iter().filter(|s| s.cid == cid).collect();
+    assert!(trace.len() > 2, "the path left a trace");
+    let span = trace[trace.len() - 1].t - trace[0].t;
+    let stops = trace[..trace.len() - 1].iter().filter(|s| s.stop).count();
+    let last_motion = trace[trace.len() - 1].motion;
+    (span, stops, last_motion)
+}
+
+/// 200 LIN segments, each sent as its own request to one open path, run
+/// as one blended path: no stop between them, in the time of the same
+/// path planned as one batch, in order.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn separately_sent_motions_blend_into_one_path() {
+    let t = TestService::start(Options::default()).await;
+    let pts = circle(200, 50.0);
+    to_start(&t, &pts[0]).await;
+    // The same circle as one batch: the best the planner can do.
+    let batch: Vec<Value> = pts[1..].iter().map(|p| lin(p, 0.2)).collect();
+    let (s, b) = t
+        .post_json("/api/v1/motions", &json!({"motions": batch}))
+        .await;
+    assert_eq!(s, 200, "{b}");
+    let batch_cid = b["cid"].as_i64().expect("cid");
+    let (batch_span, batch_stops, _) = path_trace(&t, batch_cid);
+    assert_eq!(batch_stops, 0);
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    for (i, p) in pts[1..].iter().enumerate() {
+        let (s, o) = t
+            .post_json(
+                &format!("/api/v1/paths/{id}/motions"),
+                &json!({"motions": [lin(p, 0.2)]}),
+            )
+            .await;
+        assert_eq!(s, 200, "{o}");
+        assert_eq!(
+            (o["first"].as_u64(), o["total"].as_u64()),
+            (Some(i as u64), Some(i as u64 + 1)),
+            "{o}"
+        );
+    }
+    let (s, j) = t.delete(&format!("/api/v1/paths/{id}")).await;
+    assert_eq!(s, 200, "{j}");
+    assert_eq!(j["path"]["closed"], true, "{j}");
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(j["state"], "done", "{j}");
+    assert_eq!(
+        (j["completed"].as_u64(), j["motions"].as_u64()),
+        (Some(200), Some(200)),
+        "{j}"
+    );
+    assert_eq!(j["path"]["sent"], 200, "{j}");
+    let cid = j["cid"].as_i64().expect("cid");
+    let (span, stops, last) = path_trace(&t, cid);
+    assert_eq!(stops, 0, "no stop between the separately sent motions");
+    assert_eq!(last, 199, "every motion ran, the last one last");
+    assert!(
+        span <= batch_span * 1.02,
+        "path {span:.3} s vs the same path as one batch {batch_span:.3} s"
+    );
+    // It ends where the circle closes.
+    let end = &j["position"];
+    assert_close(end["x"].as_f64().expect("x"), pts[200][0], 0.01, "x");
+    assert_close(end["y"].as_f64().expect("y"), pts[200][1], 0.01, "y");
+}
+
+/// A JSON-lines stream of a long path: appended as the lines arrive,
+/// closed at the end of the stream, every motion run once and in order.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_json_lines_stream_runs_a_long_path() {
+    let t = TestService::start(Options::default()).await;
+    let pts = circle(2000, 60.0);
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let body: String = pts[1..]
+        .iter()
+        .map(|p| format!("{}\n", lin(p, 0.3)))
+        .collect();
+    let r = t
+        .http
+        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
+        .header("content-type", "application/x-ndjson")
+        .body(body)
+        .send()
+        .await
+        .expect("stream");
+    let status = r.status().as_u16();
+    let o: Value = r.json().await.expect("outcome");
+    assert_eq!(status, 200, "{o}");
+    assert_eq!(
+        (
+            o["appended"].as_u64(),
+            o["total"].as_u64(),
+            o["closed"].as_bool()
+        ),
+        (Some(2000), Some(2000), Some(true)),
+        "{o}"
+    );
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(
+        (j["state"].as_str(), j["completed"].as_u64()),
+        (Some("done"), Some(2000)),
+        "{j}"
+    );
+    let (_, stops, last) = path_trace(&t, j["cid"].as_i64().expect("cid"));
+    assert_eq!((stops, last), (0, 1999));
+    // Appending to a closed path is refused.
+    let (s, e) = t
+        .post_json(
+            &format!("/api/v1/paths/{id}/motions"),
+            &json!({"motions": [lin(&pts[0], 0.2)]}),
+        )
+        .await;
+    assert_eq!((s, e["code"].as_str()), (409, Some("path_closed")), "{e}");
+}
+
+/// A refused motion changes nothing: the append is answered with the
+/// reason and the path-wide index; the path goes on. In a JSON-lines
+/// stream the path is closed at the motion before the refused one.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_refused_motion_mid_stream() {
+    let t = TestService::start(Options::default()).await;
+    let pts = circle(40, 40.0);
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let url = format!("/api/v1/paths/{id}/motions");
+    let first: Vec<Value> = pts[1..11].iter().map(|p| lin(p, 0.2)).collect();
+    let (s, o) = t.post_json(&url, &json!({"motions": first})).await;
+    assert_eq!(s, 200, "{o}");
+    // Out of reach: 2 m away.
+    let bad = json!({"motions": [lin(&pts[11], 0.2), {"type": "lin", "target": {"x": 2000}}]});
+    let (s, e) = t.post_json(&url, &bad).await;
+    assert_eq!(s, 422, "{e}");
+    assert_eq!(
+        e["motion"], 11,
+        "path-wide index of the refused motion: {e}"
+    );
+    let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
+    assert_eq!(
+        j["path"]["appended"], 10,
+        "nothing of the refused append: {j}"
+    );
+    // The rest goes on from motion 10.
+    let rest: Vec<Value> = pts[11..].iter().map(|p| lin(p, 0.2)).collect();
+    let (s, o) = t
+        .post_json(&url, &json!({"motions": rest, "close": true}))
+        .await;
+    assert_eq!(s, 200, "{o}");
+    assert_eq!(
+        (o["first"].as_u64(), o["total"].as_u64()),
+        (Some(10), Some(40))
+    );
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(
+        (j["state"].as_str(), j["completed"].as_u64()),
+        (Some("done"), Some(40)),
+        "{j}"
+    );
+
+    // A stream with a bad line: the lines before it run, then the path ends.
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let mut body: String = pts[1..6]
+        .iter()
+        .map(|p| format!("{}\n", lin(p, 0.2)))
+        .collect();
+    body.push_str("{\"type\": \"lin\", \"target\": {\"x\": \"far\"}}\n");
+    body.push_str(&format!("{}\n", lin(&pts[6], 0.2)));
+    let r = t
+        .http
+        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
+        .header("content-type", "application/x-ndjson")
+        .body(body)
+        .send()
+        .await
+        .expect("stream");
+    let status = r.status().as_u16();
+    let e: Value = r.json().await.expect("problem");
+    assert_eq!(
+        (status, e["code"].as_str()),
+        (422, Some("invalid_input")),
+        "{e}"
+    );
+    assert!(
+        e["detail"].as_str().is_some_and(|d| d.contains("line 6")),
+        "{e}"
+    );
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(
+        (j["state"].as_str(), j["completed"].as_u64()),
+        (Some("done"), Some(5)),
+        "{j}"
+    );
+}
+
+/// Cancel and stop mid-stream: the robot stops at once, the path is
+/// cancelled, later appends are refused.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn cancel_and_stop_mid_stream() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    let pts = circle(40, 40.0);
+    to_start(&t, &pts[0]).await;
+    for how in ["cancel", "stop"] {
+        let id = open_path(&t).await;
+        let url = format!("/api/v1/paths/{id}/motions");
+        // 40 × 6.3 mm at 0.05 m/s: about 5 s.
+        let all: Vec<Value> = pts[1..].iter().map(|p| lin(p, 0.05)).collect();
+        let (s, o) = t.post_json(&url, &json!({"motions": all})).await;
+        assert_eq!(s, 200, "{o}");
+        t.wait_job(id, "the path to run a few motions", |j| {
+            j["completed"].as_u64().is_some_and(|c| c >= 2)
+        })
+        .await;
+        let (s, v) = if how == "cancel" {
+            t.delete(&format!("/api/v1/paths/{id}?cancel=true")).await
+        } else {
+            t.post("/api/v1/stop").await
+        };
+        assert_eq!(s, 200, "{v}");
+        let j = wait_path_end(&t, id).await;
+        assert_eq!(j["state"], "cancelled", "{how}: {j}");
+        let done = j["completed"].as_u64().expect("completed");
+        assert!((2..40).contains(&done), "{how}: stopped part way: {j}");
+        let (s, e) = t
+            .post_json(&url, &json!({"motions": [lin(&pts[1], 0.05)]}))
+            .await;
+        assert_eq!(
+            (s, e["code"].as_str()),
+            (409, Some("path_closed")),
+            "{how}: {e}"
+        );
+        // The robot stands where it stopped.
+        let at = t.controller_axes();
+        tokio::time::sleep(Duration::from_millis(200)).await;
+        assert_eq!(t.controller_axes(), at, "{how}: the robot stands");
+        to_start(&t, &pts[0]).await;
+    }
+}
+
+/// Back-pressure: a path holds at most 2000 motions in front of the
+/// controller; an append beyond waits for room and, when none comes within
+/// its `wait_ms`, is refused with `path_full` and a `Retry-After`, having
+/// appended nothing. Live position answers while it runs.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_full_path_holds_the_client_back() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    let pts = circle(2100, 50.0);
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let url = format!("/api/v1/paths/{id}/motions");
+    // Slow motions: the robot needs ~150 ms for each (0.15 mm at 1 mm/s).
+    let slow = |p: &[f64; 2]| json!({"type": "lin", "target": {"x": p[0], "y": p[1]}, "velocity_m_s": 0.001});
+    for chunk in pts[1..2201.min(pts.len())].chunks(500).take(5) {
+        let m: Vec<Value> = chunk.iter().map(slow).collect();
+        let (s, o) = t
+            .post_json(&url, &json!({"motions": m, "wait_ms": 200}))
+            .await;
+        if s == 503 {
+            assert_eq!(o["code"], "path_full", "{o}");
+            break;
+        }
+        assert_eq!(s, 200, "{o}");
+    }
+    let more: Vec<Value> = pts[1..501].iter().map(slow).collect();
+    let r = t
+        .http
+        .post(t.url(&url))
+        .json(&json!({"motions": more, "wait_ms": 300}))
+        .send()
+        .await
+        .expect("append");
+    assert_eq!(r.status().as_u16(), 503);
+    assert_eq!(r.headers()["retry-after"], "1");
+    let e: Value = r.json().await.expect("problem");
+    assert_eq!(e["code"], "path_full", "{e}");
+    let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
+    let appended = j["path"]["appended"].as_u64().expect("appended");
+    assert!(appended <= 2000 + 200, "{j}");
+    // The position is live while the path runs.
+    let (s, p) = t.get("/api/v1/position").await;
+    assert_eq!((s, p["source"].as_str()), (200, Some("live")), "{p}");
+    let (s, j) = t.delete(&format!("/api/v1/paths/{id}?cancel=true")).await;
+    assert_eq!(s, 200, "{j}");
+    wait_path_end(&t, id).await;
+}
+
+/// A client that disconnects in the middle of a JSON-lines stream: the
+/// path ends at the last motion appended (documented), nothing hangs.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_disconnect_ends_the_path() {
+    let t = TestService::start(Options::default()).await;
+    let pts = circle(60, 40.0);
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let lines: Vec<Result<String, std::io::Error>> = pts[1..21]
+        .iter()
+        .map(|p| Ok(format!("{}\n", lin(p, 0.2))))
+        .chain(std::iter::once(Err(std::io::Error::other("client gone"))))
+        .collect();
+    let body = reqwest::Body::wrap_stream(futures_util::stream::iter(lines));
+    let _ = t
+        .http
+        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
+        .header("content-type", "application/x-ndjson")
+        .body(body)
+        .send()
+        .await;
+    let j = wait_for(WAIT, "the path to end after the disconnect", async || {
+        let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
+        if j["state"] == "done" {
+            Ok(j)
+        } else {
+            Err(j.to_string())
+        }
+    })
+    .await;
+    let done = j["completed"].as_u64().expect("completed");
+    assert!(done <= 20, "{j}");
+    assert_eq!(
+        j["completed"], j["path"]["appended"],
+        "every appended motion ran: {j}"
+    );
+}
