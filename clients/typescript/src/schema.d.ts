@@ -255,6 +255,92 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/paths": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Open a path: a motion stream that stays open while motions are appended.
+         * @description The answer is the path's job (`operation: path`), 201 with a `Location`. The path
+         *     takes the controller like any job (it waits behind queued jobs), then runs motions
+         *     as they are appended with `POST /api/v1/paths/{id}/motions`: motions appended while
+         *     the robot moves are approximated into it, so a path sent motion by motion does not
+         *     stop between motions as long as they come faster than the robot runs them. End it
+         *     with `DELETE /api/v1/paths/{id}` (the robot finishes what was appended), or stop.
+         *
+         *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        post: operations["createPath"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/paths/{id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * One path: its job record (`operation: path`) with `path.appended`, `path.sent`,
+         *     `path.closed`; `completed` counts the motions the robot has finished.
+         * @description **Access:** role `viewer` or higher.
+         */
+        get: operations["getPath"];
+        put?: never;
+        post?: never;
+        /**
+         * End a path: it is closed and the robot finishes the motions already appended (the
+         *     job becomes `done` when the last has run); with `cancel=true` the robot stops now
+         *     and the path is cancelled. A path that has ended already is returned unchanged.
+         * @description **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        delete: operations["endPath"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/paths/{id}/motions": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Append motions to an open path.
+         * @description Either a JSON object (`AppendBody`: the motions, `close`, `wait_ms`), appended all or
+         *     none, or a stream of JSON lines (`Content-Type: application/x-ndjson`, one motion
+         *     object per line) for a path of any length: the lines are appended as they arrive and
+         *     the connection's flow control holds the client back while the path is full. Each
+         *     motion is checked (reachability, limits, configuration, the swept path against the
+         *     workspace rules) against the end of what the path already holds before anything is
+         *     sent; a refused motion closes a JSON-lines stream's path at the motion before it
+         *     (the answer names it), a refused JSON object changes nothing. Omitted coordinates keep
+         *     the previous motion's value, across appends. While the path holds `MAX_PENDING`
+         *     (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
+         *     then answers `path_full` with `Retry-After`.
+         *
+         *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        post: operations["appendToPath"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/plugins": {
         parameters: {
             query?: never;
@@ -888,6 +974,71 @@ export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
         /**
+         * @description Motions to append.
+         * @example {
+         *       "motions": [
+         *         {
+         *           "type": "lin",
+         *           "target": {
+         *             "x": 200,
+         *             "y": 10
+         *           },
+         *           "velocity_m_s": 0.2
+         *         },
+         *         {
+         *           "type": "lin",
+         *           "target": {
+         *             "x": 210,
+         *             "y": 20
+         *           },
+         *           "velocity_m_s": 0.2
+         *         }
+         *       ],
+         *       "close": false
+         *     }
+         */
+        AppendBody: {
+            /** @description Close the path after these motions: it ends when they have run. */
+            close?: boolean;
+            /**
+             * @description The motions, in order; they are approximated into each other and
+             *     into what follows (`approx_mm` default of the site) unless they set
+             *     `approx_mm`. May be empty (with `close`).
+             */
+            motions?: components["schemas"]["MotionRequest"][];
+            /**
+             * Format: int64
+             * @description How long to wait for room while the path's buffer is full (ms,
+             *     default 30000); then `path_full` with `Retry-After`.
+             */
+            wait_ms?: number | null;
+        };
+        /**
+         * @description The answer to an append.
+         * @example {
+         *       "path": 12,
+         *       "first": 40,
+         *       "appended": 20,
+         *       "total": 60,
+         *       "closed": false
+         *     }
+         */
+        AppendOutcome: {
+            /** @description Motions appended by this request. */
+            appended: number;
+            /** @description The path is closed now. */
+            closed: boolean;
+            /** @description Path-wide index of the first motion of this append. */
+            first: number;
+            /**
+             * Format: int64
+             * @description The path (its job id).
+             */
+            path: number;
+            /** @description Motions appended to the path so far. */
+            total: number;
+        };
+        /**
          * @description One audited request.
          * @example {
          *       "time_ms": 1763856000123,
@@ -1225,7 +1376,7 @@ export interface components {
             detail: string;
         };
         /**
-         * @description A stable, machine-readable error code (never renamed; see /errors). The bridge's codes: invalid_input, workspace_violation, speed_limit, unreachable, software_limit, singularity, controller_offline, channel_locked, timeout, controller_error, controller_busy, cancelled, not_found, method_not_allowed, payload_too_large, unsupported_media_type, queue_full, invalid_program, program_unsupported, program_failed, programs_unavailable, plugin_invalid, plugin_timeout, plugin_memory, plugin_trap, plugin_bad_response, plugins_unavailable, unauthenticated, forbidden, control_held, too_many_attempts, overloaded, request_timeout, protocol_error, internal, storage_unavailable, command_lost, gone, shutting_down. A plugin's answer may carry a code of its own.
+         * @description A stable, machine-readable error code (never renamed; see /errors). The bridge's codes: invalid_input, workspace_violation, speed_limit, unreachable, software_limit, singularity, controller_offline, channel_locked, timeout, controller_error, controller_busy, cancelled, not_found, method_not_allowed, payload_too_large, unsupported_media_type, queue_full, invalid_program, program_unsupported, program_failed, programs_unavailable, plugin_invalid, plugin_timeout, plugin_memory, plugin_trap, plugin_bad_response, plugins_unavailable, unauthenticated, forbidden, control_held, too_many_attempts, overloaded, request_timeout, protocol_error, internal, storage_unavailable, command_lost, gone, shutting_down, path_closed, path_full. A plugin's answer may carry a code of its own.
          * @example invalid_input
          * @example workspace_violation
          * @example speed_limit
@@ -1265,6 +1416,8 @@ export interface components {
          * @example command_lost
          * @example gone
          * @example shutting_down
+         * @example path_closed
+         * @example path_full
          */
         ErrorCode: string;
         /**
@@ -1404,6 +1557,7 @@ export interface components {
             operation: string;
             /** @description Who asked for it when not an HTTP client directly: `plugin:<name>@<version>`. */
             origin?: string | null;
+            path?: components["schemas"]["PathProgress"] | null;
             position?: components["schemas"]["Position"] | null;
             /**
              * @description The token name of the client whose request created it (`anonymous`
@@ -1738,6 +1892,31 @@ export interface components {
              * @description Wrist point to flange.
              */
             c4: number;
+        };
+        /**
+         * @description Opening a path.
+         * @example {
+         *       "config": "auto"
+         *     }
+         */
+        PathCreate: {
+            config?: components["schemas"]["Configuration"] | null;
+        };
+        /**
+         * @description A path's progress, in its job record.
+         * @example {
+         *       "appended": 120,
+         *       "sent": 80,
+         *       "closed": false
+         *     }
+         */
+        PathProgress: {
+            /** @description Motions appended by clients (checked and accepted). */
+            appended: number;
+            /** @description The path was closed: it ends when its last motion has run. */
+            closed: boolean;
+            /** @description Motions the controller has stored (the rest wait in the service). */
+            sent: number;
         };
         /** @description One motion of a [`JobPlan`]. */
         PlannedMotion: {
@@ -3793,6 +3972,333 @@ export interface operations {
                 };
             };
             /** @description Controller offline, channel locked or timeout */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    createPath: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["PathCreate"];
+            };
+        };
+        responses: {
+            /** @description The path's job */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Job"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getPath: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description The path's job id */
+                id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Job"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, … */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    endPath: {
+        parameters: {
+            query?: {
+                /**
+                 * @description Stop the robot now (the path is cancelled) instead of letting it
+                 *     finish the motions already appended.
+                 */
+                cancel?: boolean;
+            };
+            header?: never;
+            path: {
+                /** @description The path's job id */
+                id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Job"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    appendToPath: {
+        parameters: {
+            query?: {
+                /**
+                 * @description JSON lines only: close the path when the stream ends (default
+                 *     true). A stream that breaks off (the client disconnects) always
+                 *     closes it at the last motion appended.
+                 */
+                close?: boolean;
+            };
+            header?: never;
+            path: {
+                /** @description The path's job id */
+                id: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["AppendBody"];
+                "application/x-ndjson": string;
+            };
+        };
+        responses: {
+            /** @description Appended */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["AppendOutcome"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: nothing of a JSON object was appended; a JSON-lines stream stopped at the refused motion */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `path_full` (with `Retry-After`), controller offline */
             "5XX": {
                 headers: {
                     [name: string]: unknown;

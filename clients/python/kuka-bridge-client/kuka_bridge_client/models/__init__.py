@@ -2,6 +2,8 @@
 
 from .alarm_event import AlarmEvent
 from .alarm_event_type import AlarmEventType
+from .append_body import AppendBody
+from .append_outcome import AppendOutcome
 from .audit_record import AuditRecord
 from .aux_point import AuxPoint
 from .axes_spec import AxesSpec
@@ -36,6 +38,8 @@ from .model_info import ModelInfo
 from .motion_batch import MotionBatch
 from .new_token import NewToken
 from .opw_lengths import OpwLengths
+from .path_create import PathCreate
+from .path_progress import PathProgress
 from .plan_event import PlanEvent
 from .plan_event_type import PlanEventType
 from .planned_motion import PlannedMotion
@@ -76,6 +80,8 @@ from .workspace_info import WorkspaceInfo
 __all__ = (
     "AlarmEvent",
     "AlarmEventType",
+    "AppendBody",
+    "AppendOutcome",
     "AuditRecord",
     "AuxPoint",
     "AxesSpec",
@@ -110,6 +116,8 @@ __all__ = (
     "MotionBatch",
     "NewToken",
     "OpwLengths",
+    "PathCreate",
+    "PathProgress",
     "PlanEvent",
     "PlanEventType",
     "PlannedMotion",

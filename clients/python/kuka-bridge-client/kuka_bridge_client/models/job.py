@@ -16,6 +16,7 @@ if TYPE_CHECKING:
   from ..models.axis_angles import AxisAngles
   from ..models.bridge_error import BridgeError
   from ..models.cartesian_frame import CartesianFrame
+  from ..models.path_progress import PathProgress
   from ..models.position import Position
   from ..models.ptp_configuration import PtpConfiguration
 
@@ -56,6 +57,7 @@ class Job:
                 example): `state`, `error` and `completed` are then the controller's
                 own outcome, which replaced the earlier one.
             origin (None | str | Unset): Who asked for it when not an HTTP client directly: `plugin:<name>@<version>`.
+            path (None | PathProgress | Unset):
             position (None | Position | Unset):
             requested_by (None | str | Unset): The token name of the client whose request created it (`anonymous`
                 when auth is off).
@@ -76,6 +78,7 @@ class Job:
     frame: CartesianFrame | None | Unset = UNSET
     late_result: bool | Unset = UNSET
     origin: None | str | Unset = UNSET
+    path: None | PathProgress | Unset = UNSET
     position: None | Position | Unset = UNSET
     requested_by: None | str | Unset = UNSET
     sent_ms: int | None | Unset = UNSET
@@ -89,6 +92,7 @@ class Job:
         from ..models.axis_angles import AxisAngles # noqa: PLC0415
         from ..models.bridge_error import BridgeError # noqa: PLC0415
         from ..models.cartesian_frame import CartesianFrame # noqa: PLC0415
+        from ..models.path_progress import PathProgress # noqa: PLC0415
         from ..models.position import Position # noqa: PLC0415
         from ..models.ptp_configuration import PtpConfiguration # noqa: PLC0415
         completed = self.completed
@@ -156,6 +160,14 @@ class Job:
         else:
             origin = self.origin
 
+        path: dict[str, Any] | None | Unset
+        if isinstance(self.path, Unset):
+            path = UNSET
+        elif isinstance(self.path, PathProgress):
+            path = self.path.to_dict()
+        else:
+            path = self.path
+
         position: dict[str, Any] | None | Unset
         if isinstance(self.position, Unset):
             position = UNSET
@@ -203,6 +215,8 @@ class Job:
             field_dict["late_result"] = late_result
         if origin is not UNSET:
             field_dict["origin"] = origin
+        if path is not UNSET:
+            field_dict["path"] = path
         if position is not UNSET:
             field_dict["position"] = position
         if requested_by is not UNSET:
@@ -219,6 +233,7 @@ class Job:
         from ..models.axis_angles import AxisAngles # noqa: PLC0415
         from ..models.bridge_error import BridgeError # noqa: PLC0415
         from ..models.cartesian_frame import CartesianFrame # noqa: PLC0415
+        from ..models.path_progress import PathProgress # noqa: PLC0415
         from ..models.position import Position # noqa: PLC0415
         from ..models.ptp_configuration import PtpConfiguration # noqa: PLC0415
         d = dict(src_dict)
@@ -341,6 +356,26 @@ class Job:
         origin = _parse_origin(d.pop("origin", UNSET))
 
 
+        def _parse_path(data: object) -> None | PathProgress | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            try:
+                if not isinstance(data, dict):
+                    raise TypeError()
+                path_type_0 = PathProgress.from_dict(data)
+
+
+
+                return path_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(None | PathProgress | Unset, data)
+
+        path = _parse_path(d.pop("path", UNSET))
+
+
         def _parse_position(data: object) -> None | Position | Unset:
             if data is None:
                 return data
@@ -396,6 +431,7 @@ class Job:
             frame=frame,
             late_result=late_result,
             origin=origin,
+            path=path,
             position=position,
             requested_by=requested_by,
             sent_ms=sent_ms,
