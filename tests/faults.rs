@@ -676,3 +676,40 @@ async fn locked_channel_does_not_block_stop_or_the_queue() {
     assert_eq!(s, 200);
     t.service.shutdown().await.expect("shutdown");
 }
+
+/// A controller program of protocol version 1 (the KRL program shipped
+/// before motion streams) is refused with its version named: the state
+/// says which program to install, and nothing is sent to it.
+#[tokio::test]
+async fn a_version_1_controller_is_named_and_refused() {
+    let root = tempfile::tempdir().expect("tmp");
+    let t = TestService::start_without_sim(root.path()).await;
+    let v1_state = "STA 1 294 0 4 0 0 22 0 0 100.000 1 31308\n\
+        POS 355.000 0.000 625.000 0.000 90.000 0.000 2 2 49280\n\
+        AXS 0.000 -90.000 90.000 0.000 0.000 0.000 63442\n\
+        TOL 0.000 0.000 0.000 0.000 0.000 0.000 0\n\
+        BAS 0.000 0.000 0.000 0.000 0.000 0.000 0\n\
+        END 294 294\n";
+    let dir = root.path().join("channel");
+    std::fs::create_dir_all(&dir).expect("channel folder");
+    std::fs::write(dir.join(STATE_FILE), v1_state).expect("state");
+    let st = t
+        .wait_state("the version to be named", |st| {
+            st["degraded"].as_array().is_some_and(|d| {
+                d.iter().any(|e| {
+                    e["code"] == "protocol_error"
+                        && e["detail"]
+                            .as_str()
+                            .is_some_and(|s| s.contains("protocol version 1"))
+                })
+            })
+        })
+        .await;
+    assert_eq!(st["connection"], "offline", "{st}");
+    let (s, v) = t.post("/krl/getpos").await;
+    assert_eq!(s, 503, "{v}");
+    assert!(
+        !dir.join(COMMAND_FILE).exists(),
+        "nothing was written for a version 1 controller"
+    );
+}

@@ -122,6 +122,8 @@ struct Faults {
     /// The result or state file (its name, and the sentence) is larger
     /// than any protocol file.
     oversize: Option<(&'static str, String)>,
+    /// The controller's state file speaks another protocol version.
+    version: Option<String>,
 }
 
 struct StopInFlight {
@@ -810,6 +812,9 @@ impl Actor {
             add(ErrorCode::StorageUnavailable, fault);
         }
         if let Some((_, fault)) = &self.faults.oversize {
+            add(ErrorCode::ProtocolError, fault);
+        }
+        if let Some(fault) = &self.faults.version {
             add(ErrorCode::ProtocolError, fault);
         }
         if let Some(e) = self.ctl.state.as_ref().and_then(state_error) {

@@ -16,6 +16,7 @@ impl Actor {
         match state {
             ReadOutcome::Record(s) => {
                 self.oversize(kuka_protocol::STATE_FILE, None);
+                self.faults.version = None;
                 let old_seq = self.ctl.state.as_ref().map(|old| old.seq);
                 if old_seq != Some(s.seq) {
                     // The first heartbeat seen may be a stale file: only a change proves life.
@@ -28,6 +29,16 @@ impl Actor {
                         }
                     }
                     self.on_state(s, now);
+                }
+            }
+            ReadOutcome::Invalid(kuka_protocol::DecodeError::Version(v)) => {
+                if self.faults.version.is_none() {
+                    let detail = format!(
+                        "the controller program speaks protocol version {v}; this service speaks version {}: install the KRL program of this release (krl/KRC, docs/CONTROLLER.md)",
+                        kuka_protocol::PROTOCOL_VERSION
+                    );
+                    tracing::error!(version = v, "controller speaks another protocol version");
+                    self.faults.version = Some(detail);
                 }
             }
             ReadOutcome::Invalid(e) => {
