@@ -1,0 +1,303 @@
+//! Benchmark of motion streams (issue 22; results in docs/BENCHMARKS.md §10):
+//!
+//! 1. a 50 mm circle as 200 LIN segments at 0.2 m/s, each segment sent as
+//!    its own request: appended to one path, versus 200 separate
+//!    `POST /api/v1/motions`, versus one batch; exact stops and path time
+//!    against the ideal (length / speed) — real time, as a client sees it;
+//! 2. a 10,000-point path streamed as JSON lines: stops, time against the
+//!    ideal;
+//! 3. a long path (default 100,000 points) streamed as JSON lines
+//!    generated on the fly: it completes, and the process's memory
+//!    (service and simulated controller in one process) stays flat;
+//! 4. the position read while a 2 s LIN runs: latency of
+//!    `GET /api/v1/position` and `POST /krl/getpos`;
+//! 5. with `--sim krc` (the shipped KRL program in the KRC-like runtime,
+//!    12 ms Submit cycle): the Submit side's statements per pass and file
+//!    operations per motion over the 10,000-point path.
+//!
+//! Run: `cargo bench -p kuka-bridge-tests --bench streaming -- [--sim native|krc]
+//! [--long 100000]`.
+
+use std::time::{Duration, Instant};
+
+use kuka_bridge::config::SimulatorKind;
+use kuka_bridge_tests::bench::{percentile, rss_mib};
+use kuka_bridge_tests::{Options, TestService};
+use serde_json::{Value, json};
+
+fn arg(name: &str) -> Option<String> {
+    let args: Vec<String> = std::env::args().collect();
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|i| args.get(i + 1).cloned())
+}
+
+/// A circle of `n` segments (radius `r` around (190, 0), Z 100).
+fn circle(n: usize, r: f64) -> Vec<[f64; 2]> {
+    (0..=n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            [190.0 + r * a.cos(), r * a.sin()]
+        })
+        .collect()
+}
+
+fn length(pts: &[[f64; 2]]) -> f64 {
+    pts.windows(2)
+        .map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2)).sqrt())
+        .sum()
+}
+
+fn lin(p: &[f64; 2], v: f64) -> Value {
+    json!({"type": "lin", "target": {"x": p[0], "y": p[1]}, "velocity_m_s": v, "approx_mm": 2})
+}
+
+async fn service(kind: SimulatorKind, time_scale: f64) -> TestService {
+    TestService::start(Options {
+        time_scale,
+        tweak: Box::new(move |c| {
+            c.simulator.kind = kind;
+            c.channel.offline_after_ms = 3000;
+        }),
+        ..Options::default()
+    })
+    .await
+}
+
+async fn to_start(t: &TestService, p: &[f64; 2]) {
+    let start = json!([{"type": "ptp", "target": {"x": p[0], "y": p[1], "z": 100, "a": 0, "b": 180, "c": 0, "s": 6}}]);
+    let (s, v) = t.motions(start).await;
+    assert_eq!(s, 200, "{v}");
+}
+
+async fn open_path(t: &TestService) -> u64 {
+    let (s, job) = t.post_json("/api/v1/paths", &json!({})).await;
+    assert_eq!(s, 201, "{job}");
+    job["id"].as_u64().expect("id")
+}
+
+async fn wait_end(t: &TestService, id: u64) -> Value {
+    loop {
+        let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
+        if j["state"]
+            .as_str()
+            .is_some_and(|s| ["done", "failed", "cancelled"].contains(&s))
+        {
+            return j;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+}
+
+/// Span (s) of the trace samples of the given command ids and the stops
+/// in it before its last sample.
+fn span_and_stops(t: &TestService, cids: &[i64]) -> (f64, usize) {
+    let trace: Vec<_> = t
+        .trace()
+        .into_iter()
+        .filter(|s| cids.contains(&s.cid))
+        .collect();
+    if trace.len() < 2 {
+        return (0.0, 0);
+    }
+    let span = trace[trace.len() - 1].t - trace[0].t;
+    let stops = trace[..trace.len() - 1].iter().filter(|s| s.stop).count();
+    (span, stops)
+}
+
+async fn stream_lines(t: &TestService, id: u64, lines: String) -> Value {
+    let r = t
+        .http
+        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
+        .header("content-type", "application/x-ndjson")
+        .body(lines)
+        .send()
+        .await
+        .expect("stream");
+    let v: Value = r.json().await.expect("outcome");
+    assert_eq!(v["closed"], true, "{v}");
+    v
+}
+
+fn main() {
+    let kind = match arg("--sim").as_deref() {
+        Some("krc") => SimulatorKind::Krc,
+        _ => SimulatorKind::Native,
+    };
+    let long: usize = arg("--long").and_then(|v| v.parse().ok()).unwrap_or(100_000);
+    let rt = kuka_bridge_tests::bench::runtime();
+    rt.block_on(async move {
+        println!("kuka-bridge streaming benchmark, simulator {kind:?}");
+
+        // 1. 200 separately sent segments, real time.
+        let t = service(kind, 1.0).await;
+        let pts = circle(200, 50.0);
+        let ideal = length(&pts) / 1000.0 / 0.2;
+        to_start(&t, &pts[0]).await;
+        let batch: Vec<Value> = pts[1..].iter().map(|p| lin(p, 0.2)).collect();
+        let (s, b) = t.post_json("/api/v1/motions", &json!({"motions": batch})).await;
+        assert_eq!(s, 200, "{b}");
+        let (batch_span, batch_stops) = span_and_stops(&t, &[b["cid"].as_i64().expect("cid")]);
+        to_start(&t, &pts[0]).await;
+        let wall = Instant::now();
+        let mut cids = Vec::new();
+        for p in &pts[1..] {
+            let (s, v) = t.post_json("/api/v1/motions", &json!({"motions": [lin(p, 0.2)]})).await;
+            assert_eq!(s, 200, "{v}");
+            cids.push(v["cid"].as_i64().expect("cid"));
+        }
+        let separate_wall = wall.elapsed().as_secs_f64();
+        let (separate_span, separate_stops) = span_and_stops(&t, &cids);
+        to_start(&t, &pts[0]).await;
+        let wall = Instant::now();
+        let id = open_path(&t).await;
+        for p in &pts[1..] {
+            let (s, v) = t
+                .post_json(&format!("/api/v1/paths/{id}/motions"), &json!({"motions": [lin(p, 0.2)]}))
+                .await;
+            assert_eq!(s, 200, "{v}");
+        }
+        let (s, _) = t.delete(&format!("/api/v1/paths/{id}")).await;
+        assert_eq!(s, 200);
+        let j = wait_end(&t, id).await;
+        let path_wall = wall.elapsed().as_secs_f64();
+        assert_eq!(j["state"], "done", "{j}");
+        let (path_span, path_stops) = span_and_stops(&t, &[j["cid"].as_i64().expect("cid")]);
+        println!("-- 1. 50 mm circle, 200 LIN segments at 0.2 m/s (ideal {ideal:.3} s), real time");
+        println!("one batch:                    {batch_span:.3} s = {:.3}× ideal, {batch_stops} stops", batch_span / ideal);
+        println!("200 separate motion requests: {separate_span:.3} s = {:.3}× ideal, {separate_stops} stops (wall {separate_wall:.2} s)", separate_span / ideal);
+        println!("200 appends to one path:      {path_span:.3} s = {:.3}× ideal, {:.3}× the batch, {path_stops} stops (wall {path_wall:.2} s)", path_span / ideal, path_span / batch_span);
+        t.service.shutdown().await.expect("shutdown");
+
+        // 2. and 5. 10,000 points as JSON lines.
+        let t = service(kind, 0.0).await;
+        let turn = circle(100, 60.0);
+        let pts: Vec<[f64; 2]> = (0..=10_000).map(|i| turn[i % 100]).collect();
+        let ideal = length(&pts) / 1000.0 / 0.3;
+        to_start(&t, &pts[0]).await;
+        let before = t.service.krc.as_ref().map(|k| k.stats());
+        let id = open_path(&t).await;
+        let lines: String = pts[1..].iter().map(|p| format!("{}\n", lin(p, 0.3))).collect();
+        let wall = Instant::now();
+        stream_lines(&t, id, lines).await;
+        let j = wait_end(&t, id).await;
+        assert_eq!(j["state"], "done", "{j}");
+        let (span, stops) = span_and_stops(&t, &[j["cid"].as_i64().expect("cid")]);
+        println!("-- 2. 10,000-point path (3.8 mm segments at 0.3 m/s, ideal {ideal:.3} s) as JSON lines");
+        println!("path time {span:.3} s = {:.4}× ideal, {stops} stops, {} motions done (wall {:.1} s)", span / ideal, j["completed"], wall.elapsed().as_secs_f64());
+        if let (Some(k), Some(before)) = (t.service.krc.as_ref(), before) {
+            let after = k.stats();
+            let ops = |s: &kuka_krc::KrcStats| s.file_calls.values().sum::<u64>();
+            let reads = |s: &kuka_krc::KrcStats| s.file_calls.get("krl_fgets").copied().unwrap_or(0);
+            println!("-- 5. the Submit side over that path (KRL program, 12 ms cycle, budget {})", t.config.simulator.submit_budget);
+            println!(
+                "file operations per motion: {:.3} (krl_fgets {:.3}); Submit passes {}, over the budget {}; statements per pass p50/p99/max (whole run) {}/{}/{}",
+                (ops(&after) - ops(&before)) as f64 / 10_000.0,
+                (reads(&after) - reads(&before)) as f64 / 10_000.0,
+                after.passes - before.passes,
+                after.passes_overrun - before.passes_overrun,
+                after.pass_statements_p50,
+                after.pass_statements_p99,
+                after.pass_statements_max
+            );
+        }
+        t.service.shutdown().await.expect("shutdown");
+
+        // 3. A long path streamed from a client, generated on the fly; twice:
+        // the first run warms up (allocator, the simulator's bounded trace
+        // buffer), the second shows whether memory grows with the path.
+        let t = service(kind, 0.0).await;
+        to_start(&t, &turn[0]).await;
+        println!("-- 3. {long}-point path streamed as JSON lines, twice (the second after clearing the trace)");
+        for run in 1..=2 {
+            let (s, _) = t.delete("/api/v1/sim/trace").await;
+            assert!(s == 200 || s == 204, "clear the trace: {s}");
+            let id = open_path(&t).await;
+            let rss0 = rss_mib(None).unwrap_or(0.0);
+            let peak = std::sync::Arc::new(std::sync::Mutex::new(rss0));
+            let watch = {
+                let peak = peak.clone();
+                tokio::spawn(async move {
+                    loop {
+                        if let Some(r) = rss_mib(None) {
+                            let mut p = peak.lock().expect("peak");
+                            *p = p.max(r);
+                        }
+                        tokio::time::sleep(Duration::from_millis(100)).await;
+                    }
+                })
+            };
+            let chunks = (0..long).collect::<Vec<_>>();
+            let lines = futures_util::stream::iter(
+                chunks
+                    .chunks(500)
+                    .map(|c| {
+                        let text: String = c
+                            .iter()
+                            .map(|i| format!("{}\n", lin(&turn[(i + 1) % 100], 0.3)))
+                            .collect();
+                        Ok::<_, std::io::Error>(text)
+                    })
+                    .collect::<Vec<_>>(),
+            );
+            let wall = Instant::now();
+            let r = t
+                .http
+                .post(t.url(&format!("/api/v1/paths/{id}/motions")))
+                .header("content-type", "application/x-ndjson")
+                .body(reqwest::Body::wrap_stream(lines))
+                .send()
+                .await
+                .expect("stream");
+            let v: Value = r.json().await.expect("outcome");
+            let j = wait_end(&t, id).await;
+            watch.abort();
+            let rss1 = rss_mib(None).unwrap_or(0.0);
+            let peak = *peak.lock().expect("peak");
+            println!(
+                "run {run}: {} ({} motions done, appended {}), wall {:.1} s; RSS before {rss0:.1} MiB, peak {peak:.1} MiB (+{:.1}), after {rss1:.1} MiB",
+                j["state"],
+                j["completed"],
+                v["total"],
+                wall.elapsed().as_secs_f64(),
+                peak - rss0
+            );
+        }
+        t.service.shutdown().await.expect("shutdown");
+
+        // 4. Position reads while a 2 s LIN runs.
+        let t = service(kind, 1.0).await;
+        to_start(&t, &[190.0, -100.0]).await;
+        let body = json!({"motions": [{"type": "lin", "target": {"y": 100}, "velocity_m_s": 0.1}], "wait": false});
+        let (s, job) = t.post_json("/api/v1/motions", &body).await;
+        assert_eq!(s, 202, "{job}");
+        let id = job["id"].as_u64().expect("id");
+        loop {
+            let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
+            if j["state"] == "executing" {
+                break;
+            }
+            tokio::time::sleep(Duration::from_millis(5)).await;
+        }
+        let mut v1 = Vec::new();
+        let mut thesis = Vec::new();
+        let mut live = 0;
+        for _ in 0..200 {
+            let t0 = Instant::now();
+            let (_, p) = t.get("/api/v1/position").await;
+            v1.push(t0.elapsed());
+            live += usize::from(p["source"] == "live");
+            let t0 = Instant::now();
+            let (_, _) = t.post("/krl/getpos").await;
+            thesis.push(t0.elapsed());
+        }
+        let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
+        v1.sort();
+        thesis.sort();
+        let ms = |d: Duration| d.as_secs_f64() * 1e3;
+        println!("-- 4. position reads during a 2 s LIN ({live} of 200 live; the LIN was still {} after them)", j["state"]);
+        println!("GET /api/v1/position  p50 {:.2} ms  p99 {:.2} ms  max {:.2} ms", ms(percentile(&v1, 0.5)), ms(percentile(&v1, 0.99)), ms(*v1.last().expect("samples")));
+        println!("POST /krl/getpos      p50 {:.2} ms  p99 {:.2} ms  max {:.2} ms", ms(percentile(&thesis, 0.5)), ms(percentile(&thesis, 0.99)), ms(*thesis.last().expect("samples")));
+        t.service.shutdown().await.expect("shutdown");
+    });
+}
