@@ -388,3 +388,66 @@ async fn a_client_disconnect_ends_the_path() {
         "every appended motion ran: {j}"
     );
 }
+
+/// The KRL program's robot side restarted mid-stream (the operator resets
+/// and starts `kb_main` again, `POST /api/v1/sim/acknowledge`): the path
+/// goes on with the motion that was running. No motion runs twice, none
+/// is lost: the trace's motion index never goes back, every motion is
+/// done, the path ends at its last target. Always on the KRC-like runtime
+/// (the native simulator has no robot program to restart).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_robot_program_restart_mid_stream_loses_and_repeats_nothing() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(|c| c.simulator.kind = kuka_bridge::config::SimulatorKind::Krc),
+        ..Options::default()
+    })
+    .await;
+    let pts = circle(30, 40.0);
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let url = format!("/api/v1/paths/{id}/motions");
+    // 30 × 8.4 mm at 0.05 m/s: about 5 s.
+    let all: Vec<Value> = pts[1..].iter().map(|p| lin(p, 0.05)).collect();
+    let (s, o) = t
+        .post_json(&url, &json!({"motions": all, "close": true}))
+        .await;
+    assert_eq!(s, 200, "{o}");
+    t.wait_job(id, "a few motions to run", |j| {
+        j["completed"].as_u64().is_some_and(|c| c >= 4)
+    })
+    .await;
+    let (s, v) = t.post("/api/v1/sim/acknowledge").await;
+    assert_eq!(s, 204, "{v}");
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(
+        (j["state"].as_str(), j["completed"].as_u64()),
+        (Some("done"), Some(30)),
+        "{j}"
+    );
+    // No motion twice: the TCP goes round the circle once, never back
+    // (its angle about the centre only grows), and reaches the end.
+    let cid = j["cid"].as_i64().expect("cid");
+    let mut angles: Vec<f64> = Vec::new();
+    for s in t.trace().iter().filter(|s| s.cid == cid) {
+        let mut a = s.pose[1].atan2(s.pose[0] - 190.0);
+        if let Some(&prev) = angles.last() {
+            while a < prev - std::f64::consts::PI {
+                a += std::f64::consts::TAU;
+            }
+        }
+        angles.push(a);
+    }
+    assert!(
+        angles.windows(2).all(|w| w[1] >= w[0] - 1e-6),
+        "the TCP never goes back along the path: {angles:?}"
+    );
+    let turned = angles.last().expect("trace") - angles.first().expect("trace");
+    assert!(
+        turned > 5.0,
+        "it went (most of) the way round: {turned} rad"
+    );
+    let end = &j["position"];
+    assert_close(end["x"].as_f64().expect("x"), pts[30][0], 0.01, "x");
+    assert_close(end["y"].as_f64().expect("y"), pts[30][1], 0.01, "y");
+}

@@ -124,7 +124,9 @@ fn main() {
         Some("krc") => SimulatorKind::Krc,
         _ => SimulatorKind::Native,
     };
-    let long: usize = arg("--long").and_then(|v| v.parse().ok()).unwrap_or(100_000);
+    let long: usize = arg("--long")
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(100_000);
     let rt = kuka_bridge_tests::bench::runtime();
     rt.block_on(async move {
         println!("kuka-bridge streaming benchmark, simulator {kind:?}");
