@@ -243,8 +243,9 @@ fn main() {
                     .collect::<Vec<_>>(),
             );
             let wall = Instant::now();
-            let r = t
-                .http
+            // No client timeout: the stream lasts as long as the robot needs.
+            let client = reqwest::Client::new();
+            let r = client
                 .post(t.url(&format!("/api/v1/paths/{id}/motions")))
                 .header("content-type", "application/x-ndjson")
                 .body(reqwest::Body::wrap_stream(lines))
