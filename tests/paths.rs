@@ -451,3 +451,61 @@ async fn a_robot_program_restart_mid_stream_loses_and_repeats_nothing() {
     assert_close(end["x"].as_f64().expect("x"), pts[30][0], 0.01, "x");
     assert_close(end["y"].as_f64().expect("y"), pts[30][1], 0.01, "y");
 }
+
+/// Thesis clients (`motion.thesis_blend_ms` > 0): consecutive `/krl/linmov`
+/// calls sent faster than the robot runs them blend into one path: each is
+/// answered when it is checked and queued (with the position it will
+/// reach), the robot does not stop between them, and another kind of call
+/// (here `/krl/ptp`) ends the path and runs after its last motion.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn thesis_linmov_calls_blend_when_the_site_enables_it() {
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.motion.thesis_blend_ms = 300;
+            c.simulator.kind = kuka_bridge_tests::test_simulator();
+        }),
+        ..Options::default()
+    })
+    .await;
+    let pts = circle(40, 40.0);
+    to_start(&t, &pts[0]).await;
+    for p in &pts[1..] {
+        let (s, v) = t.post(&format!("/krl/linmov?x={}&y={}", p[0], p[1])).await;
+        assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
+        assert_close(
+            v["position"][0].as_f64().expect("x"),
+            p[0],
+            0.001,
+            "planned x",
+        );
+        assert_close(
+            v["position"][1].as_f64().expect("y"),
+            p[1],
+            0.001,
+            "planned y",
+        );
+    }
+    // A PTP ends the blending path: it runs after the circle's last motion.
+    let (s, v) = t.post("/krl/ptp?z=120").await;
+    assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
+    let (_, jobs) = t.get("/api/v1/jobs?limit=10").await;
+    let path = jobs
+        .as_array()
+        .expect("jobs")
+        .iter()
+        .find(|j| j["operation"] == "path")
+        .expect("a path job")
+        .clone();
+    let j = wait_path_end(&t, path["id"].as_u64().expect("id")).await;
+    assert_eq!(
+        (j["state"].as_str(), j["completed"].as_u64()),
+        (Some("done"), Some(40)),
+        "{j}"
+    );
+    let (_, stops, last) = path_trace(&t, j["cid"].as_i64().expect("cid"));
+    assert_eq!(
+        (stops, last),
+        (0, 39),
+        "no stop between the 40 linmov calls"
+    );
+}

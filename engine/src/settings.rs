@@ -106,6 +106,12 @@ pub struct MotionConfig {
     /// the request does not say: `auto` (the bridge chooses) or `keep`
     /// (KUKA's rule). The thesis endpoints always use `auto`.
     pub configuration: Configuration,
+    /// Thesis clients: consecutive `/krl/linmov` and `/krl/circ` calls of
+    /// one client that come within this many ms of each other are
+    /// appended to one path and blend (0 = off, the default). The answer
+    /// then comes when the motion is checked and queued, not when it has
+    /// run (README, "Thesis clients that never stop").
+    pub thesis_blend_ms: u64,
 }
 
 /// An axis-aligned box in the base frame (mm).
@@ -230,6 +236,7 @@ impl Default for MotionConfig {
             max_batch: kuka_protocol::MAX_BATCH,
             max_queue: 100,
             configuration: Configuration::Auto,
+            thesis_blend_ms: 0,
         }
     }
 }

@@ -215,6 +215,8 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         plugins,
         access: access.clone(),
         server: Arc::new(config.server.clone()),
+        thesis_blend: Duration::from_millis(config.motion.thesis_blend_ms),
+        thesis_paths: Arc::default(),
     });
     let (stop_http, stop_rx) = oneshot::channel::<()>();
     let server_config = config.server.clone();

@@ -1020,7 +1020,15 @@ export interface components {
          *       "first": 40,
          *       "appended": 20,
          *       "total": 60,
-         *       "closed": false
+         *       "closed": false,
+         *       "end": {
+         *         "x": 200,
+         *         "y": 40,
+         *         "z": 100,
+         *         "a": 0,
+         *         "b": 180,
+         *         "c": 0
+         *       }
          *     }
          */
         AppendOutcome: {
@@ -1028,6 +1036,8 @@ export interface components {
             appended: number;
             /** @description The path is closed now. */
             closed: boolean;
+            /** @description Where the path ends after this append (TCP in the base frame). */
+            end: components["schemas"]["CartesianFrame"];
             /** @description Path-wide index of the first motion of this append. */
             first: number;
             /**

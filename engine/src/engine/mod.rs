@@ -10,7 +10,7 @@ mod types;
 use std::collections::{HashMap, VecDeque};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use tokio::sync::{broadcast, oneshot, watch};
 
@@ -80,11 +80,13 @@ impl Shared {
         let job = {
             let table = self.table();
             let tx = table.jobs.get(&id)?;
-            // Waiters only care about the end: wake them only then (a wake-up
-            // per intermediate state costs CPU on small machines).
+            // Waiters care about the end, and appends to a path about its
+            // leaving the queue: wake them only then (a wake-up per
+            // intermediate state costs CPU on small machines).
             tx.send_if_modified(|j| {
+                let was = j.state;
                 f(j);
-                j.state.is_terminal()
+                j.state.is_terminal() || (was == JobState::Queued && j.state != JobState::Queued)
             });
             tx.borrow().clone()
         };
@@ -396,7 +398,7 @@ impl Engine {
             id,
             op,
             timeout,
-            queued_at: std::time::Instant::now(),
+            queued_at: Instant::now(),
         };
         if self.tx.send(Msg::Submit(queued)).is_err() {
             return Err(BridgeError::new(
@@ -543,6 +545,31 @@ impl Engine {
         if !motions.is_empty() {
             self.shared.safety.check_request(&motions)?;
         }
+        // A path queued behind other jobs takes appends once it is on the
+        // controller: wait for that (within the append's own wait).
+        let started = Instant::now();
+        if job.state == JobState::Queued {
+            let mut rx = {
+                let table = self.shared.table();
+                table
+                    .jobs
+                    .get(&path)
+                    .map(|tx| tx.subscribe())
+                    .ok_or_else(|| self.unknown_job(path))?
+            };
+            let left =
+                tokio::time::timeout(wait, rx.wait_for(|j| j.state != JobState::Queued)).await;
+            if left.is_err() {
+                return Err(BridgeError::new(
+                    ErrorCode::PathFull,
+                    format!(
+                        "path {path} is still queued behind other jobs after {} ms",
+                        wait.as_millis()
+                    ),
+                ));
+            }
+        }
+        let wait = wait.saturating_sub(started.elapsed());
         let (tx, rx) = oneshot::channel();
         self.tx
             .send(Msg::Append(actor::AppendRequest {

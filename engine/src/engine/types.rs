@@ -177,8 +177,9 @@ pub struct PathProgress {
 }
 
 /// The answer to an append.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
-#[schema(example = json!({"path": 12, "first": 40, "appended": 20, "total": 60, "closed": false}))]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, ToSchema)]
+#[schema(example = json!({"path": 12, "first": 40, "appended": 20, "total": 60, "closed": false,
+    "end": {"x": 200.0, "y": 40.0, "z": 100.0, "a": 0.0, "b": 180.0, "c": 0.0}}))]
 pub struct AppendOutcome {
     /// The path (its job id).
     pub path: JobId,
@@ -190,6 +191,8 @@ pub struct AppendOutcome {
     pub total: usize,
     /// The path is closed now.
     pub closed: bool,
+    /// Where the path ends after this append (TCP in the base frame).
+    pub end: CartesianFrame,
 }
 
 impl Operation {

@@ -62,6 +62,11 @@ pub struct AppState {
     pub access: Arc<crate::access::Access>,
     /// The `[server]` settings (edge limits).
     pub server: Arc<crate::config::ServerConfig>,
+    /// `motion.thesis_blend_ms`: thesis motion calls this close together
+    /// blend into one path (zero: off).
+    pub thesis_blend: Duration,
+    /// The open path of each thesis client that blends.
+    pub thesis_paths: Arc<thesis::BlendPaths>,
 }
 
 impl AppState {

@@ -184,7 +184,40 @@ async fn append(
     Ok(ok_json(&outcome))
 }
 
+/// What a JSON-lines stream has appended so far.
+#[derive(Default)]
+struct Streamed {
+    /// Path-wide index of its first motion.
+    first: Option<usize>,
+    appended: usize,
+    total: usize,
+    end: Option<crate::engine::CartesianFrame>,
+    /// Parsed motions not yet appended.
+    batch: Vec<MotionRequest>,
+}
+
+impl Streamed {
+    /// Appends up to [`STREAM_BATCH`] of the parsed motions.
+    async fn flush(
+        &mut self,
+        engine: &crate::engine::Engine,
+        id: JobId,
+        wait: Duration,
+    ) -> Result<(), BridgeError> {
+        let take = self.batch.len().min(STREAM_BATCH);
+        let motions: Vec<MotionRequest> = self.batch.drain(..take).collect();
+        let o = engine.append(id, motions, false, wait).await?;
+        self.first.get_or_insert(o.first);
+        self.appended += o.appended;
+        self.total = o.total;
+        self.end = Some(o.end);
+        Ok(())
+    }
+}
+
 /// A JSON-lines stream: motions appended in batches as the lines arrive.
+/// A bad line, a refused motion or a broken-off stream closes the path at
+/// the last motion appended.
 async fn append_lines(
     app: &AppState,
     id: JobId,
@@ -196,22 +229,15 @@ async fn append_lines(
     let wait = Duration::from_millis(app.server.max_request_ms);
     let mut body = req.into_body().into_data_stream();
     let mut buf: Vec<u8> = Vec::new();
-    let mut batch: Vec<MotionRequest> = Vec::new();
-    let mut first: Option<usize> = None;
-    let mut appended = 0usize;
+    let mut done = Streamed::default();
     let mut line_no = 0usize;
-    let mut total = 0usize;
-    let close = |app: &AppState| {
-        let engine = app.engine.clone();
-        async move {
-            let _ = engine
-                .append(id, Vec::new(), true, Duration::from_secs(10))
-                .await;
-        }
+    let close = || async {
+        let _ = engine
+            .append(id, Vec::new(), true, Duration::from_secs(10))
+            .await;
     };
     loop {
-        let chunk = body.next().await;
-        let ended = match chunk {
+        let ended = match body.next().await {
             None => true,
             Some(Ok(bytes)) => {
                 buf.extend_from_slice(&bytes);
@@ -219,80 +245,57 @@ async fn append_lines(
             }
             Some(Err(e)) => {
                 // The client went away: the path ends at the last motion appended.
-                tracing::info!(path = id, appended, error = %e, "path stream broke off; closing the path");
-                close(app).await;
+                tracing::info!(path = id, appended = done.appended, error = %e, "path stream broke off; closing the path");
+                close().await;
                 return Err(BridgeError::invalid(format!(
-                    "the stream broke off after {appended} motions; the path was closed there"
+                    "the stream broke off after {} motions; the path was closed there",
+                    done.appended
                 ))
                 .into());
             }
         };
-        // Every complete line (and at the end, what is left).
+        // Every complete line; at the end also what is left.
         let mut start = 0;
+        let mut bad = None;
         while let Some(nl) = buf[start..].iter().position(|&b| b == b'\n') {
             let line = &buf[start..start + nl];
             start += nl + 1;
             line_no += 1;
-            if let Err(e) = parse_line(line, line_no, &mut batch) {
-                flush(
-                    engine,
-                    id,
-                    wait,
-                    &mut batch,
-                    &mut first,
-                    &mut appended,
-                    &mut total,
-                )
-                .await
-                .ok();
-                close(app).await;
-                return Err(e.into());
+            if let Err(e) = parse_line(line, line_no, &mut done.batch) {
+                bad = Some(e);
+                break;
             }
         }
         buf.drain(..start);
-        if buf.len() > MAX_LINE {
-            close(app).await;
-            return Err(BridgeError::invalid(format!(
-                "line {} is longer than {MAX_LINE} bytes",
-                line_no + 1
-            ))
-            .into());
-        }
-        if ended && !buf.is_empty() {
+        if bad.is_none() && ended && !buf.is_empty() {
             line_no += 1;
             let rest = std::mem::take(&mut buf);
-            if let Err(e) = parse_line(&rest, line_no, &mut batch) {
-                flush(
-                    engine,
-                    id,
-                    wait,
-                    &mut batch,
-                    &mut first,
-                    &mut appended,
-                    &mut total,
-                )
-                .await
-                .ok();
-                close(app).await;
-                return Err(e.into());
-            }
+            bad = parse_line(&rest, line_no, &mut done.batch).err();
         }
-        while batch.len() >= STREAM_BATCH || (!batch.is_empty() && (ended || buf.is_empty())) {
-            if let Err(e) = flush(
-                engine,
-                id,
-                wait,
-                &mut batch,
-                &mut first,
-                &mut appended,
-                &mut total,
-            )
-            .await
-            {
-                if e.code != ErrorCode::PathClosed {
-                    close(app).await;
+        if bad.is_none() && buf.len() > MAX_LINE {
+            bad = Some(BridgeError::invalid(format!(
+                "line {} is longer than {MAX_LINE} bytes",
+                line_no + 1
+            )));
+        }
+        if let Some(e) = bad {
+            // The lines before the bad one run; then the path ends.
+            while !done.batch.is_empty() {
+                if done.flush(engine, id, wait).await.is_err() {
+                    break;
                 }
-                return Err(full_retry(e));
+            }
+            close().await;
+            return Err(e.into());
+        }
+        while done.batch.len() >= STREAM_BATCH
+            || (!done.batch.is_empty() && (ended || buf.is_empty()))
+        {
+            if let Err(e) = done.flush(engine, id, wait).await {
+                if e.code != ErrorCode::PathClosed {
+                    close().await;
+                }
+                return Err(e.into());
             }
         }
         if ended {
@@ -306,14 +309,16 @@ async fn append_lines(
             .await
             .map_err(full_retry)?;
         closed = o.closed;
-        total = o.total;
+        done.total = o.total;
+        done.end = Some(o.end);
     }
     Ok(ok_json(&AppendOutcome {
         path: id,
-        first: first.unwrap_or(total),
-        appended,
-        total,
+        first: done.first.unwrap_or(done.total),
+        appended: done.appended,
+        total: done.total,
         closed,
+        end: done.end.unwrap_or_default(),
     }))
 }
 
@@ -330,25 +335,6 @@ fn parse_line(
     let m: MotionRequest = serde_json::from_slice(line)
         .map_err(|e| BridgeError::invalid(format!("line {line_no}: {e}")))?;
     batch.push(m);
-    Ok(())
-}
-
-/// Appends the batch (emptying it); counts what was appended.
-async fn flush(
-    engine: &crate::engine::Engine,
-    id: JobId,
-    wait: Duration,
-    batch: &mut Vec<MotionRequest>,
-    first: &mut Option<usize>,
-    appended: &mut usize,
-    total: &mut usize,
-) -> Result<(), BridgeError> {
-    let take = batch.len().min(STREAM_BATCH);
-    let motions: Vec<MotionRequest> = batch.drain(..take).collect();
-    let o = engine.append(id, motions, false, wait).await?;
-    first.get_or_insert(o.first);
-    *appended += o.appended;
-    *total = o.total;
     Ok(())
 }
 

@@ -4,6 +4,8 @@
 //! Failures answer an HTTP error whose JSON still carries `statuscode`
 //! (never 1) and `position`, plus the problem details.
 
+use std::time::Duration;
+
 use axum::extract::FromRequestParts;
 use axum::extract::State;
 use axum::http::request::Parts;
@@ -250,6 +252,18 @@ async fn run_with(
     frame_result: bool,
     timeout: Option<std::time::Duration>,
 ) -> Response {
+    if !app.thesis_blend.is_zero() {
+        // Another kind of call: the client's blending path ends first (the
+        // call runs after its last motion), without waiting for the window.
+        let key = who.caller().name.unwrap_or_else(|| "anonymous".into());
+        let open = app.thesis_paths.lock().remove(&key);
+        if let Some((id, _)) = open {
+            let _ = app
+                .engine
+                .append(id, Vec::new(), true, Duration::from_secs(10))
+                .await;
+        }
+    }
     match app
         .engine
         .execute(op, timeout, app.wait_budget(timeout), who.caller())
@@ -325,7 +339,116 @@ async fn linmov(
         acceleration_pct: None,
         approx_mm: None,
     };
+    if !app.thesis_blend.is_zero() {
+        return blended(&app, &who, m).await;
+    }
     run(&app, &who, Operation::Move(vec![m]), false).await
+}
+
+/// The open path of each thesis client whose motion calls blend
+/// (`motion.thesis_blend_ms`): its job id and how many calls went to it.
+#[derive(Default)]
+pub struct BlendPaths {
+    open: std::sync::Mutex<std::collections::HashMap<String, (crate::engine::JobId, u64)>>,
+}
+
+impl BlendPaths {
+    fn lock(
+        &self,
+    ) -> std::sync::MutexGuard<'_, std::collections::HashMap<String, (crate::engine::JobId, u64)>>
+    {
+        self.open.lock().unwrap_or_else(|p| p.into_inner())
+    }
+}
+
+/// A thesis motion call that blends: appended to the client's open path
+/// (opened on the first call), answered as soon as it is checked and
+/// queued, with the position the robot will reach. The path is closed
+/// when no call follows within `motion.thesis_blend_ms`: the robot then
+/// stops at the last motion.
+async fn blended(app: &AppState, who: &Who, m: MotionRequest) -> Response {
+    let caller = who.caller();
+    let key = caller.name.clone().unwrap_or_else(|| "anonymous".into());
+    let wait = app.wait_budget(None);
+    for attempt in 0..2 {
+        let open = app.thesis_paths.lock().get(&key).map(|(id, _)| *id);
+        let id = match open {
+            Some(id) => id,
+            None => {
+                let job = match app
+                    .engine
+                    .submit(
+                        Operation::Path(crate::engine::PathOptions::default()),
+                        None,
+                        who.caller(),
+                    )
+                    .await
+                {
+                    Ok(job) => job,
+                    Err(e) => return fail(app, &e),
+                };
+                app.thesis_paths.lock().insert(key.clone(), (job.id, 0));
+                job.id
+            }
+        };
+        match app.engine.append(id, vec![m.clone()], false, wait).await {
+            Ok(o) => {
+                let seq = {
+                    let mut open = app.thesis_paths.lock();
+                    let entry = open.entry(key.clone()).or_insert((id, 0));
+                    entry.1 += 1;
+                    entry.1
+                };
+                // Closed when no call follows within the window.
+                let (engine, paths, window, key) = (
+                    app.engine.clone(),
+                    app.thesis_paths.clone(),
+                    app.thesis_blend,
+                    key.clone(),
+                );
+                tokio::spawn(async move {
+                    tokio::time::sleep(window).await;
+                    let last = paths.lock().remove_if_unchanged(&key, id, seq);
+                    if last {
+                        let _ = engine
+                            .append(id, Vec::new(), true, Duration::from_secs(10))
+                            .await;
+                    }
+                });
+                let e = o.end;
+                return done([e.x, e.y, e.z, e.a, e.b, e.c]);
+            }
+            // The path ended meanwhile (stopped, failed, or the controller
+            // closed it): a new one, once.
+            Err(e) if e.code == ErrorCode::PathClosed && attempt == 0 => {
+                app.thesis_paths.lock().remove(&key);
+            }
+            Err(e) => {
+                app.thesis_paths.lock().remove(&key);
+                return fail(app, &e);
+            }
+        }
+    }
+    fail(
+        app,
+        &BridgeError::new(ErrorCode::PathClosed, "the path closed twice in a row"),
+    )
+}
+
+/// Removing a client's path only if no call came since.
+trait RemoveIfUnchanged {
+    fn remove_if_unchanged(&mut self, key: &str, id: crate::engine::JobId, seq: u64) -> bool;
+}
+
+impl RemoveIfUnchanged for std::collections::HashMap<String, (crate::engine::JobId, u64)> {
+    fn remove_if_unchanged(&mut self, key: &str, id: crate::engine::JobId, seq: u64) -> bool {
+        if self.get(key) == Some(&(id, seq)) {
+            self.remove(key);
+            true
+        } else {
+            false
+        }
+    }
 }
 
 /// Circular motion through `ax ay az` to `x y z a b c` (thesis method 7).
@@ -357,6 +480,9 @@ async fn circ(
         acceleration_pct: None,
         approx_mm: None,
     };
+    if !app.thesis_blend.is_zero() {
+        return blended(&app, &who, m).await;
+    }
     run(&app, &who, Operation::Move(vec![m]), false).await
 }
 

@@ -228,6 +228,7 @@ impl Actor {
             appended: req.motions.len(),
             total: p.appended,
             closed: p.close_requested,
+            end: p.end.pose.into(),
         };
         let (job, progress, appended) = (p.job, p.progress(), p.appended);
         self.shared.update(job, |j| {

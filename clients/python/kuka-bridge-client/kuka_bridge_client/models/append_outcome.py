@@ -8,7 +8,10 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
+from typing import cast
 
+if TYPE_CHECKING:
+  from ..models.cartesian_frame import CartesianFrame
 
 
 
@@ -23,11 +26,14 @@ class AppendOutcome:
     """ The answer to an append.
 
         Example:
-            {'path': 12, 'first': 40, 'appended': 20, 'total': 60, 'closed': False}
+            {'path': 12, 'first': 40, 'appended': 20, 'total': 60, 'closed': False, 'end': {'x': 200.0, 'y': 40.0, 'z':
+                100.0, 'a': 0.0, 'b': 180.0, 'c': 0.0}}
 
         Attributes:
             appended (int): Motions appended by this request.
             closed (bool): The path is closed now.
+            end (CartesianFrame): A Cartesian frame in mm and degrees (A, B, C about Z, Y, X). Example: {'x': 0.0, 'y': 0.0,
+                'z': 100.0, 'a': 0.0, 'b': 0.0, 'c': 0.0}.
             first (int): Path-wide index of the first motion of this append.
             path (int): The path (its job id).
             total (int): Motions appended to the path so far.
@@ -35,6 +41,7 @@ class AppendOutcome:
 
     appended: int
     closed: bool
+    end: CartesianFrame
     first: int
     path: int
     total: int
@@ -45,9 +52,12 @@ class AppendOutcome:
 
 
     def to_dict(self) -> dict[str, Any]:
+        from ..models.cartesian_frame import CartesianFrame # noqa: PLC0415
         appended = self.appended
 
         closed = self.closed
+
+        end = self.end.to_dict()
 
         first = self.first
 
@@ -61,6 +71,7 @@ class AppendOutcome:
         field_dict.update({
             "appended": appended,
             "closed": closed,
+            "end": end,
             "first": first,
             "path": path,
             "total": total,
@@ -72,10 +83,16 @@ class AppendOutcome:
 
     @classmethod
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        from ..models.cartesian_frame import CartesianFrame # noqa: PLC0415
         d = dict(src_dict)
         appended = d.pop("appended")
 
         closed = d.pop("closed")
+
+        end = CartesianFrame.from_dict(d.pop("end"))
+
+
+
 
         first = d.pop("first")
 
@@ -86,6 +103,7 @@ class AppendOutcome:
         append_outcome = cls(
             appended=appended,
             closed=closed,
+            end=end,
             first=first,
             path=path,
             total=total,
