@@ -171,6 +171,49 @@ async fn draw_circle_plugin_draws_a_circle_in_both_modes() {
     }
 }
 
+/// Issue 22, point 5: a plugin streams a path through the WIT's `paths`
+/// interface (draw-circle with `turns`: one turn per append, never the
+/// whole path in memory). The turns run as one path that never stops; the
+/// path is the plugin's job; a plugin cannot touch another caller's path.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_plugin_streams_a_path_that_never_stops() {
+    let t = TestService::start(Options::default()).await;
+    let (status, v) = install(&t, "draw-circle", example_plugin("draw-circle")).await;
+    assert_eq!(status, 201, "{v}");
+    clear_trace(&t).await;
+    let body = json!({"x": 300, "y": 20, "z": 100, "radius": 40, "mode": "lin", "segments": 36, "turns": 5});
+    let (status, v) = draw_circle(&t, body).await;
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(
+        (v["motions"].as_u64(), v["completed"].as_u64()),
+        (Some(181), Some(181)),
+        "{v}"
+    );
+    let path = v["path"].as_u64().expect("path id");
+    let (_, j) = t.get(&format!("/api/v1/paths/{path}")).await;
+    assert_eq!(j["state"], "done", "{j}");
+    assert_eq!(j["origin"], "plugin:draw-circle@0.1.0", "{j}");
+    assert_eq!(j["path"]["appended"], 181, "{j}");
+    // After the approach (a PTP, which stops exactly) the robot does not
+    // stop until the end of the fifth turn.
+    let samples = t.trace();
+    let cid = j["cid"].as_i64().expect("cid");
+    let circle: Vec<_> = samples
+        .iter()
+        .filter(|s| s.cid == cid && s.motion >= 1)
+        .collect();
+    assert!(circle.len() > 50, "{} samples", circle.len());
+    let stops = circle[..circle.len() - 1].iter().filter(|s| s.stop).count();
+    assert_eq!(stops, 0, "no stop between the turns");
+    // A bad turn count is the plugin's own 400.
+    let (status, v) = draw_circle(
+        &t,
+        json!({"x": 300, "y": 20, "z": 100, "radius": 40, "turns": 3}),
+    )
+    .await;
+    assert_eq!(status, 400, "turns need lin mode: {v}");
+}
+
 #[tokio::test]
 async fn draw_smiley_plugin_draws_the_thesis_smiley_as_one_batch() {
     let t = TestService::start(Options::default()).await;

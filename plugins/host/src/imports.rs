@@ -58,6 +58,50 @@ pub trait BridgeApi: Send + Sync + 'static {
     fn tool(&self) -> Result<Pose, HostError>;
     /// The current base frame.
     fn base(&self) -> Result<Pose, HostError>;
+    /// Opens a path (a motion stream) for the plugin's caller; its id.
+    fn open_path<'a>(&'a self, ctx: &'a CallContext) -> BoxFuture<'a, Result<u64, HostError>> {
+        let _ = ctx;
+        Box::pin(async { Err(paths_unavailable()) })
+    }
+    /// Appends motions to a path (all or none, waiting while it is full);
+    /// how many it holds now.
+    fn append<'a>(
+        &'a self,
+        ctx: &'a CallContext,
+        path: u64,
+        motions: Vec<Motion>,
+    ) -> BoxFuture<'a, Result<u32, HostError>> {
+        let _ = (ctx, path, motions);
+        Box::pin(async { Err(paths_unavailable()) })
+    }
+    /// Closes a path and waits until its last motion has run.
+    fn finish_path<'a>(
+        &'a self,
+        ctx: &'a CallContext,
+        path: u64,
+    ) -> BoxFuture<'a, Result<Done, HostError>> {
+        let _ = (ctx, path);
+        Box::pin(async { Err(paths_unavailable()) })
+    }
+    /// Stops the robot and cancels a path.
+    fn cancel_path<'a>(&'a self, path: u64) -> BoxFuture<'a, Result<(), HostError>> {
+        let _ = path;
+        Box::pin(async { Err(paths_unavailable()) })
+    }
+    /// A path the plugin's request left open when it ended (returned,
+    /// trapped, timed out): closed in the background, so the robot ends at
+    /// its last appended motion and the controller is free again.
+    fn abandon_path(&self, path: u64) {
+        let _ = path;
+    }
+}
+
+fn paths_unavailable() -> HostError {
+    host_error(
+        "not_allowed",
+        "paths are not available in this bridge",
+        None,
+    )
 }
 
 /// Builds a [`HostError`].
@@ -85,6 +129,19 @@ pub(crate) struct RequestState {
     /// Set by the epoch callback when the CPU budget ran out.
     pub(crate) cpu_exhausted: bool,
     motions_left: usize,
+    /// Paths this request opened and has not finished or cancelled.
+    open_paths: Vec<u64>,
+}
+
+impl Drop for RequestState {
+    fn drop(&mut self) {
+        if let Some(api) = &self.api {
+            for path in self.open_paths.drain(..) {
+                tracing::info!(plugin = %self.ctx.plugin, path, "the plugin's request ended with its path open; closing it");
+                api.abandon_path(path);
+            }
+        }
+    }
 }
 
 impl RequestState {
@@ -116,6 +173,7 @@ impl RequestState {
             host_time: Duration::ZERO,
             cpu_exhausted: false,
             motions_left: limits.max_motions,
+            open_paths: Vec::new(),
         }
     }
 
@@ -200,6 +258,76 @@ impl ResourceLimiter for Limiter {
 }
 
 impl crate::bindings::kuka_bridge::plugin::types::Host for RequestState {}
+
+impl RequestState {
+    /// A path this request opened, else the error to return.
+    fn own_path(&self, path: u64) -> Result<Arc<dyn BridgeApi>, HostError> {
+        let api = self.api("paths")?;
+        if self.open_paths.contains(&path) {
+            Ok(api)
+        } else {
+            Err(host_error(
+                "not_allowed",
+                format!("path {path} was not opened by this request (or is finished)"),
+                None,
+            ))
+        }
+    }
+}
+
+impl crate::bindings::kuka_bridge::plugin::paths::Host for RequestState {
+    async fn open_path(&mut self) -> wasmtime::Result<Result<u64, HostError>> {
+        let api = match self.api("open-path") {
+            Ok(api) => api,
+            Err(e) => return Ok(Err(e)),
+        };
+        let started = Instant::now();
+        let result = api.open_path(&self.ctx).await;
+        self.host_time += started.elapsed();
+        if let Ok(path) = result {
+            tracing::debug!(plugin = %self.ctx.plugin, path, "plugin opened a path");
+            self.open_paths.push(path);
+        }
+        Ok(result)
+    }
+
+    async fn append(
+        &mut self,
+        path: u64,
+        motions: Vec<Motion>,
+    ) -> wasmtime::Result<Result<u32, HostError>> {
+        let api = match self.own_path(path) {
+            Ok(api) => api,
+            Err(e) => return Ok(Err(e)),
+        };
+        let started = Instant::now();
+        let result = api.append(&self.ctx, path, motions).await;
+        self.host_time += started.elapsed();
+        Ok(result)
+    }
+
+    async fn finish(&mut self, path: u64) -> wasmtime::Result<Result<Done, HostError>> {
+        let api = match self.own_path(path) {
+            Ok(api) => api,
+            Err(e) => return Ok(Err(e)),
+        };
+        let started = Instant::now();
+        let result = api.finish_path(&self.ctx, path).await;
+        self.host_time += started.elapsed();
+        self.open_paths.retain(|p| *p != path);
+        Ok(result)
+    }
+
+    async fn cancel(&mut self, path: u64) -> wasmtime::Result<Result<(), HostError>> {
+        let api = match self.own_path(path) {
+            Ok(api) => api,
+            Err(e) => return Ok(Err(e)),
+        };
+        let result = api.cancel_path(path).await;
+        self.open_paths.retain(|p| *p != path);
+        Ok(result)
+    }
+}
 
 impl crate::bindings::kuka_bridge::plugin::host::Host for RequestState {
     async fn run_motions(

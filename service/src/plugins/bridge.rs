@@ -194,4 +194,109 @@ impl host::BridgeApi for EngineBridge {
             .map(frame_pose)
             .ok_or_else(|| unknown("base"))
     }
+
+    fn open_path<'a>(
+        &'a self,
+        ctx: &'a host::CallContext,
+    ) -> host::BoxFuture<'a, Result<u64, host::HostError>> {
+        Box::pin(async move {
+            let who = ctx
+                .caller
+                .clone()
+                .and_then(|c| c.downcast::<RequestContext>().ok());
+            if let Some(who) = &who {
+                drop(self.control.check(&who.principal).map_err(host_error)?);
+            }
+            tracing::info!(plugin = %ctx.plugin, version = %ctx.version, "plugin opens a path");
+            let job = self
+                .engine
+                .submit_from(
+                    Operation::Path(crate::engine::PathOptions::default()),
+                    None,
+                    Some(format!("plugin:{}@{}", ctx.plugin, ctx.version)),
+                    who.map(|w| w.caller()).unwrap_or_default(),
+                )
+                .await
+                .map_err(host_error)?;
+            Ok(job.id)
+        })
+    }
+
+    fn append<'a>(
+        &'a self,
+        ctx: &'a host::CallContext,
+        path: u64,
+        motions: Vec<host::Motion>,
+    ) -> host::BoxFuture<'a, Result<u32, host::HostError>> {
+        Box::pin(async move {
+            let requests: Vec<MotionRequest> = motions.into_iter().map(motion_request).collect();
+            // Waiting for room is the plugin's back-pressure, within its request time.
+            let o = self
+                .engine
+                .append(path, requests, false, ctx.request_time)
+                .await
+                .map_err(host_error)?;
+            Ok(u32::try_from(o.total).unwrap_or(u32::MAX))
+        })
+    }
+
+    fn finish_path<'a>(
+        &'a self,
+        ctx: &'a host::CallContext,
+        path: u64,
+    ) -> host::BoxFuture<'a, Result<host::Done, host::HostError>> {
+        Box::pin(async move {
+            match self
+                .engine
+                .append(path, Vec::new(), true, std::time::Duration::from_secs(10))
+                .await
+            {
+                // Ended already: its job says how.
+                Ok(_) => {}
+                Err(e) if e.code == ErrorCode::PathClosed => {}
+                Err(e) => return Err(host_error(e)),
+            }
+            let job = self
+                .engine
+                .wait(path, ctx.request_time)
+                .await
+                .map_err(host_error)?;
+            if let Some(e) = job.error.clone() {
+                return Err(host_error(e));
+            }
+            let state = self.engine.state();
+            let at = job
+                .position
+                .or(state.position)
+                .ok_or_else(|| unknown("position"))?;
+            Ok(host::Done {
+                completed: u32::try_from(job.completed).unwrap_or(u32::MAX),
+                position: position(&at, job.axes.as_ref().or(state.axes.as_ref())),
+            })
+        })
+    }
+
+    fn cancel_path<'a>(&'a self, path: u64) -> host::BoxFuture<'a, Result<(), host::HostError>> {
+        Box::pin(async move {
+            self.engine.cancel(path).await.map_err(host_error)?;
+            Ok(())
+        })
+    }
+
+    fn abandon_path(&self, path: u64) {
+        let engine = self.engine.clone();
+        match tokio::runtime::Handle::try_current() {
+            Ok(rt) => {
+                rt.spawn(async move {
+                    let _ = engine
+                        .append(path, Vec::new(), true, std::time::Duration::from_secs(10))
+                        .await;
+                });
+            }
+            Err(_) => tracing::warn!(
+                path,
+                "no runtime to close the plugin's path; the controller ends it when idle"
+            ),
+        }
+    }
 }

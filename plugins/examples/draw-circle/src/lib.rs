@@ -7,6 +7,11 @@
 //! a PTP to the start point (x + radius, y, z), then the circle — two CIRC half
 //! circles, or `segments` LINs in `lin` mode — back to the start point.
 //!
+//! With `"turns": n` (lin mode, 2..=1000) it draws the circle n times as ONE
+//! path that never stops: it opens a path (the `paths` interface) and appends
+//! one turn at a time, so it never holds more than one turn in memory,
+//! however many turns are asked for.
+//!
 //! Every motion goes through the bridge's own checks (reachability, limits,
 //! singularities, speed caps), exactly as a `POST /api/v1/motions` would.
 //!
@@ -23,6 +28,7 @@ wit_bindgen::generate!({
 
 use exports::kuka_bridge::plugin::plugin::{Description, Guest, Request, Response, Route};
 use kuka_bridge::plugin::host::{self, LogLevel};
+use kuka_bridge::plugin::paths;
 use kuka_bridge::plugin::types::{
     CircMotion, HostError, LinMotion, Motion, MotionParams, Point, Pose, Position, PtpMotion,
 };
@@ -71,6 +77,13 @@ struct CircleRequest {
     /// Number of LINs in `lin` mode, 8..=720.
     #[serde(default = "default_segments")]
     segments: u32,
+    /// Times round, 1..=1000 (more than 1: `lin` mode, streamed as a path).
+    #[serde(default = "default_turns")]
+    turns: u32,
+}
+
+fn default_turns() -> u32 {
+    1
 }
 
 fn default_speed() -> f64 {
@@ -115,6 +128,9 @@ impl Guest for DrawCircle {
             Ok(p) => p,
             Err(e) => return host_error(&e),
         };
+        if circle.turns > 1 {
+            return stream_turns(&circle, &here.pose);
+        }
         let motions = circle_motions(&circle, &here.pose);
         host::log(
             LogLevel::Info,
@@ -158,6 +174,12 @@ fn parse(body: &str) -> Result<CircleRequest, String> {
             "speed_m_s must be more than 0, not {}.",
             c.speed_m_s
         ));
+    }
+    if !(1..=1000).contains(&c.turns) {
+        return Err(format!("turns must be between 1 and 1000, not {}.", c.turns));
+    }
+    if c.turns > 1 && c.mode != Mode::Lin {
+        return Err("turns above 1 need \"mode\": \"lin\".".into());
     }
     if c.mode == Mode::Lin && !(8..=720).contains(&c.segments) {
         return Err(format!(
@@ -243,6 +265,58 @@ fn circle_motions(c: &CircleRequest, orientation: &Pose) -> Vec<Motion> {
     motions
 }
 
+/// `turns` times round as one path: the PTP to the start, then one turn of
+/// LINs per append (blended into each other), closed at the start point.
+fn stream_turns(c: &CircleRequest, orientation: &Pose) -> Response {
+    let one = circle_motions(c, orientation);
+    let (ptp, turn) = one.split_at(1);
+    // Within the path every LIN blends, the last one of each turn too.
+    let blended: Vec<Motion> = turn
+        .iter()
+        .map(|m| match m {
+            Motion::Lin(l) => Motion::Lin(LinMotion {
+                target: l.target,
+                params: MotionParams {
+                    approx_mm: Some(APPROX_MM),
+                    ..l.params
+                },
+            }),
+            other => other.clone(),
+        })
+        .collect();
+    let path = match paths::open_path() {
+        Ok(p) => p,
+        Err(e) => return host_error(&e),
+    };
+    host::log(
+        LogLevel::Info,
+        &format!("{} turns of {} LINs as path {path}", c.turns, turn.len()),
+    );
+    if let Err(e) = paths::append(path, ptp) {
+        let _ = paths::cancel(path);
+        return host_error(&e);
+    }
+    for _ in 0..c.turns {
+        if let Err(e) = paths::append(path, &blended) {
+            let _ = paths::cancel(path);
+            return host_error(&e);
+        }
+    }
+    match paths::finish(path) {
+        Ok(done) => Response {
+            status: 200,
+            body: json!({
+                "completed": done.completed,
+                "motions": 1 + turn.len() * c.turns as usize,
+                "path": path,
+                "position": position_json(&done.position),
+            })
+            .to_string(),
+        },
+        Err(e) => host_error(&e),
+    }
+}
+
 /// `{"x","y","z","a","b","c","s","t"}` of a position.
 fn position_json(p: &Position) -> serde_json::Value {
     let q = &p.pose;
@@ -288,7 +362,9 @@ fn request_schema() -> serde_json::Value {
             "mode": {"enum": ["circ", "lin"], "default": "circ",
                      "description": "two CIRC half circles, or `segments` LINs"},
             "segments": {"type": "integer", "minimum": 8, "maximum": 720, "default": 36,
-                         "description": "number of LINs in lin mode"}
+                         "description": "number of LINs in lin mode"},
+            "turns": {"type": "integer", "minimum": 1, "maximum": 1000, "default": 1,
+                      "description": "times round; more than 1 needs lin mode and runs as one path that never stops"}
         },
         "examples": [{"x": 200, "y": 0, "z": 70, "radius": 40}]
     })
@@ -304,6 +380,7 @@ fn response_schema() -> serde_json::Value {
         "properties": {
             "completed": {"type": "integer", "description": "motions the bridge completed"},
             "motions": {"type": "integer", "description": "motions in the batch (PTP included)"},
+            "path": {"type": "integer", "description": "with turns: the path's id (GET /api/v1/paths/{id})"},
             "position": {
                 "type": "object",
                 "description": "where the robot stopped (mm, degrees, Status, Turn)",
