@@ -106,8 +106,8 @@ fn span_and_stops(t: &TestService, cids: &[i64]) -> (f64, usize) {
 }
 
 async fn stream_lines(t: &TestService, id: u64, lines: String) -> Value {
-    let r = t
-        .http
+    // No client timeout: the stream lasts as long as the robot needs.
+    let r = reqwest::Client::new()
         .post(t.url(&format!("/api/v1/paths/{id}/motions")))
         .header("content-type", "application/x-ndjson")
         .body(lines)
