@@ -56,6 +56,8 @@ struct AppendInFlight {
     /// Motions it carries (from the path's `stored` on).
     count: usize,
     close: bool,
+    /// When it was handed to the channel.
+    sent_at: Instant,
 }
 
 /// The open path.
@@ -280,7 +282,12 @@ impl Actor {
             }
         };
         if let Some(p) = self.path.as_mut() {
-            p.append = Some(AppendInFlight { cid, count, close });
+            p.append = Some(AppendInFlight {
+                cid,
+                count,
+                close,
+                sent_at: Instant::now(),
+            });
         }
         self.write_append(CommandFile {
             cid,
@@ -345,9 +352,29 @@ impl Actor {
         }
     }
 
-    /// Appends whose wait has run out fail with `path_full`.
+    /// Appends whose wait has run out fail with `path_full`; an APPEND the
+    /// controller has not answered within `ack_timeout` (its result was
+    /// lost, e.g. the result file was rewritten meanwhile) is given up: the
+    /// next one starts from the stored count of the newest state file, so
+    /// nothing is sent twice into the path and nothing is skipped.
     pub(super) fn expire_parked(&mut self, now: Instant) {
+        let ack = self.cfg.ack_timeout;
+        let state = self.ctl.state;
         let Some(p) = self.path.as_mut() else { return };
+        if let Some(a) = p.append.take_if(|a| now.duration_since(a.sent_at) > ack) {
+            let resync = state
+                .as_ref()
+                .filter(|s| s.status == ControllerStatus::Busy && s.busy_cid == p.cid)
+                .map(|s| s.stored);
+            tracing::warn!(cid = a.cid, path = p.cid, stored = ?resync, "no answer to the append; sending again from the controller's stored count");
+            if let Some(stored) = resync
+                && stored >= p.stored
+            {
+                let taken = ((stored - p.stored) as usize).min(p.pending.len());
+                p.pending.drain(..taken);
+                p.stored = stored;
+            }
+        }
         while let Some(a) = p.parked.front() {
             if a.deadline > now {
                 break;
