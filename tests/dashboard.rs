@@ -1951,3 +1951,64 @@ async fn the_workspace_and_keep_out_zones_are_drawn() {
     browser.screenshot("zones").await;
     browser.close().await;
 }
+
+/// A path (issue 22) publishes a plan per append; the page joins the
+/// pieces into one planned path while it runs.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_page_joins_a_paths_appends_into_one_plan() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    open(&browser, &t).await;
+    let start = json!({"motions": [{"type": "ptp", "target": {"x": 250, "y": 0, "z": 100, "a": 0, "b": 180, "c": 0, "s": 6}}]});
+    let (s, v) = t.post_json("/api/v1/motions", &start).await;
+    assert_eq!(s, 200, "{v}");
+    let (s, path) = t.post_json("/api/v1/paths", &json!({})).await;
+    assert_eq!(s, 201, "{path}");
+    let id = path["id"].as_u64().expect("id");
+    // Two appends of 10 LINs each, slow enough that the path still runs.
+    let lins = |from: usize| -> Vec<Value> {
+        (from..from + 10)
+            .map(|i| json!({"type": "lin", "target": {"y": 5.0 * (i + 1) as f64}, "velocity_m_s": 0.02}))
+            .collect()
+    };
+    for from in [0, 10] {
+        let (s, o) = t
+            .post_json(
+                &format!("/api/v1/paths/{id}/motions"),
+                &json!({"motions": lins(from)}),
+            )
+            .await;
+        assert_eq!(s, 200, "{o}");
+    }
+    browser
+        .wait_js(
+            &format!(
+                "window.dashboard.lastPlan && window.dashboard.lastPlan.job === {id} && window.dashboard.lastPlan.points.length >= 21"
+            ),
+            WAIT,
+            "both appends in one planned path",
+        )
+        .await;
+    let ys = browser
+        .eval("return window.dashboard.lastPlan.points.map((p) => p[1]);")
+        .await;
+    let ys: Vec<f64> = ys
+        .as_array()
+        .expect("points")
+        .iter()
+        .map(|v| v.as_f64().unwrap_or(f64::NAN))
+        .collect();
+    let want: Vec<f64> = (0..=20).map(|i| 5.0 * i as f64).collect();
+    assert_eq!(ys.len(), want.len(), "{ys:?}");
+    for (y, w) in ys.iter().zip(&want) {
+        assert!((y - w).abs() < 1e-6, "planned {ys:?}");
+    }
+    let (s, _) = t.delete(&format!("/api/v1/paths/{id}?cancel=true")).await;
+    assert_eq!(s, 200);
+}

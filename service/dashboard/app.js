@@ -540,7 +540,18 @@ function listen() {
   events.addEventListener("plan", (e) => {
     if (!firstSeen(e.lastEventId)) return;
     const plan = JSON.parse(e.data);
-    state.lastPlan = planOf(plan, planStart(plan));
+    // A path publishes a plan per append (`first` > 0 after the first):
+    // its pieces join into one drawn path.
+    const prev = plan.first > 0 ? state.plans.get(plan.job) : undefined;
+    const piece = planOf(plan, prev ? (prev.points.at(-1) ?? null) : planStart(plan));
+    state.lastPlan = prev
+      ? {
+          ...prev,
+          points: prev.points.concat(piece.points.slice(1)),
+          travel: prev.travel.concat(piece.travel.slice(1)),
+          kinds: { plane: prev.kinds.plane, travel: prev.kinds.travel.concat(piece.kinds.travel) },
+        }
+      : piece;
     rememberKinds(plan.cid, state.lastPlan.kinds);
     if (!["done", "failed", "cancelled"].includes(state.jobs.get(plan.job)?.state)) state.plans.set(plan.job, state.lastPlan);
     showPlans();

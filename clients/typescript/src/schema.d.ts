@@ -1626,6 +1626,12 @@ export interface components {
              */
             cid: number;
             /**
+             * @description For a path: the index in the path of the first of these motions (a
+             *     path publishes one plan per append, from where the last one ended);
+             *     0 for a batch.
+             */
+            first: number;
+            /**
              * Format: int64
              * @description The job.
              */

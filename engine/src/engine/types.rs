@@ -462,6 +462,10 @@ pub struct JobPlan {
     pub cid: i32,
     /// The motions in order.
     pub motions: Vec<PlannedMotion>,
+    /// For a path: the index in the path of the first of these motions (a
+    /// path publishes one plan per append, from where the last one ended);
+    /// 0 for a batch.
+    pub first: usize,
 }
 
 /// One motion of a [`JobPlan`].

@@ -215,6 +215,12 @@ impl Actor {
                 .check_resolved_end(&records, &p.end, &tool, &base)
                 .map_err(at)?;
             p.end = end;
+            self.shared.publish(Event::Plan(Box::new(JobPlan {
+                job: p.job,
+                cid: p.cid,
+                motions: records.iter().map(PlannedMotion::from).collect(),
+                first,
+            })));
             p.pending.extend(records);
             p.appended += req.motions.len();
             if p.lead_until.is_none() {

@@ -174,6 +174,7 @@ impl Actor {
                         job: job.id,
                         cid: cmd.cid,
                         motions: records.iter().map(PlannedMotion::from).collect(),
+                        first: 0,
                     })));
                 }
                 self.shared.update(job.id, |j| {

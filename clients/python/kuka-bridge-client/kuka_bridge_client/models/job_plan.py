@@ -32,11 +32,15 @@ class JobPlan:
 
         Attributes:
             cid (int): Command id on the channel.
+            first (int): For a path: the index in the path of the first of these motions (a
+                path publishes one plan per append, from where the last one ended);
+                0 for a batch.
             job (int): The job.
             motions (list[PlannedMotion]): The motions in order.
      """
 
     cid: int
+    first: int
     job: int
     motions: list[PlannedMotion]
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
@@ -48,6 +52,8 @@ class JobPlan:
     def to_dict(self) -> dict[str, Any]:
         from ..models.planned_motion import PlannedMotion # noqa: PLC0415
         cid = self.cid
+
+        first = self.first
 
         job = self.job
 
@@ -63,6 +69,7 @@ class JobPlan:
         field_dict.update(self.additional_properties)
         field_dict.update({
             "cid": cid,
+            "first": first,
             "job": job,
             "motions": motions,
         })
@@ -76,6 +83,8 @@ class JobPlan:
         from ..models.planned_motion import PlannedMotion # noqa: PLC0415
         d = dict(src_dict)
         cid = d.pop("cid")
+
+        first = d.pop("first")
 
         job = d.pop("job")
 
@@ -91,6 +100,7 @@ class JobPlan:
 
         job_plan = cls(
             cid=cid,
+            first=first,
             job=job,
             motions=motions,
         )
