@@ -199,20 +199,67 @@ async fn a_refused_motion_mid_stream() {
         j["path"]["appended"], 10,
         "nothing of the refused append: {j}"
     );
-    // The rest goes on from motion 10.
+    // The refusal closed the path at the last accepted motion: the robot
+    // runs those 10 and stops; later appends are refused; the path's job
+    // ends with the reason.
     let rest: Vec<Value> = pts[11..].iter().map(|p| lin(p, 0.2)).collect();
-    let (s, o) = t
-        .post_json(&url, &json!({"motions": rest, "close": true}))
-        .await;
-    assert_eq!(s, 200, "{o}");
-    assert_eq!(
-        (o["first"].as_u64(), o["total"].as_u64()),
-        (Some(10), Some(40))
-    );
+    let (s, e) = t.post_json(&url, &json!({"motions": rest})).await;
+    assert_eq!((s, e["code"].as_str()), (409, Some("path_closed")), "{e}");
     let j = wait_path_end(&t, id).await;
     assert_eq!(
         (j["state"].as_str(), j["completed"].as_u64()),
-        (Some("done"), Some(40)),
+        (Some("failed"), Some(10)),
+        "{j}"
+    );
+    assert_eq!(j["error"]["code"], "unreachable", "{j}");
+    assert_eq!(j["error"]["motion"], 11, "{j}");
+    let end = &j["position"];
+    assert_close(
+        end["x"].as_f64().expect("x"),
+        pts[10][0],
+        0.01,
+        "stopped at motion 9's target x",
+    );
+    assert_close(end["y"].as_f64().expect("y"), pts[10][1], 0.01, "y");
+
+    // In a JSON-lines stream the motions before a refused one run, however
+    // the body is cut into batches; the path ends there.
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let mut body: String = pts[1..21]
+        .iter()
+        .map(|p| format!("{}\n", lin(p, 0.2)))
+        .collect();
+    body.push_str("{\"type\": \"lin\", \"target\": {\"x\": 2000}}\n");
+    body.push_str(
+        &pts[21..30]
+            .iter()
+            .map(|p| format!("{}\n", lin(p, 0.2)))
+            .collect::<String>(),
+    );
+    let r = t
+        .http
+        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
+        .header("content-type", "application/x-ndjson")
+        .body(body)
+        .send()
+        .await
+        .expect("stream");
+    let status = r.status().as_u16();
+    let e: Value = r.json().await.expect("problem");
+    assert_eq!(
+        (status, e["code"].as_str(), e["motion"].as_u64()),
+        (422, Some("unreachable"), Some(20)),
+        "{e}"
+    );
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(
+        (
+            j["state"].as_str(),
+            j["completed"].as_u64(),
+            j["error"]["code"].as_str()
+        ),
+        (Some("failed"), Some(20), Some("unreachable")),
         "{j}"
     );
 
@@ -280,6 +327,10 @@ async fn cancel_and_stop_mid_stream() {
             t.post("/api/v1/stop").await
         };
         assert_eq!(s, 200, "{v}");
+        if how == "cancel" {
+            // The answer is the path as it ended, not as it was.
+            assert_eq!(v["state"], "cancelled", "{v}");
+        }
         let j = wait_path_end(&t, id).await;
         assert_eq!(j["state"], "cancelled", "{how}: {j}");
         let done = j["completed"].as_u64().expect("completed");
@@ -346,9 +397,96 @@ async fn a_full_path_holds_the_client_back() {
     // The position is live while the path runs.
     let (s, p) = t.get("/api/v1/position").await;
     assert_eq!((s, p["source"].as_str()), (200, Some("live")), "{p}");
+    // An append waiting for room does not hold up the end of the path: the
+    // close is answered at once, and the waiting append hears that the
+    // path was closed (nothing of it was appended).
+    let waiting = {
+        let http = t.http.clone();
+        let url = t.url(&url);
+        let more: Vec<Value> = pts[1..501].iter().map(slow).collect();
+        tokio::spawn(async move {
+            let r = http
+                .post(url)
+                .json(&json!({"motions": more, "wait_ms": 60000}))
+                .send()
+                .await
+                .expect("append");
+            let status = r.status().as_u16();
+            (status, r.json::<Value>().await.expect("body"))
+        })
+    };
+    wait_for(WAIT, "the append to wait for room", async || {
+        let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
+        // Parked appends are not counted; give it a moment on the engine.
+        if j["state"] == "executing" {
+            Ok(())
+        } else {
+            Err(j.to_string())
+        }
+    })
+    .await;
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let closing = std::time::Instant::now();
+    let (s, j) = t.delete(&format!("/api/v1/paths/{id}")).await;
+    assert_eq!(s, 200, "{j}");
+    assert!(
+        closing.elapsed() < Duration::from_secs(5),
+        "the close waited behind the append"
+    );
+    assert_eq!(j["path"]["closed"], true, "{j}");
+    let (s, e) = waiting.await.expect("append task");
+    assert_eq!((s, e["code"].as_str()), (409, Some("path_closed")), "{e}");
+    let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
+    assert_eq!(j["path"]["appended"].as_u64(), Some(appended), "{j}");
     let (s, j) = t.delete(&format!("/api/v1/paths/{id}?cancel=true")).await;
     assert_eq!(s, 200, "{j}");
     wait_path_end(&t, id).await;
+}
+
+/// A path opened behind another job takes appends once it runs: the
+/// append waits for it (within its `wait_ms`). An open path that gets no
+/// more motions ends by itself after 5 s once the robot has run what it
+/// has (its client is gone), on either simulator, instant or not.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_queued_path_takes_appends_and_an_idle_one_ends() {
+    let t = TestService::start(Options::default()).await;
+    let pts = circle(40, 40.0);
+    to_start(&t, &pts[0]).await;
+    let a = open_path(&t).await;
+    let (s, o) = t
+        .post_json(
+            &format!("/api/v1/paths/{a}/motions"),
+            &json!({"motions": [lin(&pts[1], 0.2), lin(&pts[2], 0.2)]}),
+        )
+        .await;
+    assert_eq!(s, 200, "{o}");
+    // Path b waits behind path a, which nobody closes: it ends when idle.
+    let b = open_path(&t).await;
+    let (s, o) = t
+        .post_json(
+            &format!("/api/v1/paths/{b}/motions"),
+            &json!({"motions": [lin(&pts[3], 0.2)], "close": true, "wait_ms": 30000}),
+        )
+        .await;
+    assert_eq!(s, 200, "appended once b ran: {o}");
+    // b ran only after a had ended (idle: 5 s of controller time).
+    let (_, ja) = t.get(&format!("/api/v1/paths/{a}")).await;
+    assert_eq!(
+        ja["state"], "done",
+        "a ended before b took the append: {ja}"
+    );
+    let ja = wait_path_end(&t, a).await;
+    assert_eq!(
+        (ja["state"].as_str(), ja["completed"].as_u64()),
+        (Some("done"), Some(2)),
+        "{ja}"
+    );
+    let jb = wait_path_end(&t, b).await;
+    assert_eq!(
+        (jb["state"].as_str(), jb["completed"].as_u64()),
+        (Some("done"), Some(1)),
+        "{jb}"
+    );
 }
 
 /// A client that disconnects in the middle of a JSON-lines stream: the

@@ -326,8 +326,9 @@ export interface paths {
          *     the connection's flow control holds the client back while the path is full. Each
          *     motion is checked (reachability, limits, configuration, the swept path against the
          *     workspace rules) against the end of what the path already holds before anything is
-         *     sent; a refused motion closes a JSON-lines stream's path at the motion before it
-         *     (the answer names it), a refused JSON object changes nothing. Omitted coordinates keep
+         *     sent; a refused motion closes the path at the last accepted motion (the answer names
+         *     it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
+         *     lines before the refused one). Omitted coordinates keep
          *     the previous motion's value, across appends. While the path holds `MAX_PENDING`
          *     (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
          *     then answers `path_full` with `Retry-After`.
@@ -4005,9 +4006,10 @@ export interface operations {
             path?: never;
             cookie?: never;
         };
-        requestBody: {
+        /** @description Optional: no body opens a path with the defaults */
+        requestBody?: {
             content: {
-                "application/json": components["schemas"]["PathCreate"];
+                "application/json": components["schemas"]["PathCreate"] | null;
             };
         };
         responses: {
@@ -4256,6 +4258,7 @@ export interface operations {
         requestBody: {
             content: {
                 "application/json": components["schemas"]["AppendBody"];
+                "application/jsonl": string;
                 "application/x-ndjson": string;
             };
         };
@@ -4287,8 +4290,17 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description Another client holds control (`control_held`), or the controller refused */
+            /** @description `path_closed`: the path is not open (closed, refused a motion, ended, stopped) */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description A refused motion (`motion` = its index in the path): the path is closed at the last accepted motion; nothing of a JSON object was appended, a JSON-lines stream kept the lines before it */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4305,7 +4317,18 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description Refused: nothing of a JSON object was appended; a JSON-lines stream stopped at the refused motion */
+            /** @description `path_full`: no room within `wait_ms`; nothing appended */
+            503: {
+                headers: {
+                    /** @description Seconds to wait before appending again (1) */
+                    "Retry-After"?: number;
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
             "4XX": {
                 headers: {
                     [name: string]: unknown;
@@ -4314,7 +4337,7 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description `path_full` (with `Retry-After`), controller offline */
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
             "5XX": {
                 headers: {
                     [name: string]: unknown;

@@ -538,9 +538,26 @@ impl Engine {
         close: bool,
         wait: Duration,
     ) -> Result<AppendOutcome> {
+        self.append_with(path, motions, close, wait, false).await
+    }
+
+    /// [`Self::append`]; with `partial` a refused motion still appends the
+    /// motions before it in this call (a JSON-lines stream, whose batches
+    /// are arbitrary). Either way a refused motion closes the path there.
+    pub async fn append_with(
+        &self,
+        path: JobId,
+        motions: Vec<MotionRequest>,
+        close: bool,
+        wait: Duration,
+        partial: bool,
+    ) -> Result<AppendOutcome> {
         let job = self.job(path)?;
         if job.operation != "path" {
-            return Err(BridgeError::invalid(format!("job {path} is not a path")));
+            return Err(BridgeError::new(
+                ErrorCode::NotFound,
+                format!("job {path} is not a path"),
+            ));
         }
         if !motions.is_empty() {
             self.shared.safety.check_request(&motions)?;
@@ -577,6 +594,7 @@ impl Engine {
                 motions,
                 close,
                 wait,
+                partial,
                 reply: tx,
             }))
             .map_err(|_| stopped())?;

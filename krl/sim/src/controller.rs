@@ -454,6 +454,17 @@ impl Controller {
         let Some((run, wall, last)) = self.path.as_mut() else {
             return Changes::default();
         };
+        // Idle: nothing appended for PATH_IDLE while the robot has run out
+        // of motions (an instant controller holds the last ones for more to
+        // come): the path is closed; the robot finishes what was stored.
+        let stalled = run.waiting || time_scale <= 0.0;
+        if stalled && !run.closed && now.saturating_duration_since(*last) >= PATH_IDLE {
+            tracing::warn!(
+                cid = run.cid,
+                "path idle: no motions appended; it ends after the stored ones"
+            );
+            run.closed = true;
+        }
         let until = if time_scale <= 0.0 {
             run.hold_t()
         } else {
@@ -482,16 +493,7 @@ impl Controller {
         if waiting {
             self.axes = run.end_axes();
         }
-        let idle = waiting && now.saturating_duration_since(*last) >= PATH_IDLE;
-        let end = match run.ended() {
-            Some(e) => Some(e),
-            None if idle => {
-                tracing::warn!(cid, "path idle: no motions appended; it ends here");
-                Some(PathEnd::Done)
-            }
-            None => None,
-        };
-        let Some(end) = end else {
+        let Some(end) = run.ended() else {
             return Changes::default();
         };
         let Some((run, _, _)) = self.path.take() else {

@@ -93,7 +93,8 @@ pub struct EndQuery {
 /// the robot moves are approximated into it, so a path sent motion by motion does not
 /// stop between motions as long as they come faster than the robot runs them. End it
 /// with `DELETE /api/v1/paths/{id}` (the robot finishes what was appended), or stop.
-#[utoipa::path(post, path = "/api/v1/paths", tag = "motion", request_body = PathCreate,
+#[utoipa::path(post, path = "/api/v1/paths", tag = "motion",
+    request_body(content = Option<PathCreate>, description = "Optional: no body opens a path with the defaults"),
     responses(
         (status = 201, description = "The path's job", body = Job),
         (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON),
@@ -135,8 +136,9 @@ async fn create_path(
 /// the connection's flow control holds the client back while the path is full. Each
 /// motion is checked (reachability, limits, configuration, the swept path against the
 /// workspace rules) against the end of what the path already holds before anything is
-/// sent; a refused motion closes a JSON-lines stream's path at the motion before it
-/// (the answer names it), a refused JSON object changes nothing. Omitted coordinates keep
+/// sent; a refused motion closes the path at the last accepted motion (the answer names
+/// it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
+/// lines before the refused one). Omitted coordinates keep
 /// the previous motion's value, across appends. While the path holds `MAX_PENDING`
 /// (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
 /// then answers `path_full` with `Retry-After`.
@@ -144,12 +146,17 @@ async fn create_path(
     params(("id" = u64, Path, description = "The path's job id"), AppendQuery),
     request_body(content(
         (AppendBody = "application/json"),
-        (String = "application/x-ndjson")
+        (String = "application/x-ndjson"),
+        (String = "application/jsonl")
     )),
     responses(
         (status = 200, description = "Appended", body = AppendOutcome),
-        (status = "4XX", description = "Refused: nothing of a JSON object was appended; a JSON-lines stream stopped at the refused motion", body = ProblemDetails, content_type = PROBLEM_JSON),
-        (status = "5XX", description = "`path_full` (with `Retry-After`), controller offline", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+        (status = 409, description = "`path_closed`: the path is not open (closed, refused a motion, ended, stopped)", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = 422, description = "A refused motion (`motion` = its index in the path): the path is closed at the last accepted motion; nothing of a JSON object was appended, a JSON-lines stream kept the lines before it", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = 503, description = "`path_full`: no room within `wait_ms`; nothing appended", body = ProblemDetails, content_type = PROBLEM_JSON,
+            headers(("Retry-After" = u64, description = "Seconds to wait before appending again (1)"))),
+        (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn append(
     State(app): State<AppState>,
     Path(id): Path<String>,
@@ -206,7 +213,7 @@ impl Streamed {
     ) -> Result<(), BridgeError> {
         let take = self.batch.len().min(STREAM_BATCH);
         let motions: Vec<MotionRequest> = self.batch.drain(..take).collect();
-        let o = engine.append(id, motions, false, wait).await?;
+        let o = engine.append_with(id, motions, false, wait, true).await?;
         self.first.get_or_insert(o.first);
         self.appended += o.appended;
         self.total = o.total;
@@ -328,6 +335,11 @@ fn parse_line(
     line_no: usize,
     batch: &mut Vec<MotionRequest>,
 ) -> Result<(), BridgeError> {
+    if line.len() > MAX_LINE {
+        return Err(BridgeError::invalid(format!(
+            "line {line_no} is longer than {MAX_LINE} bytes"
+        )));
+    }
     let line = line.strip_suffix(b"\r").unwrap_or(line);
     if line.iter().all(u8::is_ascii_whitespace) {
         return Ok(());
@@ -379,7 +391,10 @@ async fn end_path(
         );
     }
     if q.cancel == Some(true) {
-        return Ok(ok_json(&app.engine.cancel(id).await?));
+        app.engine.cancel(id).await?;
+        // The controller confirms the stop within moments: answer with the
+        // path's final record when it has (or as it is after 5 s).
+        return Ok(ok_json(&app.engine.wait(id, Duration::from_secs(5)).await?));
     }
     if !job.state.is_terminal() {
         match app

@@ -40,6 +40,10 @@ pub(crate) struct AppendRequest {
     pub(crate) close: bool,
     /// How long the append may wait for room.
     pub(crate) wait: Duration,
+    /// A refused motion still appends the ones before it in this request
+    /// (a JSON-lines stream, whose batches are arbitrary); otherwise the
+    /// request is all or none.
+    pub(crate) partial: bool,
     /// The answer.
     pub(crate) reply: oneshot::Sender<Result<AppendOutcome>>,
 }
@@ -86,6 +90,9 @@ pub(super) struct PathState {
     /// The controller no longer takes motions for it (it answered
     /// PATH_CLOSED or an error): its result is on the way.
     over: bool,
+    /// Why an append was refused: the path was closed there, and its job
+    /// ends with this error when the robot has run what was accepted.
+    pub(super) refused: Option<BridgeError>,
 }
 
 impl PathState {
@@ -105,6 +112,7 @@ impl PathState {
             parked: VecDeque::new(),
             lead_until: None,
             over: false,
+            refused: None,
         }
     }
 
@@ -120,7 +128,9 @@ impl PathState {
 fn closed_error(path: JobId) -> BridgeError {
     BridgeError::new(
         ErrorCode::PathClosed,
-        format!("path {path} is not open: it was closed, ended, failed or was stopped"),
+        format!(
+            "path {path} is not open: it was closed, ended, failed or was stopped (GET /api/v1/paths/{path} says how)"
+        ),
     )
 }
 
@@ -138,7 +148,10 @@ impl Actor {
                     )
                 }
                 Ok(j) if j.operation == "path" => closed_error(req.path),
-                Ok(_) => BridgeError::invalid(format!("job {} is not a path", req.path)),
+                Ok(_) => BridgeError::new(
+                    ErrorCode::NotFound,
+                    format!("job {} is not a path", req.path),
+                ),
                 Err(e) => e,
             };
             let _ = req.reply.send(Err(e));
@@ -146,6 +159,16 @@ impl Actor {
         };
         if p.close_requested || p.over {
             let _ = req.reply.send(Err(closed_error(req.path)));
+            return;
+        }
+        if req.motions.is_empty() {
+            // A close (or nothing) needs no room: it does not wait behind
+            // parked appends, which it ends.
+            let outcome = self.accept_append(&req);
+            if req.close {
+                self.refuse_parked("the path was closed while this append waited for room");
+            }
+            let _ = req.reply.send(outcome);
             return;
         }
         if req.motions.len() > MAX_PENDING {
@@ -160,10 +183,33 @@ impl Actor {
         self.take_parked();
     }
 
-    /// Takes parked appends in order while they fit.
+    /// Parked appends are refused with `path_closed` (the path was closed or
+    /// refused a motion before them).
+    fn refuse_parked(&mut self, why: &str) {
+        if let Some(p) = self.path.as_mut() {
+            for a in p.parked.drain(..) {
+                let _ = a.req.reply.send(Err(BridgeError::new(
+                    ErrorCode::PathClosed,
+                    format!("path {}: {why}", p.job),
+                )));
+            }
+        }
+    }
+
+    /// Takes parked appends in order while they fit. An append whose
+    /// client has gone (it stopped waiting) is dropped, never appended.
     fn take_parked(&mut self) {
         loop {
             let Some(p) = self.path.as_mut() else { return };
+            while p.parked.front().is_some_and(|a| a.req.reply.is_closed()) {
+                if let Some(a) = p.parked.pop_front() {
+                    tracing::info!(
+                        path = p.job,
+                        motions = a.req.motions.len(),
+                        "append withdrawn: its client stopped waiting"
+                    );
+                }
+            }
             let fits = p
                 .parked
                 .front()
@@ -180,8 +226,38 @@ impl Actor {
     }
 
     /// Resolves and checks an append against the end of the path and
-    /// queues it, all or nothing.
+    /// queues it, all or nothing (with `partial`: the motions before a
+    /// refused one). A refused motion closes the path there: the robot runs
+    /// what was accepted and stops, and the path's job ends with the reason.
     fn accept_append(&mut self, req: &AppendRequest) -> Result<AppendOutcome> {
+        match self.try_append(req, req.motions.len()) {
+            Ok(o) => Ok(o),
+            Err(e) if e.code == ErrorCode::PathClosed || e.code == ErrorCode::NotFound => Err(e),
+            Err(e) => {
+                let first = self.path.as_ref().map_or(0, |p| p.appended);
+                let before = e.motion.map_or(0, |m| m.saturating_sub(first));
+                if req.partial && before > 0 {
+                    // The motions before the refused one are fine: appended.
+                    let _ = self.try_append(req, before);
+                }
+                if let Some(p) = self.path.as_mut() {
+                    tracing::warn!(path = p.job, code = e.code.as_str(), detail = %e.detail, "append refused; the path is closed at the last accepted motion");
+                    p.close_requested = true;
+                    p.refused.get_or_insert_with(|| e.clone());
+                    let (job, progress, appended) = (p.job, p.progress(), p.appended);
+                    self.shared.update(job, |j| {
+                        j.motions = appended;
+                        j.path = Some(progress);
+                    });
+                }
+                self.refuse_parked("an earlier append was refused, which closed the path");
+                Err(e)
+            }
+        }
+    }
+
+    /// Appends the first `count` motions of the request.
+    fn try_append(&mut self, req: &AppendRequest, count: usize) -> Result<AppendOutcome> {
         let (tool, base) = (
             self.ctl.tool.unwrap_or_default(),
             self.ctl.base.unwrap_or_default(),
@@ -192,8 +268,9 @@ impl Actor {
             return Err(closed_error(req.path));
         };
         let first = p.appended;
-        if !req.motions.is_empty() {
-            let mut requests = req.motions.clone();
+        let motions = &req.motions[..count.min(req.motions.len())];
+        if !motions.is_empty() {
+            let mut requests = motions.to_vec();
             if let Some(c) = p.options.config {
                 requests.iter_mut().for_each(|m| m.default_config(c));
             }
@@ -222,18 +299,18 @@ impl Actor {
                 first,
             })));
             p.pending.extend(records);
-            p.appended += req.motions.len();
+            p.appended += motions.len();
             if p.lead_until.is_none() {
                 p.lead_until = Some(Instant::now() + LEAD);
             }
         }
-        if req.close {
+        if req.close && count == req.motions.len() {
             p.close_requested = true;
         }
         let outcome = AppendOutcome {
             path: p.job,
             first,
-            appended: req.motions.len(),
+            appended: motions.len(),
             total: p.appended,
             closed: p.close_requested,
             end: p.end.pose.into(),
@@ -381,22 +458,22 @@ impl Actor {
                 p.stored = stored;
             }
         }
-        while let Some(a) = p.parked.front() {
-            if a.deadline > now {
-                break;
-            }
-            if let Some(a) = p.parked.pop_front() {
-                let e = BridgeError::new(
-                    ErrorCode::PathFull,
-                    format!(
-                        "path {} holds {} motions not yet sent to the controller; none was free for {} ms",
-                        p.job,
-                        p.pending.len(),
-                        a.req.wait.as_millis()
-                    ),
-                );
-                let _ = a.req.reply.send(Err(e));
-            }
+        let (job, pending) = (p.job, p.pending.len());
+        let (expired, waiting): (Vec<Parked>, Vec<Parked>) = p
+            .parked
+            .drain(..)
+            .partition(|a| a.deadline <= now || a.req.reply.is_closed());
+        p.parked = waiting.into();
+        for a in expired {
+            let e = BridgeError::new(
+                ErrorCode::PathFull,
+                format!(
+                    "path {job} holds {pending} motions not yet sent to the controller (at most {MAX_PENDING}); there was no room for these {} within {} ms",
+                    a.req.motions.len(),
+                    a.req.wait.as_millis()
+                ),
+            );
+            let _ = a.req.reply.send(Err(e));
         }
     }
 

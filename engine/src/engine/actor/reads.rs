@@ -235,6 +235,16 @@ impl Actor {
             _ => {}
         }
         let mut error = result_error(&r);
+        if error.is_none()
+            && let Some(refused) = self
+                .path
+                .as_ref()
+                .filter(|p| p.cid == r.cid)
+                .and_then(|p| p.refused.clone())
+        {
+            // The path ran what was accepted; it ends with the refusal.
+            error = Some(refused);
+        }
         if !matches!(f.op, Operation::Move(_) | Operation::Path(_))
             && let Some(e) = &mut error
         {
@@ -273,6 +283,8 @@ impl Actor {
                 j.position = Some(Position::new(&r.position, r.s, r.t));
             }
             j.state = match r.code {
+                // A path that ran what was accepted of it but refused a motion.
+                ResultCode::Ok if error.is_some() => JobState::Failed,
                 ResultCode::Ok => JobState::Done,
                 ResultCode::Cancelled => JobState::Cancelled,
                 _ => JobState::Failed,

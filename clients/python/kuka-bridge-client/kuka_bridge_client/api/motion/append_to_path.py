@@ -80,12 +80,26 @@ def _parse_response(*, client: AuthenticatedClient | Client, response: httpx.Res
 
         return response_409
 
+    if response.status_code == 422:
+        response_422 = ProblemDetails.from_dict(response.json())
+
+
+
+        return response_422
+
     if response.status_code == 429:
         response_429 = ProblemDetails.from_dict(response.json())
 
 
 
         return response_429
+
+    if response.status_code == 503:
+        response_503 = ProblemDetails.from_dict(response.json())
+
+
+
+        return response_503
 
     if 400 <= response.status_code <= 499:
         response_4xx = ProblemDetails.from_dict(response.json())
@@ -132,8 +146,9 @@ def sync_detailed(
     the connection's flow control holds the client back while the path is full. Each
     motion is checked (reachability, limits, configuration, the swept path against the
     workspace rules) against the end of what the path already holds before anything is
-    sent; a refused motion closes a JSON-lines stream's path at the motion before it
-    (the answer names it), a refused JSON object changes nothing. Omitted coordinates keep
+    sent; a refused motion closes the path at the last accepted motion (the answer names
+    it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
+    lines before the refused one). Omitted coordinates keep
     the previous motion's value, across appends. While the path holds `MAX_PENDING`
     (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
     then answers `path_full` with `Retry-After`.
@@ -186,8 +201,9 @@ def sync(
     the connection's flow control holds the client back while the path is full. Each
     motion is checked (reachability, limits, configuration, the swept path against the
     workspace rules) against the end of what the path already holds before anything is
-    sent; a refused motion closes a JSON-lines stream's path at the motion before it
-    (the answer names it), a refused JSON object changes nothing. Omitted coordinates keep
+    sent; a refused motion closes the path at the last accepted motion (the answer names
+    it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
+    lines before the refused one). Omitted coordinates keep
     the previous motion's value, across appends. While the path holds `MAX_PENDING`
     (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
     then answers `path_full` with `Retry-After`.
@@ -235,8 +251,9 @@ async def asyncio_detailed(
     the connection's flow control holds the client back while the path is full. Each
     motion is checked (reachability, limits, configuration, the swept path against the
     workspace rules) against the end of what the path already holds before anything is
-    sent; a refused motion closes a JSON-lines stream's path at the motion before it
-    (the answer names it), a refused JSON object changes nothing. Omitted coordinates keep
+    sent; a refused motion closes the path at the last accepted motion (the answer names
+    it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
+    lines before the refused one). Omitted coordinates keep
     the previous motion's value, across appends. While the path holds `MAX_PENDING`
     (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
     then answers `path_full` with `Retry-After`.
@@ -289,8 +306,9 @@ async def asyncio(
     the connection's flow control holds the client back while the path is full. Each
     motion is checked (reachability, limits, configuration, the swept path against the
     workspace rules) against the end of what the path already holds before anything is
-    sent; a refused motion closes a JSON-lines stream's path at the motion before it
-    (the answer names it), a refused JSON object changes nothing. Omitted coordinates keep
+    sent; a refused motion closes the path at the last accepted motion (the answer names
+    it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
+    lines before the refused one). Omitted coordinates keep
     the previous motion's value, across appends. While the path holds `MAX_PENDING`
     (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
     then answers `path_full` with `Retry-After`.

@@ -11,13 +11,14 @@ from ... import errors
 from ...models.job import Job
 from ...models.path_create import PathCreate
 from ...models.problem_details import ProblemDetails
+from ...types import UNSET, Unset
 from typing import cast
 
 
 
 def _get_kwargs(
     *,
-    body: PathCreate,
+    body: None | PathCreate | Unset = UNSET,
 
 ) -> dict[str, Any]:
     headers: dict[str, Any] = {}
@@ -32,7 +33,11 @@ def _get_kwargs(
         "url": "/api/v1/paths",
     }
 
-    _kwargs["json"] = body.to_dict()
+    
+    if isinstance(body, PathCreate):
+        _kwargs["json"] = body.to_dict()
+    else:
+        _kwargs["json"] = body
 
     headers["Content-Type"] = "application/json"
 
@@ -109,7 +114,7 @@ def _build_response(*, client: AuthenticatedClient | Client, response: httpx.Res
 def sync_detailed(
     *,
     client: AuthenticatedClient,
-    body: PathCreate,
+    body: None | PathCreate | Unset = UNSET,
 
 ) -> Response[Job | ProblemDetails]:
     """ Open a path: a motion stream that stays open while motions are appended.
@@ -125,7 +130,7 @@ def sync_detailed(
     control.
 
     Args:
-        body (PathCreate): Opening a path. Example: {'config': 'auto'}.
+        body (None | PathCreate | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -150,7 +155,7 @@ def sync_detailed(
 def sync(
     *,
     client: AuthenticatedClient,
-    body: PathCreate,
+    body: None | PathCreate | Unset = UNSET,
 
 ) -> Job | ProblemDetails | None:
     """ Open a path: a motion stream that stays open while motions are appended.
@@ -166,7 +171,7 @@ def sync(
     control.
 
     Args:
-        body (PathCreate): Opening a path. Example: {'config': 'auto'}.
+        body (None | PathCreate | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -186,7 +191,7 @@ body=body,
 async def asyncio_detailed(
     *,
     client: AuthenticatedClient,
-    body: PathCreate,
+    body: None | PathCreate | Unset = UNSET,
 
 ) -> Response[Job | ProblemDetails]:
     """ Open a path: a motion stream that stays open while motions are appended.
@@ -202,7 +207,7 @@ async def asyncio_detailed(
     control.
 
     Args:
-        body (PathCreate): Opening a path. Example: {'config': 'auto'}.
+        body (None | PathCreate | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -227,7 +232,7 @@ async def asyncio_detailed(
 async def asyncio(
     *,
     client: AuthenticatedClient,
-    body: PathCreate,
+    body: None | PathCreate | Unset = UNSET,
 
 ) -> Job | ProblemDetails | None:
     """ Open a path: a motion stream that stays open while motions are appended.
@@ -243,7 +248,7 @@ async def asyncio(
     control.
 
     Args:
-        body (PathCreate): Opening a path. Example: {'config': 'auto'}.
+        body (None | PathCreate | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
