@@ -176,7 +176,10 @@ fn parse(body: &str) -> Result<CircleRequest, String> {
         ));
     }
     if !(1..=1000).contains(&c.turns) {
-        return Err(format!("turns must be between 1 and 1000, not {}.", c.turns));
+        return Err(format!(
+            "turns must be between 1 and 1000, not {}.",
+            c.turns
+        ));
     }
     if c.turns > 1 && c.mode != Mode::Lin {
         return Err("turns above 1 need \"mode\": \"lin\".".into());
