@@ -284,7 +284,7 @@ fn stream_turns(c: &CircleRequest, orientation: &Pose) -> Response {
                     ..l.params
                 },
             }),
-            other => other.clone(),
+            other => *other,
         })
         .collect();
     let path = match paths::open_path() {
