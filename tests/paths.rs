@@ -647,3 +647,61 @@ async fn thesis_linmov_calls_blend_when_the_site_enables_it() {
         "no stop between the 40 linmov calls"
     );
 }
+
+/// An append that waits for room is withdrawn when its client stops
+/// waiting (a client that times out and retries must not get its motions
+/// twice): when room frees up later, it is not appended.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_append_its_client_gave_up_on_is_never_appended() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    let pts = circle(40, 40.0);
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let url = format!("/api/v1/paths/{id}/motions");
+    // 2000 short motions back and forth (1 mm at 0.05 m/s, a few tens of
+    // ms each): the path's queue in the service is full.
+    let zigzag: Vec<Value> = (0..1000)
+        .map(|i| {
+            let y = if i % 2 == 0 { 1.0 } else { 0.0 };
+            json!({"type": "lin", "target": {"y": y}, "velocity_m_s": 0.05})
+        })
+        .collect();
+    for _ in 0..2 {
+        let (s, o) = t.post_json(&url, &json!({"motions": zigzag})).await;
+        assert_eq!(s, 200, "{o}");
+    }
+    // 300 more cannot fit now; the client gives up after 300 ms.
+    let more: Vec<Value> = zigzag[..300].to_vec();
+    let gave_up = t
+        .http
+        .post(t.url(&url))
+        .timeout(Duration::from_millis(300))
+        .json(&json!({"motions": more, "wait_ms": 60000}))
+        .send()
+        .await;
+    assert!(gave_up.is_err(), "the client gave up waiting: {gave_up:?}");
+    // Room frees up as the robot runs: enough for the 300 once 300 more are
+    // on the controller.
+    let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
+    let sent = j["path"]["sent"].as_u64().expect("sent");
+    wait_for(Duration::from_secs(60), "room for 300 more", async || {
+        let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
+        if j["path"]["sent"].as_u64().is_some_and(|s| s >= sent + 310) {
+            Ok(j)
+        } else {
+            Err(j.to_string())
+        }
+    })
+    .await;
+    let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
+    assert_eq!(
+        j["path"]["appended"], 2000,
+        "the withdrawn append was not appended: {j}"
+    );
+    let (s, j) = t.delete(&format!("/api/v1/paths/{id}?cancel=true")).await;
+    assert_eq!(s, 200, "{j}");
+}
