@@ -343,9 +343,15 @@ async fn cancel_and_stop_mid_stream() {
             (409, Some("path_closed")),
             "{how}: {e}"
         );
-        // The robot stands where it stopped.
+        // The robot stands where it stopped: the controller is idle, and
+        // still there when a read comes back through it.
+        t.wait_state("the controller idle", |st| {
+            st["controller"]["status"] == "idle"
+        })
+        .await;
         let at = t.controller_axes();
-        tokio::time::sleep(Duration::from_millis(200)).await;
+        let (s, _) = t.get("/api/v1/position").await;
+        assert_eq!(s, 200);
         assert_eq!(t.controller_axes(), at, "{how}: the robot stands");
         to_start(&t, &pts[0]).await;
     }
@@ -425,7 +431,6 @@ async fn a_full_path_holds_the_client_back() {
         }
     })
     .await;
-    tokio::time::sleep(Duration::from_millis(300)).await;
     let closing = std::time::Instant::now();
     let (s, j) = t.delete(&format!("/api/v1/paths/{id}")).await;
     assert_eq!(s, 200, "{j}");
