@@ -1087,3 +1087,62 @@ async fn position_is_live_while_a_motion_runs() {
         "thesis getpos along the path: {thesis_mid_path}"
     );
 }
+
+/// Issue 22, live position when the heartbeat stalls: a sample older than
+/// 500 ms is not answered; the read waits for the next one (up to 2 s)
+/// instead of queueing behind the motion, and answers live as soon as the
+/// controller reports again.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_late_heartbeat_delays_a_live_read_briefly() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    let (s, j) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 300, "y": -100, "z": 300, "a": 0, "b": 180, "c": 0}}]))
+        .await;
+    assert_eq!(s, 200, "{j}");
+    // 200 mm at 0.02 m/s: about 10 s, far longer than the test.
+    let body = json!({"motions": [{"type": "lin", "target": {"y": 100}, "velocity_m_s": 0.02}], "wait": false});
+    let (s, job) = t.post_json("/api/v1/motions", &body).await;
+    assert_eq!(s, 202, "{job}");
+    t.wait_job(job["id"].as_u64().expect("id"), "the LIN to execute", |j| {
+        j["state"] == "executing"
+    })
+    .await;
+    t.pause_controller();
+    // Reads answer from the last sample until it is 500 ms old; then one
+    // waits (it does not come back within 100 ms).
+    let deadline = std::time::Instant::now() + Duration::from_secs(5);
+    let waiting = loop {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "a read never waited for a fresh sample"
+        );
+        let http = t.http.clone();
+        let url = t.url("/api/v1/position");
+        let mut read = tokio::spawn(async move {
+            let r = http.get(url).send().await.expect("position");
+            let s = r.status().as_u16();
+            (s, r.json::<Value>().await.expect("body"))
+        });
+        match tokio::time::timeout(Duration::from_millis(100), &mut read).await {
+            Ok(done) => {
+                let (s, p) = done.expect("read");
+                assert_eq!((s, p["source"].as_str()), (200, Some("live")), "{p}");
+                assert!(p["age_ms"].as_u64().expect("age") <= 500, "{p}");
+            }
+            Err(_) => break read,
+        }
+    };
+    t.resume_controller();
+    let (s, p) = tokio::time::timeout(Duration::from_secs(3), waiting)
+        .await
+        .expect("the waiting read answers once the controller reports")
+        .expect("read");
+    assert_eq!((s, p["source"].as_str()), (200, Some("live")), "{p}");
+    assert!(p["age_ms"].as_u64().expect("age") < 500, "{p}");
+    let (s, _) = t.post("/api/v1/stop").await;
+    assert_eq!(s, 200);
+}

@@ -409,7 +409,8 @@ export interface paths {
         /**
          * Current position. While the robot stands it is read through the controller
          *     program (a round trip); while a job runs it comes at once from the controller's
-         *     live state (`source: live`, with its age) instead of waiting behind the motion.
+         *     live state (`source: live`, with its age) instead of waiting behind the motion;
+         *     a sample older than 500 ms is not used: the read waits up to 2 s for the next.
          * @description **Access:** role `viewer` or higher.
          */
         get: operations["getPosition"];

@@ -21,6 +21,11 @@ pub use types::*;
 /// heartbeats of the shipped KRL program (100 ms each).
 pub const LIVE_POSITION_MAX_AGE: std::time::Duration = std::time::Duration::from_millis(500);
 
+/// How long [`Engine::live_position_within`] waits for a fresh sample when
+/// the newest one is too old while a job runs (a heartbeat late on a loaded
+/// host): far shorter than queueing the read behind the motion.
+pub const LIVE_POSITION_WAIT: std::time::Duration = std::time::Duration::from_secs(2);
+
 use crate::channel::{Channel, ChannelError, CidStore};
 use crate::error::{BridgeError, ErrorCode, Result};
 use crate::motion::{MotionRequest, SpeedSettings};
@@ -240,6 +245,30 @@ impl Engine {
             axes: s.axes,
             age,
         })
+    }
+
+    /// [`Engine::live_position`], but when a job runs and the newest sample
+    /// is too old, waits up to `wait` for a fresh one (the next heartbeat)
+    /// instead of answering `None` at once. `None` when the controller is
+    /// idle or offline, or no fresh sample came in time.
+    pub async fn live_position_within(&self, wait: std::time::Duration) -> Option<LivePosition> {
+        let mut rx = self.shared.state.subscribe();
+        let deadline = tokio::time::Instant::now() + wait;
+        loop {
+            if let Some(live) = self.live_position() {
+                return Some(live);
+            }
+            {
+                let s = rx.borrow_and_update();
+                if !s.busy || s.connection != Connection::Online {
+                    return None;
+                }
+            }
+            match tokio::time::timeout_at(deadline, rx.changed()).await {
+                Ok(Ok(())) => {}
+                _ => return None,
+            }
+        }
     }
 
     /// The robot state as last read from the controller.

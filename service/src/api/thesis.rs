@@ -492,7 +492,11 @@ async fn circ(
 #[utoipa::path(post, path = "/krl/getpos", tag = "thesis",
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
 async fn getpos(State(app): State<AppState>, who: Who, _: ThesisQuery<NoParams>) -> Response {
-    if let Some(live) = app.engine.live_position() {
+    if let Some(live) = app
+        .engine
+        .live_position_within(kuka_engine::engine::LIVE_POSITION_WAIT)
+        .await
+    {
         return done(live.position.xyzabc());
     }
     run(&app, &who, Operation::GetPosition, false).await

@@ -271,11 +271,16 @@ async fn get_workspace(State(app): State<AppState>) -> Response {
 
 /// Current position. While the robot stands it is read through the controller
 /// program (a round trip); while a job runs it comes at once from the controller's
-/// live state (`source: live`, with its age) instead of waiting behind the motion.
+/// live state (`source: live`, with its age) instead of waiting behind the motion;
+/// a sample older than 500 ms is not used: the read waits up to 2 s for the next.
 #[utoipa::path(get, path = "/api/v1/position", tag = "robot",
     responses((status = 200, body = PositionReport), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn get_position(State(app): State<AppState>, who: Who) -> Result<Response, Problem> {
-    if let Some(live) = app.engine.live_position() {
+    if let Some(live) = app
+        .engine
+        .live_position_within(kuka_engine::engine::LIVE_POSITION_WAIT)
+        .await
+    {
         return Ok(ok_json(&PositionReport {
             position: live.position,
             axes: live.axes,

@@ -98,7 +98,8 @@ def sync_detailed(
 ) -> Response[PositionReport | ProblemDetails]:
     """ Current position. While the robot stands it is read through the controller
     program (a round trip); while a job runs it comes at once from the controller's
-    live state (`source: live`, with its age) instead of waiting behind the motion.
+    live state (`source: live`, with its age) instead of waiting behind the motion;
+    a sample older than 500 ms is not used: the read waits up to 2 s for the next.
 
      
 
@@ -130,7 +131,8 @@ def sync(
 ) -> PositionReport | ProblemDetails | None:
     """ Current position. While the robot stands it is read through the controller
     program (a round trip); while a job runs it comes at once from the controller's
-    live state (`source: live`, with its age) instead of waiting behind the motion.
+    live state (`source: live`, with its age) instead of waiting behind the motion;
+    a sample older than 500 ms is not used: the read waits up to 2 s for the next.
 
      
 
@@ -157,7 +159,8 @@ async def asyncio_detailed(
 ) -> Response[PositionReport | ProblemDetails]:
     """ Current position. While the robot stands it is read through the controller
     program (a round trip); while a job runs it comes at once from the controller's
-    live state (`source: live`, with its age) instead of waiting behind the motion.
+    live state (`source: live`, with its age) instead of waiting behind the motion;
+    a sample older than 500 ms is not used: the read waits up to 2 s for the next.
 
      
 
@@ -189,7 +192,8 @@ async def asyncio(
 ) -> PositionReport | ProblemDetails | None:
     """ Current position. While the robot stands it is read through the controller
     program (a round trip); while a job runs it comes at once from the controller's
-    live state (`source: live`, with its age) instead of waiting behind the motion.
+    live state (`source: live`, with its age) instead of waiting behind the motion;
+    a sample older than 500 ms is not used: the read waits up to 2 s for the next.
 
      
 
