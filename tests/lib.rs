@@ -57,7 +57,9 @@ pub fn test_simulator() -> SimulatorKind {
 /// The KSS variant the KRC-like runtime simulates in these tests
 /// (docs/CONTROLLER.md A1, A2): `KB_TEST_KSS=cmd_ok-folder` answers file
 /// functions with `#CMD_OK` and accepts `RUN /R1/Program/kbridge/<module>()`
-/// only (the program's `kb_run_pfx` set to match, as a site would);
+/// only (the program's `kb_run_pfx` set to match, as a site would), and
+/// counts SREAD/SWRITE offsets as 1-based positions (so the program falls
+/// back to parsing by characters: the suite runs that path too);
 /// unset or `default`: `#DATA_OK` and `/R1/`.
 pub fn apply_test_kss(c: &mut Config) {
     match std::env::var("KB_TEST_KSS").as_deref() {
@@ -65,6 +67,7 @@ pub fn apply_test_kss(c: &mut Config) {
         Ok("cmd_ok-folder") => {
             c.simulator.file_success = kuka_bridge::config::FileSuccess::CmdOk;
             c.simulator.run_prefix = "/R1/Program/kbridge/".into();
+            c.simulator.text_offset = kuka_bridge::config::TextOffset::Position;
         }
         Ok(other) => panic!("KB_TEST_KSS={other}: use default or cmd_ok-folder"),
     }

@@ -130,6 +130,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         kc.cycle = Duration::from_millis(config.simulator.cycle_ms);
         kc.submit_budget = config.simulator.submit_budget;
         kc.fct_success = config.simulator.file_success.krl().into();
+        kc.text_offset_base = config.simulator.text_offset.base();
         if config.simulator.run_prefix != kc.run_prefix {
             kc.run_prefix = config.simulator.run_prefix.clone();
             kc.site_run_prefix = Some(config.simulator.run_prefix.clone());

@@ -213,6 +213,13 @@ pub struct SimulatorConfig {
     /// `kb_run_pfx` to the same value, as a site would in `kb_main.dat`
     /// (docs/CONTROLLER.md A2).
     pub run_prefix: String,
+    /// `krc` only: what the simulated KSS's `SREAD`/`SWRITE` offset counts:
+    /// `consumed` (the characters already read or written, as public
+    /// programs use it) or `position` (the 1-based position of the next
+    /// character). The shipped program tests which at start and parses
+    /// by characters when SREAD/SWRITE do not behave as it expects
+    /// (docs/CONTROLLER.md B20).
+    pub text_offset: TextOffset,
     /// Simulated seconds per wall second (1 = real time, 0 = instant).
     pub time_scale: f64,
     /// Heartbeat period (ms).
@@ -237,6 +244,27 @@ impl FileSuccess {
         match self {
             FileSuccess::DataOk => "DATA_OK",
             FileSuccess::CmdOk => "CMD_OK",
+        }
+    }
+}
+
+/// What a simulated KSS's `SREAD`/`SWRITE` offset counts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TextOffset {
+    /// The characters already read or written (0-based).
+    #[default]
+    Consumed,
+    /// The 1-based position of the next character.
+    Position,
+}
+
+impl TextOffset {
+    /// The runtime's `text_offset_base`.
+    pub fn base(self) -> i64 {
+        match self {
+            TextOffset::Consumed => 0,
+            TextOffset::Position => 1,
         }
     }
 }
@@ -411,6 +439,7 @@ impl Default for SimulatorConfig {
             submit_budget: 5_000,
             file_success: FileSuccess::DataOk,
             run_prefix: "/R1/".into(),
+            text_offset: TextOffset::Consumed,
             time_scale: 1.0,
             heartbeat_ms: 50,
         }

@@ -214,7 +214,6 @@ fn main() {
         for run in 1..=2 {
             let (s, _) = t.delete("/api/v1/sim/trace").await;
             assert!(s == 200 || s == 204, "clear the trace: {s}");
-            let id = open_path(&t).await;
             let rss0 = rss_mib(None).unwrap_or(0.0);
             let peak = std::sync::Arc::new(std::sync::Mutex::new(rss0));
             let watch = {
@@ -242,6 +241,9 @@ fn main() {
                     })
                     .collect::<Vec<_>>(),
             );
+            // Opened once the body is ready: at time scale 0 the simulated
+            // clock races ahead, and a path idle for 5 s (simulated) ends.
+            let id = open_path(&t).await;
             let wall = Instant::now();
             // No client timeout: the stream lasts as long as the robot needs.
             let client = reqwest::Client::new();
@@ -252,7 +254,12 @@ fn main() {
                 .send()
                 .await
                 .expect("stream");
+            let status = r.status();
             let v: Value = r.json().await.expect("outcome");
+            assert!(
+                status.is_success() && v["total"].as_u64() == Some(long as u64),
+                "the stream was not taken whole: {status} {v}"
+            );
             let j = wait_end(&t, id).await;
             watch.abort();
             let rss1 = rss_mib(None).unwrap_or(0.0);

@@ -50,6 +50,11 @@ pub struct KrcConfig {
     /// succeeded: `DATA_OK` (KUKA's text, working code) or `CMD_OK` (the
     /// other variant public CWRITE documentation allows).
     pub fct_success: String,
+    /// What `SREAD`/`SWRITE`'s offset counts: 0 = characters already read
+    /// or written (default), 1 = the 1-based position of the next one (the
+    /// other reading of KUKA's text; the shipped program then parses and
+    /// formats by characters, docs/CONTROLLER.md B20).
+    pub text_offset_base: i64,
     /// The path prefix `RUN` accepts (`RUN /R1/kbu3()`): `/R1/` as every
     /// public `sps.sub` writes it; a KSS that wants the folder would take
     /// `/R1/Program/kbridge/`.
@@ -85,6 +90,7 @@ impl KrcConfig {
             plan: PlanSettings::default(),
             mode: "EX".into(),
             fct_success: "DATA_OK".into(),
+            text_offset_base: 0,
             run_prefix: "/R1/".into(),
             site_run_prefix: None,
             start_main: true,

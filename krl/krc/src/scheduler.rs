@@ -230,6 +230,7 @@ impl Scheduler {
         let files = HostedFiles {
             root: self.config.channel_dir.clone(),
             success: self.config.fct_success.clone(),
+            text_offset_base: self.config.text_offset_base,
         };
         let entry = entry.to_string();
         let thread = std::thread::Builder::new()

@@ -282,3 +282,45 @@ fn the_program_works_with_a_kss_answering_cmd_ok() {
     assert!(krc.snapshot().submit_error.is_none());
     krc.shutdown();
 }
+
+/// SREAD/SWRITE (docs/CONTROLLER.md B20): with offsets that count the
+/// characters consumed the program's self-test picks them (`kb_txt_mode`
+/// 1); with offsets that are 1-based positions it falls back to parsing
+/// by characters (2). Either way commands are served, and a site can
+/// forbid SREAD/SWRITE (`kb_txt_native = FALSE` gives 2 as well).
+#[test]
+fn the_program_uses_sread_only_where_it_behaves_as_expected() {
+    for (base, native, mode) in [(0, true, 1), (1, true, 2), (0, false, 2)] {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let mut c = KrcConfig::new(dir.path());
+        c.time_scale = 0.0;
+        c.text_offset_base = base;
+        let krl = dir.path().join("krl");
+        if !native {
+            // The site's copy of the program, kb_main.dat's switch off.
+            std::fs::create_dir(&krl).expect("mkdir");
+            for (name, text) in kuka_krc::KRL_FILES {
+                let text = if name == "kb_main.dat" {
+                    let off = text.replace("kb_txt_native=TRUE", "kb_txt_native=FALSE");
+                    assert_ne!(off, text, "kb_main.dat has kb_txt_native=TRUE");
+                    off
+                } else {
+                    text.to_string()
+                };
+                std::fs::write(krl.join(name), text).expect("write");
+            }
+            c.krl_dir = Some(krl);
+        }
+        let krc = KrcController::start(c).expect("the runtime starts");
+        assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+        assert_eq!(
+            krc.int_variable("kb_txt_mode"),
+            Some(mode),
+            "offset base {base}, kb_txt_native {native}"
+        );
+        let r = round_trip(&krc, dir.path(), 1, Command::GetPosition, 5);
+        assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+        assert!(krc.snapshot().submit_error.is_none());
+        krc.shutdown();
+    }
+}

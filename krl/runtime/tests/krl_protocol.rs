@@ -616,10 +616,45 @@ impl LineCase {
     }
 }
 
+/// How the KRL program parses and formats lines (kb_io.src): by
+/// characters, or with SREAD/SWRITE after `KbTxtInit`'s self-test.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Text {
+    Chars,
+    Native,
+}
+
+/// The start of a driver that puts the program into `mode`, checking that
+/// the self-test chose SREAD/SWRITE in the runtime.
+/// Characters: `kb_txt_native = FALSE`, as a site may set it.
+fn text_setup(mode: Text) -> &'static str {
+    match mode {
+        Text::Chars => "  kb_txt_native = FALSE\n  KbTxtInit()\n",
+        // A WAIT FOR that is FALSE fails the run (it would wait forever).
+        Text::Native => "  KbTxtInit()\n  WAIT FOR kb_txt_mode == 1\n",
+    }
+}
+
+/// `driver` with [`text_setup`] after its declarations.
+fn in_mode(driver: &str, mode: Text) -> String {
+    let mut out = String::new();
+    let mut placed = false;
+    for (i, line) in driver.lines().enumerate() {
+        if !placed && i > 0 && !line.trim_start().starts_with("DECL") {
+            out.push_str(text_setup(mode));
+            placed = true;
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    out
+}
+
 /// Runs `KbLine` over every case in one KRL run: `Some(kb_v[1..nf+1])`
 /// (the values and the checksum) when it returns TRUE, `None` when FALSE.
-fn krl_parse(cases: &[LineCase]) -> Vec<Option<Vec<i64>>> {
+fn krl_parse(cases: &[LineCase], mode: Text) -> Vec<Option<Vec<i64>>> {
     let mut d = String::from("DEF t_main( )\n  DECL INT k\n");
+    d.push_str(text_setup(mode));
     for (i, c) in cases.iter().enumerate() {
         let i = i + 1;
         assert!(
@@ -766,6 +801,12 @@ fn krl_formats_cover_every_record_of_the_protocol() {
 
 #[test]
 fn krl_parses_every_line_the_service_writes() {
+    for mode in [Text::Chars, Text::Native] {
+        parses_every_line(mode);
+    }
+}
+
+fn parses_every_line(mode: Text) {
     let formats = krl_formats(submit_src());
     let lines = service_lines();
     let mut cases: Vec<LineCase> = Vec::new();
@@ -788,21 +829,32 @@ fn krl_parses_every_line_the_service_writes() {
             expect.push(Some(want.clone()));
         }
     }
-    let got = krl_parse(&cases);
+    let got = krl_parse(&cases, mode);
     for ((c, g), e) in cases.iter().zip(&got).zip(&expect) {
         assert_eq!(
             g, e,
-            "KbLine({}, {:?}) on {:?} + {:?}",
+            "{mode:?}: KbLine({}, {:?}) on {:?} + {:?}",
             c.tag, c.format, c.text, c.extra
         );
     }
 }
 
+/// Every damaged line is refused. With SREAD (native mode) a form error
+/// that keeps every value (a double space, a missing trailing zero) may
+/// pass, as the checksum allows: then the values must be the original's.
 #[test]
 fn krl_refuses_corrupted_and_truncated_lines() {
+    for mode in [Text::Chars, Text::Native] {
+        refuses_damaged_lines(mode);
+    }
+}
+
+fn refuses_damaged_lines(mode: Text) {
     let lines = service_lines();
     let mut cases: Vec<LineCase> = Vec::new();
-    for (k, (text, tag, f, _)) in lines.iter().enumerate() {
+    let mut originals: Vec<&Vec<i64>> = Vec::new();
+    for (k, (text, tag, f, want)) in lines.iter().enumerate() {
+        let before = cases.len();
         let bytes = text.as_bytes();
         // Every digit changed: to every other digit in the first lines of
         // each kind, else to the next digit (keeps the run short).
@@ -837,17 +889,22 @@ fn krl_refuses_corrupted_and_truncated_lines() {
             t.remove(p + 3);
             cases.push(LineCase::new(&t, tag, *f));
         }
+        originals.resize(cases.len().max(before), want);
     }
-    let got = krl_parse(&cases);
+    let got = krl_parse(&cases, mode);
     let accepted: Vec<&str> = cases
         .iter()
         .zip(&got)
-        .filter(|(_, g)| g.is_some())
-        .map(|(c, _)| c.text.as_str())
+        .zip(&originals)
+        .filter(|((_, g), want)| match g {
+            None => false,
+            Some(v) => mode == Text::Chars || v != **want,
+        })
+        .map(|((c, _), _)| c.text.as_str())
         .collect();
     assert!(
         accepted.is_empty(),
-        "KbLine accepted {} damaged lines, e.g. {:?}",
+        "{mode:?}: KbLine accepted {} damaged lines, e.g. {:?}",
         accepted.len(),
         &accepted[..accepted.len().min(5)]
     );
@@ -1015,14 +1072,23 @@ fn result_files_written_by_krl_decode_in_rust() {
         ));
     }
     d.push_str("  KsWriteRes()\nEND\n");
-    let mut files = BTreeMap::new();
-    let g = run_driver(&d, "", &mut files);
-    let text = files.get(RESULT_FILE).expect("kb_res.txt written");
     let want = ResultFile {
         results: all.results[2..].to_vec(),
     };
-    assert_eq!(ResultFile::decode(text), Ok(want.clone()), "{text}");
-    assert_eq!(text, &all.encode().expect("encodes"));
+    // The file is the same whether SWRITE or the characters format it.
+    let mut g = None;
+    for mode in [Text::Native, Text::Chars] {
+        let mut files = BTreeMap::new();
+        g = Some(run_driver(&in_mode(&d, mode), "", &mut files));
+        let text = files.get(RESULT_FILE).expect("kb_res.txt written");
+        assert_eq!(
+            ResultFile::decode(text),
+            Ok(want.clone()),
+            "{mode:?}: {text}"
+        );
+        assert_eq!(text, &all.encode().expect("encodes"), "{mode:?}");
+    }
+    let g = g.expect("ran");
     assert_eq!(g.int("kb_hn", &[]), Some(8));
     assert_eq!(g.bool("kb_res_due", &[]), Some(false));
 
@@ -1123,10 +1189,18 @@ fn state_files_written_by_krl_decode_in_rust() {
         (error, "AUT", 1),
         (t2, "T2", 30),
     ] {
+        for text_mode in [Text::Native, Text::Chars] {
+            let mut files = BTreeMap::new();
+            let d = in_mode(&state_driver(&s, mode, ov), text_mode);
+            let g = run_driver(&d, "", &mut files);
+            let text = files.get(STATE_FILE).expect("kb_state.txt written");
+            assert_eq!(StateFile::decode(text), Ok(s), "{text_mode:?}: {text}");
+            assert_eq!(text, &s.encode().expect("encodes"), "{text_mode:?}");
+            assert_eq!(g.int("kb_seq", &[]), Some(i64::from(s.seq)));
+        }
         let mut files = BTreeMap::new();
         let g = run_driver(&state_driver(&s, mode, ov), "", &mut files);
         let text = files.get(STATE_FILE).expect("kb_state.txt written");
-        assert_eq!(StateFile::decode(text), Ok(s), "{text}");
         assert_eq!(text, &s.encode().expect("encodes"));
         assert_eq!(g.int("kb_seq", &[]), Some(i64::from(s.seq)));
         assert_eq!(g.int("kb_hb_t", &[]), Some(4711));

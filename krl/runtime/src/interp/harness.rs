@@ -233,6 +233,9 @@ pub(super) struct Harness {
     /// `RET1` of a file function that succeeded (`DATA_OK`; a simulated
     /// KSS variant answers `CMD_OK`).
     pub(super) success: String,
+    /// `SREAD`/`SWRITE`'s offset: 0 = characters consumed, 1 = the 1-based
+    /// position of the next character ([`HostedFiles`](super::HostedFiles)).
+    pub(super) text_offset_base: i64,
 }
 
 #[derive(Debug)]
@@ -288,6 +291,7 @@ impl<'a> Interp<'a> {
             next_handle: 1,
             root: None,
             success: "DATA_OK".into(),
+            text_offset_base: 0,
         });
         self.max_statements = HARNESS_MAX_STATEMENTS;
         self.max_evaluations = HARNESS_MAX_EVALUATIONS;
@@ -585,6 +589,76 @@ impl<'a> Interp<'a> {
     /// `SWRITE(buf[], st, offset, format, values…)`: formats into the CHAR
     /// array from `offset` (0-based, advanced past the text); `%d`/`%i`,
     /// `%s`, `%f`, `%x` and `%c` with an optional width and precision.
+    /// `SREAD(text[], state, offset, format, vars…)`: converts the text from
+    /// `offset` (characters already consumed, 0-based) into the variables,
+    /// as [`scan_krl`] reads it; `offset` moves past what was read,
+    /// `state.HITS` counts the converted values, `RET1` is `CMD_OK` when
+    /// every conversion of the format succeeded, else `CMD_ABORT`.
+    pub(super) fn sread(&mut self, args: &[Expr]) -> Result<(), RunError> {
+        let [text, st, off, fmt, vars @ ..] = args else {
+            return Err(self.err("SREAD takes a CHAR array, a STATE_T, an offset and a format"));
+        };
+        let st = self.out_place(st, "the state (STATE_T)")?;
+        let off_place = self.out_place(off, "the offset")?;
+        let offset = self.eval_int(off)?;
+        let fmt = self.eval_text(fmt)?;
+        let chars = match self.eval(text)? {
+            Value::Array(dims, elems) if dims.len() == 1 => elems
+                .iter()
+                .map(|v| match v {
+                    Value::Char(c) => *c,
+                    _ => 0,
+                })
+                .take_while(|&c| c != 0)
+                .collect::<Vec<u8>>(),
+            Value::Str(s) => s.into_bytes(),
+            _ => return Err(self.err("SREAD: the text must be a CHAR array")),
+        };
+        let base = self.harness.as_ref().map_or(0, |h| h.text_offset_base);
+        let start = usize::try_from(offset - base).unwrap_or(0);
+        let (values, end) =
+            scan_krl(&chars, start, &fmt).map_err(|m| self.err(format!("SREAD: {m}")))?;
+        let wanted = fmt.matches('%').count() - 2 * fmt.matches("%%").count();
+        if vars.len() < values.len() {
+            return Err(self.err("SREAD: more conversions than variables"));
+        }
+        let hits = values.len();
+        for (v, var) in values.into_iter().zip(vars) {
+            let place = self.out_place(var, "a value")?;
+            let value = match v {
+                Scanned::Int(i) => Value::Int(i),
+                Scanned::Real(r) => Value::Real(r),
+                Scanned::Char(c) => Value::Char(c),
+                Scanned::Text(t) => {
+                    let Value::Array(dims, mut elems) = self.read_place(&place)? else {
+                        return Err(self.err("SREAD: %s needs a CHAR array"));
+                    };
+                    for (i, slot) in elems.iter_mut().enumerate() {
+                        *slot = Value::Char(t.get(i).copied().unwrap_or(0));
+                    }
+                    Value::Array(dims, elems)
+                }
+            };
+            self.write_place(&place, value)?;
+        }
+        self.write_place(&off_place, Value::Int(end as i64 + base))?;
+        let ret = if hits == wanted {
+            "CMD_OK"
+        } else {
+            "CMD_ABORT"
+        };
+        let status = Value::Struct(
+            "STATE_T".into(),
+            vec![
+                ("RET1".into(), Value::Enum(ret.into())),
+                ("HITS".into(), Value::Int(hits as i64)),
+                ("LENGTH".into(), Value::Int((end - start.min(end)) as i64)),
+                ("MSG_NO".into(), Value::Int(0)),
+            ],
+        );
+        self.write_place(&st, status)
+    }
+
     pub(super) fn swrite(&mut self, args: &[Expr]) -> Result<(), RunError> {
         let [buf, st, off, fmt, values @ ..] = args else {
             return Err(self.err("SWRITE takes a CHAR array, a STATE_T, an offset and a format"));
@@ -606,14 +680,15 @@ impl<'a> Interp<'a> {
         if dims.len() != 1 {
             return Err(self.err("SWRITE: the buffer must be a CHAR array"));
         }
-        let start = usize::try_from(offset).unwrap_or(0);
+        let base = self.harness.as_ref().map_or(0, |h| h.text_offset_base);
+        let start = usize::try_from(offset - base).unwrap_or(0);
         let mut written = 0;
         for (slot, b) in elems.iter_mut().skip(start).zip(text.bytes()) {
             *slot = Value::Char(b);
             written += 1;
         }
         self.write_place(&buf, chars)?;
-        self.write_place(&off_place, Value::Int(offset + written as i64))?;
+        self.write_place(&off_place, Value::Int(start as i64 + base + written as i64))?;
         let status = Value::Struct(
             "STATE_T".into(),
             vec![
@@ -630,6 +705,151 @@ impl<'a> Interp<'a> {
 /// Opens a real file as `krl_fopen` does, locked while open (shared for
 /// reading, exclusive for writing); for `"r"` also its text (Windows-1252
 /// or UTF-8 as the KRC reads it).
+/// One value `SREAD` converted.
+#[derive(Debug, Clone, PartialEq)]
+enum Scanned {
+    Int(i64),
+    Real(f64),
+    Text(Vec<u8>),
+    Char(u8),
+}
+
+/// KRL's `SREAD` scan of `text` (the characters up to the first 0) from
+/// character `start` (0-based), like C's `sscanf`: whitespace in the format
+/// skips any whitespace, `%d`/`%i`, `%f`/`%e`/`%g` and `%s` skip leading
+/// whitespace, `%c` takes one character, other characters must match. Stops
+/// at the first mismatch; returns the values converted and the index after
+/// the last character consumed.
+fn scan_krl(text: &[u8], start: usize, fmt: &str) -> Result<(Vec<Scanned>, usize), String> {
+    let mut at = start.min(text.len());
+    let mut out = Vec::new();
+    let skip_ws = |at: &mut usize| {
+        while text.get(*at).is_some_and(|c| c.is_ascii_whitespace()) {
+            *at += 1;
+        }
+    };
+    let mut f = fmt.bytes().peekable();
+    while let Some(c) = f.next() {
+        if c.is_ascii_whitespace() {
+            skip_ws(&mut at);
+            continue;
+        }
+        if c != b'%' {
+            if text.get(at) == Some(&c) {
+                at += 1;
+                continue;
+            }
+            break;
+        }
+        // Width and precision are accepted and ignored.
+        let mut conv = None;
+        for d in f.by_ref() {
+            if !(d.is_ascii_digit() || d == b'.' || d == b'l') {
+                conv = Some(d);
+                break;
+            }
+        }
+        let conv = conv.ok_or("the format ends inside a conversion")?;
+        if conv == b'%' {
+            if text.get(at) == Some(&b'%') {
+                at += 1;
+                continue;
+            }
+            break;
+        }
+        // A conversion that fails leaves the offset where it began (before
+        // the blanks it skipped).
+        let before = at;
+        if conv != b'c' {
+            skip_ws(&mut at);
+        }
+        let from = at;
+        let digits = |at: &mut usize| {
+            let s = *at;
+            while text.get(*at).is_some_and(u8::is_ascii_digit) {
+                *at += 1;
+            }
+            *at > s
+        };
+        let sign = |at: &mut usize| {
+            if matches!(text.get(*at), Some(b'-' | b'+')) {
+                *at += 1;
+            }
+        };
+        let value = match conv {
+            b'd' | b'i' => {
+                sign(&mut at);
+                if !digits(&mut at) {
+                    at = before;
+                    break;
+                }
+                let t = std::str::from_utf8(&text[from..at]).map_err(|e| e.to_string())?;
+                match t.parse::<i64>() {
+                    Ok(v) if i32::try_from(v).is_ok() => Scanned::Int(v),
+                    _ => {
+                        at = before;
+                        break;
+                    }
+                }
+            }
+            b'f' | b'e' | b'g' => {
+                sign(&mut at);
+                let whole = digits(&mut at);
+                let mut frac = false;
+                if text.get(at) == Some(&b'.') {
+                    at += 1;
+                    frac = digits(&mut at);
+                }
+                if !whole && !frac {
+                    at = before;
+                    break;
+                }
+                if matches!(text.get(at), Some(b'e' | b'E')) {
+                    let e = at;
+                    at += 1;
+                    sign(&mut at);
+                    if !digits(&mut at) {
+                        at = e;
+                    }
+                }
+                let t = std::str::from_utf8(&text[from..at]).map_err(|e| e.to_string())?;
+                match t.parse::<f64>() {
+                    Ok(v) => Scanned::Real(v),
+                    Err(_) => {
+                        at = before;
+                        break;
+                    }
+                }
+            }
+            b's' => {
+                while text.get(at).is_some_and(|c| !c.is_ascii_whitespace()) {
+                    at += 1;
+                }
+                if at == from {
+                    at = before;
+                    break;
+                }
+                Scanned::Text(text[from..at].to_vec())
+            }
+            b'c' => match text.get(at) {
+                Some(&c) => {
+                    at += 1;
+                    Scanned::Char(c)
+                }
+                None => break,
+            },
+            other => {
+                return Err(format!(
+                    "the conversion %{} is not supported",
+                    char::from(other)
+                ));
+            }
+        };
+        out.push(value);
+    }
+    Ok((out, at))
+}
+
 fn open_real(
     path: &std::path::Path,
     mode: &str,
@@ -702,4 +922,40 @@ fn format_krl(fmt: &str, vals: &[Value]) -> Result<String, String> {
         out.push_str(&text);
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Scanned, scan_krl};
+
+    #[test]
+    fn sread_scans_like_sscanf_and_counts_the_offset_in_characters_consumed() {
+        let line = b"LIN 3 -12.500 7 0.001 12345\r\n";
+        let (v, at) = scan_krl(line, 4, "%d").expect("scan");
+        assert_eq!((v, at), (vec![Scanned::Int(3)], 5));
+        let (v, at) = scan_krl(line, at, "%f").expect("scan");
+        assert_eq!((v, at), (vec![Scanned::Real(-12.5)], 13));
+        let (v, at) = scan_krl(line, at, "%d %f %d").expect("scan");
+        assert_eq!(
+            v,
+            vec![Scanned::Int(7), Scanned::Real(0.001), Scanned::Int(12345)]
+        );
+        assert_eq!(&line[at..], b"\r\n");
+        // At the end, nothing more converts.
+        let (v, end) = scan_krl(line, at, "%d").expect("scan");
+        assert_eq!((v.len(), end), (0, at));
+    }
+
+    #[test]
+    fn sread_stops_at_the_first_mismatch() {
+        let (v, at) = scan_krl(b"CMD x 5", 0, "%s %d %d").expect("scan");
+        assert_eq!(v, vec![Scanned::Text(b"CMD".to_vec())]);
+        // The format's blank consumed the blank; the failed %d nothing.
+        assert_eq!(at, 4);
+        let (v, _) = scan_krl(b"99999999999", 0, "%d").expect("scan");
+        assert!(v.is_empty(), "an INT beyond 32 bits does not convert");
+        let (v, _) = scan_krl(b"- 5", 0, "%d").expect("scan");
+        assert!(v.is_empty());
+        assert!(scan_krl(b"1", 0, "%q").is_err());
+    }
 }

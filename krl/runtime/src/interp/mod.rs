@@ -367,6 +367,11 @@ pub struct HostedFiles {
     /// `RET1` of a file function that succeeded: `DATA_OK` (KUKA's text
     /// and working code), or `CMD_OK` to simulate a KSS that answers so.
     pub success: String,
+    /// What `SREAD`/`SWRITE`'s offset means: 0 = the characters already
+    /// read or written (as kuka-3d-tree uses it; the default), 1 = the
+    /// 1-based position of the next character (the other reading of
+    /// KUKA's text, to test that the shipped program copes with it).
+    pub text_offset_base: i64,
 }
 
 /// Runs `entry` on a [`Host`], a KRC-like runtime (see the `host`
@@ -393,6 +398,7 @@ pub fn run_hosted(
     if let Some(h) = it.harness.as_mut() {
         h.root = Some(files.root);
         h.success = files.success;
+        h.text_offset_base = files.text_offset_base;
     }
     it.max_statements = u64::MAX;
     it.max_evaluations = u64::MAX;
