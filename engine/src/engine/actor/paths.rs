@@ -29,6 +29,13 @@ const APPEND_CHUNK: usize = 40;
 const LEAD: Duration = Duration::from_millis(100);
 /// See [`LEAD`].
 const LEAD_MOTIONS: usize = 20;
+/// Once a path runs, an APPEND carries at least this many motions unless
+/// the controller has fewer than this many stored ahead of the robot (or
+/// the rest of the path goes with it): every command costs the KRL
+/// program a result file (~8,000 Submit statements), so topping up the
+/// buffer two motions at a time would cost a Submit pass over its budget
+/// per two motions (docs/BENCHMARKS.md §10).
+const APPEND_MIN: usize = 20;
 
 /// Motions for an open path, from a client.
 pub(crate) struct AppendRequest {
@@ -79,6 +86,9 @@ pub(super) struct PathState {
     /// Free slots of the controller's buffer, as last reported (and
     /// reduced by what was stored since).
     room: u32,
+    /// The most room the controller reported: its buffer's size, so
+    /// `max_room - room` motions are stored ahead of the robot.
+    max_room: u32,
     close_requested: bool,
     close_sent: bool,
     /// Where everything appended ends: the start of the next append.
@@ -105,6 +115,7 @@ impl PathState {
             appended: 0,
             stored: 0,
             room: 0,
+            max_room: 0,
             close_requested: false,
             close_sent: false,
             end,
@@ -351,6 +362,11 @@ impl Actor {
         if count == 0 && !close {
             return;
         }
+        let ahead = p.max_room.saturating_sub(p.room) as usize;
+        if p.stored > 0 && count < APPEND_MIN && !close && ahead >= APPEND_MIN {
+            // Enough to run on: wait until a fuller APPEND is worth it.
+            return;
+        }
         let chunk = PathChunk {
             path: p.cid,
             first: p.stored,
@@ -432,6 +448,7 @@ impl Actor {
         if s.status == ControllerStatus::Busy && s.busy_cid == p.cid {
             // Motions stored after this state was written hold room too.
             p.room = s.room.saturating_sub(p.stored.saturating_sub(s.stored));
+            p.max_room = p.max_room.max(s.room);
         }
     }
 
