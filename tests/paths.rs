@@ -710,3 +710,47 @@ async fn an_append_its_client_gave_up_on_is_never_appended() {
     let (s, j) = t.delete(&format!("/api/v1/paths/{id}?cancel=true")).await;
     assert_eq!(s, 200, "{j}");
 }
+
+/// A batch of more than 40 motions goes to the controller as a closed path
+/// (each line read once, the robot starting on the first chunk): it runs
+/// whole and blended, in order, its job reports like any batch (no path
+/// progress), and it takes no appends from clients.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_big_batch_streams_to_the_controller() {
+    let t = TestService::start(Options::default()).await;
+    let pts = circle(300, 50.0);
+    to_start(&t, &pts[0]).await;
+    let batch: Vec<Value> = pts[1..].iter().map(|p| lin(p, 0.2)).collect();
+    let body = json!({"motions": batch, "wait": false});
+    let (s, job) = t.post_json("/api/v1/motions", &body).await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    // Not a path for clients.
+    let (s, e) = t
+        .post_json(
+            &format!("/api/v1/paths/{id}/motions"),
+            &json!({"motions": [lin(&pts[0], 0.2)]}),
+        )
+        .await;
+    assert_eq!((s, e["code"].as_str()), (404, Some("not_found")), "{e}");
+    let j = t
+        .wait_job(id, "the batch to end", |j| {
+            ["done", "failed", "cancelled"].contains(&j["state"].as_str().unwrap_or(""))
+        })
+        .await;
+    assert_eq!(j["state"], "done", "{j}");
+    assert_eq!(j["completed"], 300, "{j}");
+    assert!(j.get("path").is_none_or(Value::is_null), "{j}");
+    let cid = j["cid"].as_i64().expect("cid");
+    let (_, stops, last) = path_trace(&t, cid);
+    assert_eq!(stops, 0, "the batch ran blended");
+    assert_eq!(last, 299, "every motion ran, in order");
+    // It ended where the batch ends.
+    let (_, p) = t.get("/api/v1/position").await;
+    let end = pts[300];
+    assert!(
+        (p["position"]["x"].as_f64().expect("x") - end[0]).abs() < 0.01
+            && (p["position"]["y"].as_f64().expect("y") - end[1]).abs() < 0.01,
+        "{p}"
+    );
+}

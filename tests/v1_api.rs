@@ -1146,3 +1146,42 @@ async fn a_late_heartbeat_delays_a_live_read_briefly() {
     let (s, _) = t.post("/api/v1/stop").await;
     assert_eq!(s, 200);
 }
+
+/// Issue 20: the program override (`PUT /api/v1/speed`, written to `$OV_PRO`
+/// by the KRL program's Submit side) scales the robot's speed on both
+/// simulated controllers: the same LIN at 50 % takes twice as long.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_override_scales_the_motion_time() {
+    let t = TestService::start(Options::default()).await;
+    let (s, j) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 300, "y": -100, "z": 300, "a": 0, "b": 180, "c": 0}}]))
+        .await;
+    assert_eq!(s, 200, "{j}");
+    let mut spans = Vec::new();
+    for (pct, y) in [(100.0, 0.0), (50.0, -100.0)] {
+        let (s, v) = t
+            .put_json("/api/v1/speed", &json!({"override_pct": pct}))
+            .await;
+        assert_eq!(s, 200, "{v}");
+        t.wait_state("the controller to report the override", |st| {
+            st["controller"]["override_pct"] == pct
+        })
+        .await;
+        // 100 mm at 0.1 m/s: about 1 s at 100 %.
+        let (s, j) = t
+            .motions(json!([{"type": "lin", "target": {"y": y}, "velocity_m_s": 0.1}]))
+            .await;
+        assert_eq!(s, 200, "{j}");
+        let cid = j["cid"].as_i64().expect("cid");
+        let trace: Vec<_> = t.trace().into_iter().filter(|s| s.cid == cid).collect();
+        assert!(trace.len() > 2, "the LIN left a trace");
+        spans.push(trace[trace.len() - 1].t - trace[0].t);
+    }
+    let ratio = spans[1] / spans[0];
+    assert!(
+        (1.8..=2.2).contains(&ratio),
+        "at 50 % the LIN took {:.3} s, at 100 % {:.3} s (ratio {ratio:.2})",
+        spans[1],
+        spans[0]
+    );
+}

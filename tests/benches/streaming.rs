@@ -13,7 +13,10 @@
 //!    `GET /api/v1/position` and `POST /krl/getpos`;
 //! 5. with `--sim krc` (the shipped KRL program in the KRC-like runtime,
 //!    12 ms Submit cycle): the Submit side's statements per pass and file
-//!    operations per motion over the 10,000-point path.
+//!    operations per motion over the 10,000-point path;
+//! 6. batches of 1, 100 and 1000 LINs: real time from the request to the
+//!    robot moving (batches over 40 motions stream as a path), and on the
+//!    KRL program the file operations per motion.
 //!
 //! Run: `cargo bench -p kuka-bridge-tests --bench streaming -- [--sim native|krc]
 //! [--long 100000]`.
@@ -308,6 +311,54 @@ fn main() {
         println!("-- 4. position reads during a 2 s LIN ({live} of 200 live; the LIN was still {} after them)", j["state"]);
         println!("GET /api/v1/position  p50 {:.2} ms  p99 {:.2} ms  max {:.2} ms", ms(percentile(&v1, 0.5)), ms(percentile(&v1, 0.99)), ms(*v1.last().expect("samples")));
         println!("POST /krl/getpos      p50 {:.2} ms  p99 {:.2} ms  max {:.2} ms", ms(percentile(&thesis, 0.5)), ms(percentile(&thesis, 0.99)), ms(*thesis.last().expect("samples")));
+        t.service.shutdown().await.expect("shutdown");
+
+        // 6. Batches of 1, 100 and 1000 LINs (5 mm, 0.2 m/s, approximated):
+        // real time from the request to the controller reporting it
+        // executing (the robot moving), and on the KRL program the file
+        // operations per motion over the whole batch.
+        let t = service(kind, 1.0).await;
+        println!("-- 6. batches: from the request to the robot moving (real time)");
+        for n in [1usize, 100, 1000] {
+            to_start(&t, &[190.0, -100.0]).await;
+            let motions: Vec<Value> = (1..=n)
+                .map(|i| {
+                    let y = -100.0 + 200.0 * i as f64 / n as f64;
+                    json!({"type": "lin", "target": {"y": y}, "velocity_m_s": 0.2, "approx_mm": 2})
+                })
+                .collect();
+            let before = t.service.krc.as_ref().map(|k| k.stats());
+            let t0 = Instant::now();
+            let (s, job) = t
+                .post_json("/api/v1/motions", &json!({"motions": motions, "wait": false}))
+                .await;
+            assert_eq!(s, 202, "{job}");
+            let id = job["id"].as_u64().expect("id");
+            let started = loop {
+                let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
+                if j["state"] == "executing" || j["state"] == "done" {
+                    break t0.elapsed();
+                }
+                assert!(j["state"] != "failed", "{j}");
+                tokio::time::sleep(Duration::from_millis(2)).await;
+            };
+            let j = wait_end(&t, id).await;
+            assert_eq!(j["state"], "done", "{j}");
+            let ops = match (t.service.krc.as_ref(), before) {
+                (Some(k), Some(b)) => {
+                    let a = k.stats();
+                    let sum = |s: &kuka_krc::KrcStats| s.file_calls.values().sum::<u64>();
+                    let fgets = |s: &kuka_krc::KrcStats| s.file_calls.get("krl_fgets").copied().unwrap_or(0);
+                    format!(
+                        ", file operations per motion {:.2} (krl_fgets {:.2})",
+                        (sum(&a) - sum(&b)) as f64 / n as f64,
+                        (fgets(&a) - fgets(&b)) as f64 / n as f64
+                    )
+                }
+                _ => String::new(),
+            };
+            println!("batch of {n:>4}: moving after {:.0} ms{ops}", ms(started));
+        }
         t.service.shutdown().await.expect("shutdown");
     });
 }

@@ -598,7 +598,18 @@ impl Scheduler {
         if !self.exec.moving() {
             self.counters.standstill_cycles += 1;
         }
-        let fired = self.exec.advance(dt);
+        // The program override $OV_PRO (the Submit side writes it for
+        // SET_OVR) scales the robot's progress along its planned path: at
+        // 50 % a motion takes twice as long. A KRC ramps to a new override;
+        // here it applies from the next cycle.
+        let ov = self
+            .vars
+            .as_ref()
+            .and_then(|v| v.int("$OV_PRO", &[]))
+            .unwrap_or(100)
+            .clamp(0, 100) as f64
+            / 100.0;
+        let fired = self.exec.advance(dt * ov);
         self.fired.extend(fired);
         self.record_trace();
         if std::mem::take(&mut self.exec.failed) {

@@ -751,6 +751,23 @@ impl Actor {
                     self.shared
                         .update(job.id, |j| j.configurations = configurations);
                 }
+                if records.len() > paths::BATCH_AS_PATH {
+                    // A big batch streams: the robot starts on its first
+                    // chunk while the rest follows (paths::BATCH_AS_PATH).
+                    let cid = self.next_cid()?;
+                    let sent = paths::BATCH_AS_PATH.min(records.len());
+                    let chunk = PathChunk {
+                        path: cid,
+                        first: 0,
+                        motions: records[..sent].to_vec(),
+                        close: sent == records.len(),
+                    };
+                    self.path = Some(paths::PathState::batch(job.id, cid, start, records, sent));
+                    let timeout = job.timeout.unwrap_or(self.cfg.command_timeout);
+                    let command = Command::OpenPath(chunk);
+                    self.write(CommandFile { cid, command }, Some((job, timeout)));
+                    return Ok(());
+                }
                 Command::Move(records)
             }
             Operation::GetPosition => Command::GetPosition,

@@ -36,6 +36,14 @@ const LEAD_MOTIONS: usize = 20;
 /// buffer two motions at a time would cost a Submit pass over its budget
 /// per two motions (docs/BENCHMARKS.md §10).
 const APPEND_MIN: usize = 20;
+/// A MOVE batch of more motions than this goes to the controller as a
+/// closed path (PATH with its first [`APPEND_CHUNK`] motions, then APPENDs):
+/// the KRL program reads each line once and starts the robot as soon as
+/// the first chunk is stored, instead of reading the whole batch (a MOVE
+/// of 1000 motions: ~2 s standstill and ~33 file operations per motion
+/// on the KRL program, docs/BENCHMARKS.md §8). Smaller batches are read
+/// in one Submit pass as a MOVE.
+pub(super) const BATCH_AS_PATH: usize = APPEND_CHUNK;
 
 /// Motions for an open path, from a client.
 pub(crate) struct AppendRequest {
@@ -103,6 +111,9 @@ pub(super) struct PathState {
     /// Why an append was refused: the path was closed there, and its job
     /// ends with this error when the robot has run what was accepted.
     pub(super) refused: Option<BridgeError>,
+    /// A MOVE batch sent as a closed path ([`BATCH_AS_PATH`]): clients
+    /// cannot append to it and its job shows no path progress.
+    pub(super) batch: bool,
 }
 
 impl PathState {
@@ -124,7 +135,41 @@ impl PathState {
             lead_until: None,
             over: false,
             refused: None,
+            batch: false,
         }
+    }
+
+    /// A checked MOVE batch as a closed path whose PATH command carries its
+    /// first `sent` motions (confirmed by the first state file that shows
+    /// the path running, [`Actor::path_state`]).
+    pub(super) fn batch(
+        job: JobId,
+        cid: Cid,
+        end: StartPoint,
+        records: Vec<MotionRecord>,
+        sent: usize,
+    ) -> Self {
+        let total = records.len();
+        PathState {
+            pending: records.into(),
+            appended: total,
+            close_requested: true,
+            append: Some(AppendInFlight {
+                cid,
+                count: sent,
+                close: sent == total,
+                sent_at: Instant::now(),
+            }),
+            batch: true,
+            ..PathState::new(job, cid, PathOptions::default(), end)
+        }
+    }
+
+    /// The whole plan of a batch sent as a path (for the plan event when
+    /// its PATH is written); `None` for a client's path.
+    pub(super) fn batch_plan(&self) -> Option<Vec<PlannedMotion>> {
+        self.batch
+            .then(|| self.pending.iter().map(PlannedMotion::from).collect())
     }
 
     fn progress(&self) -> PathProgress {
@@ -149,7 +194,7 @@ impl Actor {
     /// An append from a client: taken now, parked until there is room, or
     /// refused.
     pub(super) fn on_append(&mut self, req: AppendRequest) {
-        let Some(p) = self.path.as_mut().filter(|p| p.job == req.path) else {
+        let Some(p) = self.path.as_mut().filter(|p| p.job == req.path && !p.batch) else {
             let e = match self.shared_job(req.path) {
                 Ok(j) if j.operation == "path" && j.state == JobState::Queued => {
                     // Not on the controller yet: wait like any append.
@@ -436,8 +481,10 @@ impl Actor {
                 p.over = true;
             }
         }
-        let (job, progress) = (p.job, p.progress());
-        self.shared.update(job, |j| j.path = Some(progress));
+        let (job, progress, batch) = (p.job, p.progress(), p.batch);
+        if !batch {
+            self.shared.update(job, |j| j.path = Some(progress));
+        }
         self.take_parked();
         true
     }
@@ -446,6 +493,16 @@ impl Actor {
     pub(super) fn path_state(&mut self, s: &StateFile) {
         let Some(p) = self.path.as_mut() else { return };
         if s.status == ControllerStatus::Busy && s.busy_cid == p.cid {
+            if let Some(a) = p.append.take_if(|a| a.cid == p.cid) {
+                // The motions the PATH command carried: the controller's
+                // stored count says how many it took.
+                let taken = (s.stored.saturating_sub(p.stored) as usize).min(p.pending.len());
+                p.pending.drain(..taken);
+                p.stored = p.stored.max(s.stored);
+                if a.close && taken == a.count {
+                    p.close_sent = true;
+                }
+            }
             // Motions stored after this state was written hold room too.
             p.room = s.room.saturating_sub(p.stored.saturating_sub(s.stored));
             p.max_room = p.max_room.max(s.room);

@@ -177,6 +177,20 @@ impl Actor {
                         first: 0,
                     })));
                 }
+                // A batch sent as a path: its whole plan at once, as a MOVE's.
+                if let Some(motions) = self
+                    .path
+                    .as_ref()
+                    .filter(|p| p.cid == cmd.cid)
+                    .and_then(|p| p.batch_plan())
+                {
+                    self.shared.publish(Event::Plan(Box::new(JobPlan {
+                        job: job.id,
+                        cid: cmd.cid,
+                        motions,
+                        first: 0,
+                    })));
+                }
                 self.shared.update(job.id, |j| {
                     j.state = JobState::Sent;
                     j.cid = Some(cmd.cid);
