@@ -711,8 +711,8 @@ async fn an_append_its_client_gave_up_on_is_never_appended() {
     assert_eq!(s, 200, "{j}");
 }
 
-/// A batch of more than 40 motions goes to the controller as a closed path
-/// (each line read once, the robot starting on the first chunk): it runs
+/// A batch of more than 4 motions goes to the controller as a closed path
+/// (each line read once, the robot starting on the first ones): it runs
 /// whole and blended, in order, its job reports like any batch (no path
 /// progress), and it takes no appends from clients.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

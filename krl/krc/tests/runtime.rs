@@ -9,8 +9,8 @@ use std::time::Duration;
 use kuka_krc::{KrcConfig, KrcController};
 use kuka_protocol::files::{WriteError, atomic_write};
 use kuka_protocol::{
-    COMMAND_FILE, Command, CommandFile, Frame, MotionParams, MotionRecord, RESULT_FILE, ResultCode,
-    ResultFile, ResultRecord, STATE_FILE,
+    COMMAND_FILE, Command, CommandFile, Frame, MotionParams, MotionRecord, PathChunk, RESULT_FILE,
+    ResultCode, ResultFile, ResultRecord, STATE_FILE,
 };
 
 fn start(dir: &Path) -> KrcController {
@@ -36,12 +36,23 @@ fn round_trip(
     limit_s: u64,
 ) -> ResultRecord {
     let text = CommandFile { cid, command }.encode().expect("encodes");
+    round_trip_text(krc, dir, cid, &text, limit_s)
+}
+
+/// [`round_trip`] with the command file's text as given.
+fn round_trip_text(
+    krc: &KrcController,
+    dir: &Path,
+    cid: i32,
+    text: &str,
+    limit_s: u64,
+) -> ResultRecord {
     // The KRL program holds the command file open while it reads it (an
     // open handle blocks replacing it, as on Windows): retry like the
     // service does, in simulated time.
     let mut error = None;
     let written = krc.wait_until(Duration::from_secs(1), |_| {
-        match atomic_write(dir, COMMAND_FILE, "test", &text) {
+        match atomic_write(dir, COMMAND_FILE, "test", text) {
             Ok(()) => true,
             Err(WriteError::Locked { .. }) => false,
             Err(e) => {
@@ -323,4 +334,47 @@ fn the_program_uses_sread_only_where_it_behaves_as_expected() {
         assert!(krc.snapshot().submit_error.is_none());
         krc.shutdown();
     }
+}
+
+/// A PATH whose own motions include a damaged line (a wrong checksum):
+/// the program has already started the path on the motions before it
+/// (it posts a PATH before reading its motions), so those run and the path
+/// ends with BAD_COMMAND and `done` = the motions that ran.
+#[test]
+fn a_damaged_line_in_a_path_ends_it_after_the_motions_before_it() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let home = round_trip(&krc, dir.path(), 1, Command::GetPosition, 5).position;
+    let lin = |dx: f64| MotionRecord::Lin {
+        target: Frame {
+            x: home.x + dx,
+            ..home
+        },
+        params: MotionParams {
+            velocity: 0.2,
+            acceleration_pct: 100.0,
+            approx_mm: 0.0,
+        },
+    };
+    let text = CommandFile {
+        cid: 2,
+        command: Command::OpenPath(PathChunk {
+            path: 2,
+            first: 0,
+            motions: vec![lin(10.0), lin(20.0), lin(30.0)],
+            close: true,
+        }),
+    }
+    .encode()
+    .expect("encodes");
+    // The last LIN line's checksum off by one.
+    let last = text.lines().rfind(|l| l.starts_with("LIN")).expect("LIN");
+    let (body, ck) = last.rsplit_once(' ').expect("fields");
+    let ck: i64 = ck.parse().expect("checksum");
+    let damaged = text.replace(last, &format!("{body} {}", (ck + 1) % 65521));
+    let r = round_trip_text(&krc, dir.path(), 2, &damaged, 20);
+    assert_eq!((r.code, r.completed), (ResultCode::BadCommand, 2), "{r:?}");
+    assert!((r.position.x - (home.x + 20.0)).abs() < 0.01, "{r:?}");
+    krc.shutdown();
 }

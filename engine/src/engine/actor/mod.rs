@@ -755,7 +755,7 @@ impl Actor {
                     // A big batch streams: the robot starts on its first
                     // chunk while the rest follows (paths::BATCH_AS_PATH).
                     let cid = self.next_cid()?;
-                    let sent = paths::BATCH_AS_PATH.min(records.len());
+                    let sent = paths::APPEND_CHUNK.min(records.len());
                     let chunk = PathChunk {
                         path: cid,
                         first: 0,

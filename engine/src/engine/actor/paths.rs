@@ -22,7 +22,7 @@ use crate::motion::set_default_approx;
 pub(crate) const MAX_PENDING: usize = 2000;
 /// Motions per APPEND command: the shipped KRL program reads up to
 /// `kb_chunk` (40) lines of a command per Submit cycle and takes only those.
-const APPEND_CHUNK: usize = 40;
+pub(super) const APPEND_CHUNK: usize = 40;
 /// The first motions of a path wait this long for more before they are
 /// sent (or until [`LEAD_MOTIONS`] are there, or the path is closed), so
 /// that motions sent one by one blend from the start.
@@ -38,12 +38,13 @@ const LEAD_MOTIONS: usize = 20;
 const APPEND_MIN: usize = 20;
 /// A MOVE batch of more motions than this goes to the controller as a
 /// closed path (PATH with its first [`APPEND_CHUNK`] motions, then APPENDs):
-/// the KRL program reads each line once and starts the robot as soon as
-/// the first chunk is stored, instead of reading the whole batch (a MOVE
-/// of 1000 motions: ~2 s standstill and ~33 file operations per motion
-/// on the KRL program, docs/BENCHMARKS.md §8). Smaller batches are read
-/// in one Submit pass as a MOVE.
-pub(super) const BATCH_AS_PATH: usize = APPEND_CHUNK;
+/// the KRL program reads each line once and starts the robot on the first
+/// motion stored while it reads the rest, instead of reading the whole
+/// batch first (a MOVE of 1000 motions: ~2 s standstill and ~33 file
+/// operations per motion on the KRL program, docs/BENCHMARKS.md §8). A
+/// MOVE of up to 4 motions (~2,400 Submit statements) is read within a
+/// Submit cycle.
+pub(super) const BATCH_AS_PATH: usize = 4;
 
 /// Motions for an open path, from a client.
 pub(crate) struct AppendRequest {
