@@ -754,3 +754,26 @@ async fn a_big_batch_streams_to_the_controller() {
         "{p}"
     );
 }
+
+/// A small batch sent as a path (5 to 40 motions: the PATH carries them
+/// all) ends with its own result, also when the controller answers it
+/// before any state file showed it running (instant time scale).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_small_streamed_batch_ends_with_its_result() {
+    let t = TestService::start(Options::default()).await;
+    let pts = circle(12, 30.0);
+    to_start(&t, &pts[0]).await;
+    for n in [5usize, 12] {
+        let batch: Vec<Value> = pts[1..=n].iter().map(|p| lin(p, 0.2)).collect();
+        let (s, j) = t
+            .post_json("/api/v1/motions", &json!({"motions": batch}))
+            .await;
+        assert_eq!(s, 200, "{j}");
+        assert_eq!(
+            (j["state"].as_str(), j["completed"].as_u64()),
+            (Some("done"), Some(n as u64)),
+            "{j}"
+        );
+        to_start(&t, &pts[0]).await;
+    }
+}

@@ -445,7 +445,11 @@ impl Actor {
         let Some(p) = self.path.as_mut() else {
             return false;
         };
-        let Some(a) = p.append.take_if(|a| a.cid == r.cid) else {
+        // The PATH's own motions (a batch) are confirmed by a state file;
+        // a result with the PATH's CID is the path's end, not an answer
+        // to them (at time scale 0 it can come before any state file).
+        let path_cid = p.cid;
+        let Some(a) = p.append.take_if(|a| a.cid == r.cid && a.cid != path_cid) else {
             return false;
         };
         match r.code {
