@@ -231,7 +231,9 @@ impl Engine {
     /// instead (issue 22, live position).
     pub fn live_position(&self) -> Option<LivePosition> {
         let s = self.shared.state.borrow();
-        if !s.busy || s.connection != Connection::Online {
+        // A locked command file (the controller holds it open while it
+        // reads) does not make the state file's position stale.
+        if !s.busy || !matches!(s.connection, Connection::Online | Connection::Locked) {
             return None;
         }
         let age = s.position_read_at?.elapsed();
@@ -260,7 +262,7 @@ impl Engine {
             }
             {
                 let s = rx.borrow_and_update();
-                if !s.busy || s.connection != Connection::Online {
+                if !s.busy || !matches!(s.connection, Connection::Online | Connection::Locked) {
                     return None;
                 }
             }
