@@ -545,3 +545,114 @@ async fn sigterm_keeps_stop_working_until_the_motion_has_ended() {
     let code = service.wait_exit(Duration::from_secs(20), "after the stop");
     assert!(code.success(), "clean exit: {code:?}");
 }
+
+/// A state file the controller wrote before it accepted the session's
+/// first command (`last_cid` 0), read only after that command's result,
+/// does not set the position back to where the robot was before it: the
+/// next motion would be planned from there (a CI run once planned a
+/// blended LIN from the home pose after a PTP had answered done). The
+/// test is the controller here, so the order of the two files is certain.
+#[tokio::test]
+async fn a_state_file_older_than_the_first_result_does_not_set_the_position_back() {
+    use std::sync::{Arc, Mutex};
+    let root = tempfile::tempdir().expect("tempdir");
+    let channel = root.path().join("channel");
+    std::fs::create_dir_all(&channel).expect("channel");
+    let home = StateFile {
+        seq: 1,
+        status: kuka_protocol::ControllerStatus::Idle,
+        mode: kuka_protocol::OperatingMode::T1,
+        busy_cid: 0,
+        busy_index: 0,
+        last_cid: 0,
+        error: None,
+        error_axis: 0,
+        override_pct: 100.0,
+        simulated: true,
+        room: 0,
+        stored: 0,
+        position: kuka_protocol::Frame::from_array([355.0, 0.0, 625.0, 0.0, 90.0, 0.0]),
+        s: 2,
+        t: 0,
+        axes: [0.0, -90.0, 90.0, 0.0, 0.0, 0.0],
+        tool: kuka_protocol::Frame::default(),
+        base: kuka_protocol::Frame::default(),
+    };
+    // A heartbeat every 20 ms with the home state while `beat` holds true.
+    let state = Arc::new(Mutex::new((home, true)));
+    let heart = {
+        let (state, channel) = (state.clone(), channel.clone());
+        tokio::spawn(async move {
+            loop {
+                let text = {
+                    let mut g = state.lock().expect("state");
+                    if g.1 {
+                        g.0.seq += 1;
+                        Some(g.0.encode().expect("encode"))
+                    } else {
+                        None
+                    }
+                };
+                if let Some(text) = text {
+                    files::atomic_write_bytes(&channel, STATE_FILE, "test", text.as_bytes())
+                        .expect("write state");
+                }
+                tokio::time::sleep(Duration::from_millis(20)).await;
+            }
+        })
+    };
+    let t = TestService::start_without_sim(root.path()).await;
+    t.wait_connection("online").await;
+    let target = [300.0, 50.0, 200.0, 0.0, 180.0, 0.0];
+    let (s, job) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [{"type": "ptp", "target": {"x": target[0], "y": target[1], "z": target[2], "a": 0, "b": 180, "c": 0}}], "wait": false}),
+        )
+        .await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    let j = t
+        .wait_job(id, "the PTP to be written", |j| j["cid"].as_i64().is_some())
+        .await;
+    let cid = i32::try_from(j["cid"].as_i64().expect("cid")).expect("cid fits");
+    // The heartbeat stops; the controller answers the PTP.
+    state.lock().expect("state").1 = false;
+    let seq = state.lock().expect("state").0.seq;
+    append_result(
+        &channel,
+        ResultRecord {
+            cid,
+            code: ResultCode::Ok,
+            completed: 1,
+            axis: 0,
+            position: kuka_protocol::Frame::from_array(target),
+            s: 6,
+            t: 0,
+            axes: [9.5, -60.0, 100.0, 0.0, 50.0, 9.5],
+        },
+    );
+    let j = t.wait_job(id, "the PTP to end", terminal).await;
+    assert_eq!(j["state"], "done", "{j}");
+    // Then a state file the controller had written before it accepted the
+    // PTP (last_cid 0, home pose) is read: a new number, old content.
+    let stale = StateFile {
+        seq: seq + 1,
+        ..state.lock().expect("state").0
+    };
+    let text = stale.encode().expect("encode");
+    files::atomic_write_bytes(&channel, STATE_FILE, "test", text.as_bytes()).expect("write");
+    let st = t
+        .wait_state("the stale state file read", |st| {
+            st["controller"]["heartbeat_seq"].as_i64() == Some(i64::from(seq + 1))
+        })
+        .await;
+    let p = &st["position"];
+    assert_eq!(
+        (p["x"].as_f64(), p["y"].as_f64(), p["z"].as_f64()),
+        (Some(target[0]), Some(target[1]), Some(target[2])),
+        "the position stays where the PTP's result put it: {st}"
+    );
+    heart.abort();
+    t.service.shutdown().await.expect("shutdown");
+}

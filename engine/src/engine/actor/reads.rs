@@ -102,12 +102,15 @@ impl Actor {
         // not accepted that command yet, or was still running it) holds an
         // older position than the result: read right after the result, it
         // would set the start of the next motion back (a LIN planned from
-        // where the robot was before the PTP that just ended).
-        let stale = s.last_cid > 0
-            && self
-                .ctl
-                .result_cid
-                .is_some_and(|r| !accepted(r) || running(r));
+        // where the robot was before the PTP that just ended). That holds
+        // for `last_cid` 0 too: a file from before the controller accepted
+        // its first command (a controller recovers `last_cid` from its
+        // result file when it starts, so 0 never follows a result; a
+        // restart clears `result_cid`).
+        let stale = self
+            .ctl
+            .result_cid
+            .is_some_and(|r| s.last_cid <= 0 || !accepted(r) || running(r));
         if !stale {
             self.ctl.pose = Some((s.position, s.s, s.t));
             self.ctl.axes = Some(s.axes);
@@ -408,6 +411,9 @@ impl Actor {
             "controller restarted (heartbeat number went back)"
         );
         self.ctl.restarted_at = Some(now);
+        // The restarted program's state files are its own: none of them is
+        // older than a result of the program before.
+        self.ctl.result_cid = None;
         self.shared.publish(Event::Alarm(BridgeError::new(
             ErrorCode::ControllerOffline,
             "the controller program restarted (its heartbeat number started again)",
