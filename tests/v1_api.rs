@@ -1004,6 +1004,27 @@ async fn bare_refusals_say_the_status_they_answer() {
     }
 }
 
+/// The start of the 200 mm test line of the live-position tests, flange
+/// down.
+async fn to_line_start(t: &TestService) {
+    let (s, j) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 300, "y": -100, "z": 300, "a": 0, "b": 180, "c": 0}}]))
+        .await;
+    assert_eq!(s, 200, "{j}");
+}
+
+/// Starts the 200 mm LIN along y at `velocity` m/s without waiting and
+/// returns its job id once it executes.
+async fn run_line(t: &TestService, velocity: f64) -> u64 {
+    let body = json!({"motions": [{"type": "lin", "target": {"y": 100}, "velocity_m_s": velocity}], "wait": false});
+    let (s, job) = t.post_json("/api/v1/motions", &body).await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    t.wait_job(id, "the LIN to execute", |j| j["state"] == "executing")
+        .await;
+    id
+}
+
 /// Issue 22, live position: while a 2 s LIN runs, `GET /api/v1/position`
 /// and the thesis `getpos` answer at once from the controller's live state
 /// (`source: live`, with its age), with a position on the path — they no
@@ -1015,24 +1036,13 @@ async fn position_is_live_while_a_motion_runs() {
         ..Options::default()
     })
     .await;
-    // The start of the line, flange down.
-    let (s, j) = t
-        .motions(json!([{"type": "ptp", "target": {"x": 300, "y": -100, "z": 300, "a": 0, "b": 180, "c": 0}}]))
-        .await;
-    assert_eq!(s, 200, "{j}");
+    to_line_start(&t).await;
     let (s, at_rest) = t.get("/api/v1/position").await;
     assert_eq!(s, 200, "{at_rest}");
     assert_eq!(at_rest["source"], "controller", "{at_rest}");
     assert_eq!(at_rest["age_ms"], 0);
     // 200 mm at 0.1 m/s: about 2 s.
-    let body = json!({"motions": [{"type": "lin", "target": {"y": 100}, "velocity_m_s": 0.1}], "wait": false});
-    let (s, job) = t.post_json("/api/v1/motions", &body).await;
-    assert_eq!(s, 202, "{job}");
-    let location = format!("/api/v1/jobs/{}", job["id"]);
-    t.wait_job(job["id"].as_u64().expect("id"), "the LIN to execute", |j| {
-        j["state"] == "executing"
-    })
-    .await;
+    let location = format!("/api/v1/jobs/{}", run_line(&t, 0.1).await);
     let mut mid_path = 0;
     let mut thesis_mid_path = 0;
     loop {
@@ -1099,18 +1109,9 @@ async fn a_late_heartbeat_delays_a_live_read_briefly() {
         ..Options::default()
     })
     .await;
-    let (s, j) = t
-        .motions(json!([{"type": "ptp", "target": {"x": 300, "y": -100, "z": 300, "a": 0, "b": 180, "c": 0}}]))
-        .await;
-    assert_eq!(s, 200, "{j}");
+    to_line_start(&t).await;
     // 200 mm at 0.02 m/s: about 10 s, far longer than the test.
-    let body = json!({"motions": [{"type": "lin", "target": {"y": 100}, "velocity_m_s": 0.02}], "wait": false});
-    let (s, job) = t.post_json("/api/v1/motions", &body).await;
-    assert_eq!(s, 202, "{job}");
-    t.wait_job(job["id"].as_u64().expect("id"), "the LIN to execute", |j| {
-        j["state"] == "executing"
-    })
-    .await;
+    run_line(&t, 0.02).await;
     t.pause_controller();
     // Reads answer from the last sample until it is 500 ms old; then one
     // waits (it does not come back within 100 ms).

@@ -338,14 +338,11 @@ fn main() {
                 .await;
             assert_eq!(s, 202, "{job}");
             let id = job["id"].as_u64().expect("id");
-            let started = loop {
-                let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
-                if j["state"] == "executing" || j["state"] == "done" {
-                    break t0.elapsed();
-                }
-                assert!(j["state"] != "failed", "{j}");
-                tokio::time::sleep(Duration::from_millis(2)).await;
-            };
+            t.wait_job(id, "the batch to execute", |j| {
+                j["state"] == "executing" || j["state"] == "done"
+            })
+            .await;
+            let started = t0.elapsed();
             let j = wait_end(&t, id).await;
             assert_eq!(j["state"], "done", "{j}");
             let ops = match (t.service.krc.as_ref(), before) {

@@ -231,9 +231,7 @@ impl Engine {
     /// instead (issue 22, live position).
     pub fn live_position(&self) -> Option<LivePosition> {
         let s = self.shared.state.borrow();
-        // A locked command file (the controller holds it open while it
-        // reads) does not make the state file's position stale.
-        if !s.busy || !matches!(s.connection, Connection::Online | Connection::Locked) {
+        if !runs_on_controller(&s) {
             return None;
         }
         let age = s.position_read_at?.elapsed();
@@ -261,8 +259,7 @@ impl Engine {
                 return Some(live);
             }
             {
-                let s = rx.borrow_and_update();
-                if !s.busy || !matches!(s.connection, Connection::Online | Connection::Locked) {
+                if !runs_on_controller(&rx.borrow_and_update()) {
                     return None;
                 }
             }
@@ -742,4 +739,11 @@ impl JobIdStore {
 
 fn stopped() -> BridgeError {
     BridgeError::new(ErrorCode::Internal, "the engine has stopped")
+}
+
+/// A job runs on a controller whose state file the service reads: the
+/// condition for live positions. A locked command file (the controller
+/// holds it open while it reads) does not make the state stale.
+fn runs_on_controller(s: &RobotState) -> bool {
+    s.busy && matches!(s.connection, Connection::Online | Connection::Locked)
 }
