@@ -1,7 +1,8 @@
 //! What the shipped KRL program costs on the controller, measured in the
 //! KRC-like runtime: statements per pass of the Submit loop, file
-//! operations per motion, standstill before a batch starts to move, round
-//! trip per command. The figures go to docs/BENCHMARKS.md.
+//! operations per motion, standstill before a MOVE (1 and 4 motions, the
+//! most the service sends as a MOVE) starts to move, round trip per
+//! command. The figures go to docs/BENCHMARKS.md §8.
 //!
 //! ```text
 //! cargo run --release -p kuka-krc --example submit_cost [-- --cycle-ms 12 --budget 500]
@@ -127,8 +128,12 @@ fn main() -> anyhow::Result<()> {
     );
 
     // Batches: LINs of 5 mm back and forth, approximated 2 mm, 0.2 m/s.
+    // The service sends a MOVE of at most 4 motions; bigger batches go as a
+    // path (PATH and APPENDs), measured through the service by the
+    // streaming bench (`cargo bench -p kuka-bridge-tests --bench streaming
+    // -- --sim krc --sections 2,6`, docs/BENCHMARKS.md §10).
     let mut cid = 100;
-    for n in [1usize, 100, 1000] {
+    for n in [1usize, 4] {
         let motions: Vec<MotionRecord> = (0..n)
             .map(|i| MotionRecord::Lin {
                 target: Frame {

@@ -47,9 +47,14 @@ fn round_trip_text(
     text: &str,
     limit_s: u64,
 ) -> ResultRecord {
-    // The KRL program holds the command file open while it reads it (an
-    // open handle blocks replacing it, as on Windows): retry like the
-    // service does, in simulated time.
+    write_command(krc, dir, text);
+    wait_result(krc, dir, cid, limit_s)
+}
+
+/// Replaces the command file. The KRL program holds it open while it
+/// reads it (an open handle blocks replacing it, as on Windows): retry
+/// like the service does, in simulated time.
+fn write_command(krc: &KrcController, dir: &Path, text: &str) {
     let mut error = None;
     let written = krc.wait_until(Duration::from_secs(1), |_| {
         match atomic_write(dir, COMMAND_FILE, "test", text) {
@@ -62,6 +67,10 @@ fn round_trip_text(
         }
     });
     assert!(written && error.is_none(), "command not written: {error:?}");
+}
+
+/// Waits (in simulated time) for the result of `cid`.
+fn wait_result(krc: &KrcController, dir: &Path, cid: i32, limit_s: u64) -> ResultRecord {
     let mut found = None;
     let done = krc.wait_until(Duration::from_secs(limit_s), |_| {
         let Ok(text) = std::fs::read_to_string(dir.join(RESULT_FILE)) else {
@@ -376,5 +385,124 @@ fn a_damaged_line_in_a_path_ends_it_after_the_motions_before_it() {
     let r = round_trip_text(&krc, dir.path(), 2, &damaged, 20);
     assert_eq!((r.code, r.completed), (ResultCode::BadCommand, 2), "{r:?}");
     assert!((r.position.x - (home.x + 20.0)).abs() < 0.01, "{r:?}");
+    krc.shutdown();
+}
+
+/// A path of 100 motions sent as the service sends it (a PATH carrying
+/// the first 40, then APPENDs of up to 40 from the controller's stored
+/// count): the program takes at most `kb_pth_chunk` (8) lines per command,
+/// so no Submit pass runs over a budget of 5,000 statements (before:
+/// ~24,000 for 40 lines); every motion runs once, in order, without a stop;
+/// and the result file, rewritten after each of the ~13 answers, holds the
+/// last 8 in the order they were given (the kept lines' ring).
+#[test]
+fn a_path_is_read_a_few_lines_per_pass_within_the_budget() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut c = KrcConfig::new(dir.path());
+    c.time_scale = 0.0;
+    c.submit_budget = 5000;
+    let krc = KrcController::start(c).expect("the runtime starts");
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    // Away from the home pose's wrist singularity (A5 = 0) first.
+    let r = round_trip(
+        &krc,
+        dir.path(),
+        1,
+        Command::Move(vec![MotionRecord::PtpAxes {
+            axes: [0.0, -80.0, 80.0, 0.0, 30.0, 0.0],
+            params: MotionParams {
+                velocity: 50.0,
+                acceleration_pct: 100.0,
+                approx_mm: 0.0,
+            },
+        }]),
+        20,
+    );
+    assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+    let home = r.position;
+    let n = 100usize;
+    // 4 mm back and forth at 0.1 m/s: 40 ms per motion, blended.
+    let motions: Vec<MotionRecord> = (0..n)
+        .map(|i| MotionRecord::Lin {
+            target: Frame {
+                y: home.y + if i % 2 == 0 { 4.0 } else { 0.0 },
+                ..home
+            },
+            params: MotionParams {
+                velocity: 0.1,
+                acceleration_pct: 100.0,
+                approx_mm: if i + 1 < n { 1.0 } else { 0.0 },
+            },
+        })
+        .collect();
+    let before = krc.stats();
+    let path = 2;
+    let chunk = |first: usize| PathChunk {
+        path,
+        first: first as u32,
+        motions: motions[first..(first + 40).min(n)].to_vec(),
+        close: first + 40 >= n,
+    };
+    let text = CommandFile {
+        cid: path,
+        command: Command::OpenPath(chunk(0)),
+    };
+    write_command(&krc, dir.path(), &text.encode().expect("encodes"));
+    // What the PATH carried and the program took: the state file's count.
+    let mut stored = 0usize;
+    assert!(krc.wait_until(Duration::from_secs(5), |_| {
+        let s = std::fs::read_to_string(dir.path().join(STATE_FILE))
+            .ok()
+            .and_then(|t| kuka_protocol::StateFile::decode(&t).ok());
+        if let Some(s) = s.filter(|s| s.busy_cid == path && s.stored > 0) {
+            stored = s.stored as usize;
+        }
+        stored > 0
+    }));
+    assert!(stored <= 8, "the PATH took {stored} of 40 lines");
+    let mut answered = Vec::new();
+    let mut cid = path;
+    while stored < n {
+        cid += 1;
+        let r = round_trip(&krc, dir.path(), cid, Command::Append(chunk(stored)), 5);
+        assert_eq!(
+            r.code,
+            ResultCode::Ok,
+            "{r:?} {:?}",
+            krc.stats().motion_errors
+        );
+        let took = r.completed as usize - stored;
+        assert!((1..=8).contains(&took), "APPEND {cid} took {took}");
+        stored = r.completed as usize;
+        answered.push(cid);
+    }
+    let r = wait_result(&krc, dir.path(), path, 60);
+    assert_eq!((r.code, r.completed), (ResultCode::Ok, n as u32), "{r:?}");
+    answered.push(path);
+    let after = krc.stats();
+    assert_eq!(
+        after.passes_overrun - before.passes_overrun,
+        0,
+        "passes over the budget: {after:?}"
+    );
+    assert!(after.pass_statements_max <= 5000, "{after:?}");
+    assert_eq!(
+        after.chains_started - before.chains_started,
+        1,
+        "one start from a standstill"
+    );
+    assert_eq!(after.motions_done - before.motions_done, n as u64);
+    let text = std::fs::read_to_string(dir.path().join(RESULT_FILE)).expect("results");
+    let kept: Vec<i32> = ResultFile::decode(&text)
+        .expect("decodes")
+        .results
+        .iter()
+        .map(|r| r.cid)
+        .collect();
+    assert_eq!(
+        kept,
+        answered[answered.len() - 8..],
+        "the last 8 answers, in order"
+    );
     krc.shutdown();
 }

@@ -20,8 +20,9 @@ use crate::motion::set_default_approx;
 /// Motions a path holds in the service (appended, not yet stored by the
 /// controller): an append that would go beyond waits for room.
 pub(crate) const MAX_PENDING: usize = 2000;
-/// Motions per APPEND command: the shipped KRL program reads up to
-/// `kb_chunk` (40) lines of a command per Submit cycle and takes only those.
+/// Motions per APPEND command (at most): the shipped KRL program takes the
+/// first `kb_pth_chunk` (8) lines of a command and leaves the rest; a site
+/// may raise that up to 40.
 pub(super) const APPEND_CHUNK: usize = 40;
 /// The first motions of a path wait this long for more before they are
 /// sent (or until [`LEAD_MOTIONS`] are there, or the path is closed), so
@@ -459,11 +460,24 @@ impl Actor {
                 let taken = ((r.completed - p.stored) as usize).min(p.pending.len());
                 p.pending.drain(..taken);
                 p.stored = r.completed;
+                // Fewer than sent: the controller reads at most a few lines
+                // per command (`kb_pth_chunk` of the shipped program), or
+                // its buffer is full. The room known from its last state
+                // file tells which; an APPEND it took nothing of means full
+                // (the state file was older than the last motions stored):
+                // wait for the next state file's room.
                 p.room = p.room.saturating_sub(taken as u32);
-                if taken < a.count {
-                    // Full: wait for the next state file's room.
+                if taken == 0 && a.count > 0 {
                     p.room = 0;
                 }
+                tracing::debug!(
+                    cid = r.cid,
+                    sent = a.count,
+                    taken,
+                    stored = p.stored,
+                    room = p.room,
+                    "append answered"
+                );
                 if a.close && r.code == ResultCode::Ok && taken == a.count {
                     p.close_sent = true;
                 }
