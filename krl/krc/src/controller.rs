@@ -251,6 +251,12 @@ impl KrcController {
         self.lock().vars.as_ref()?.int(name, &[])
     }
 
+    /// An element of a global BOOL array of the program (e.g. `$OUT`, 9 for
+    /// `$OUT[9]`), read between two cycles; `None` when it does not exist.
+    pub fn bool_element(&self, name: &str, index: i64) -> Option<bool> {
+        self.lock().vars.as_ref()?.bool(name, &[index])
+    }
+
     /// The executed path since the start (or the last [`clear_trace`]),
     /// oldest first: a sample per cycle in motion, stops marked.
     ///

@@ -205,15 +205,14 @@ impl Executor {
             self.axes = sample.axes;
             self.motion_index = sample.motion;
         }
-        // Triggers: DISTANCE=0 at the motion's start, =1 (and PATH) at its
-        // end, plus DELAY.
+        // Triggers: DISTANCE=0 at the motion's start, =1 at its end, PATH
+        // at that many mm along the path from its end, plus DELAY.
         for (k, list) in chain.triggers.iter().enumerate() {
             for tr in list {
                 if chain.fired.contains(&tr.id) {
                     continue;
                 }
-                let at_end = tr.path || tr.at >= 0.5;
-                let when = motion_time(chain, chain.first + k, at_end) + tr.delay_ms / 1000.0;
+                let when = trigger_time(chain, chain.first + k, tr) + tr.delay_ms / 1000.0;
                 if when <= t {
                     chain.fired.push(tr.id);
                     fired.push(tr.id);
@@ -371,6 +370,45 @@ impl Executor {
 }
 
 /// When motion `k` (chain-wide) starts (or ends) in the chain's plan.
+/// Chain time at which trigger `tr` of motion `k` (chain-wide) switches.
+/// `PATH = d`: where the TCP is `d` mm along the path from the motion's
+/// end (before it for d < 0, into the following motions for d > 0). The
+/// end of an approximated motion is taken where the planned path passes
+/// from it to the next (the middle of the blend in this planner; KSS
+/// relates the switching point to the approximation contour, which the
+/// documentation describes only loosely). A point before the path's start
+/// switches at the start, one beyond its end at the end.
+fn trigger_time(chain: &Chain, k: usize, tr: &TriggerAt) -> f64 {
+    if !tr.path {
+        return motion_time(chain, k, tr.at >= 0.5);
+    }
+    let s = &chain.samples;
+    let Some(end) = s.iter().rposition(|x| x.motion == k) else {
+        return chain.duration_s;
+    };
+    let mut run = 0.0;
+    if tr.at <= 0.0 {
+        let want = -tr.at;
+        let mut i = end;
+        while i > 0 && run < want {
+            run += s[i].pose.distance_mm(&s[i - 1].pose);
+            i -= 1;
+        }
+        s[i].t
+    } else {
+        let mut i = end;
+        while i + 1 < s.len() && run < tr.at {
+            run += s[i + 1].pose.distance_mm(&s[i].pose);
+            i += 1;
+        }
+        if run < tr.at {
+            chain.duration_s
+        } else {
+            s[i].t
+        }
+    }
+}
+
 fn motion_time(chain: &Chain, k: usize, end: bool) -> f64 {
     let s = &chain.samples;
     if end {

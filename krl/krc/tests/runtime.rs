@@ -506,3 +506,60 @@ fn a_path_is_read_a_few_lines_per_pass_within_the_budget() {
     );
     krc.shutdown();
 }
+
+/// `TRIGGER WHEN PATH = d` switches where the TCP is d mm along the path
+/// from the motion's end point (before it for d < 0), not at the end:
+/// an uploaded module sets `$OUT[9]` 30 mm before the end of a 100 mm LIN
+/// and `$OUT[10]` at its end (`DISTANCE = 1`); the robot's position in the
+/// cycle each output switches says where.
+#[test]
+fn a_path_trigger_switches_at_its_distance_from_the_end_point() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    std::fs::create_dir_all(dir.path().join("programs")).expect("programs");
+    std::fs::write(
+        dir.path().join("programs/kbu2.src"),
+        "DEF kbu2()\n  $OUT[9] = FALSE\n  $OUT[10] = FALSE\n  \
+         PTP {A1 0, A2 -80, A3 80, A4 0, A5 30, A6 0}\n  \
+         $VEL.CP = 0.1\n  \
+         TRIGGER WHEN PATH = -30 DELAY = 0 DO $OUT[9] = TRUE\n  \
+         TRIGGER WHEN DISTANCE = 1 DELAY = 0 DO $OUT[10] = TRUE\n  \
+         LIN_REL {Y 100}\nEND\n",
+    )
+    .expect("module written");
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let write = CommandFile {
+        cid: 1,
+        command: Command::Run(2),
+    }
+    .encode()
+    .expect("encodes");
+    write_command(&krc, dir.path(), &write);
+    // The Y of the TCP in the cycle each output first reads TRUE.
+    let (mut at9, mut at10) = (None, None);
+    let done = krc.wait_until(Duration::from_secs(30), |snap| {
+        if at9.is_none() && krc.bool_element("$OUT", 9) == Some(true) {
+            at9 = Some(snap.pose[1]);
+        }
+        if at10.is_none() && krc.bool_element("$OUT", 10) == Some(true) {
+            at10 = Some(snap.pose[1]);
+        }
+        at10.is_some()
+    });
+    assert!(done, "{:?}", krc.snapshot());
+    let r = wait_result(&krc, dir.path(), 1, 30);
+    assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+    let end = r.position.y;
+    let start = end - 100.0;
+    let (at9, at10) = (at9.expect("OUT 9"), at10.expect("OUT 10"));
+    // One 12 ms cycle at 0.1 m/s is 1.2 mm.
+    assert!(
+        (at9 - (end - 30.0)).abs() < 2.5,
+        "PATH = -30 switched at y {at9:.1} (start {start:.1}, end {end:.1})"
+    );
+    assert!(
+        (at10 - end).abs() < 2.5,
+        "DISTANCE = 1 at y {at10:.1}, end {end:.1}"
+    );
+    krc.shutdown();
+}

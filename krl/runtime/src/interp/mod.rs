@@ -403,7 +403,13 @@ pub fn run_hosted(
     it.max_statements = u64::MAX;
     it.max_evaluations = u64::MAX;
     it.hosted = Some(host::Hosted::new(host));
-    let r = it.run_entry(routine);
+    // The END of the program is an advance-run stop: the run ends when its
+    // last motion has, so that the path triggers of its last motions fire
+    // (their actions run in this interpreter) and interrupts are served
+    // until then.
+    let r = it
+        .run_entry(routine)
+        .and_then(|()| it.host_wait(host::Wait::Standstill));
     // Files a cancelled program left open are closed (their locks go).
     if let Some(h) = it.harness.as_mut() {
         h.open.clear();
