@@ -37,6 +37,21 @@ async fn open_path(t: &TestService) -> u64 {
     job["id"].as_u64().expect("id")
 }
 
+/// POSTs `body` as JSON lines (`application/x-ndjson`) to the path's
+/// motions: the status and the JSON answer.
+async fn post_lines(t: &TestService, id: u64, body: String) -> (u16, Value) {
+    let r = t
+        .http
+        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
+        .header("content-type", "application/x-ndjson")
+        .body(body)
+        .send()
+        .await
+        .expect("stream");
+    let status = r.status().as_u16();
+    (status, r.json().await.expect("a JSON answer"))
+}
+
 /// Waits until the path has ended. On the KRL program in the KRC-like
 /// runtime (a debug build interpreting every statement) a long path takes
 /// a while: the bound is generous, the wait ends as soon as the path does.
@@ -135,16 +150,7 @@ async fn a_json_lines_stream_runs_a_long_path() {
         .iter()
         .map(|p| format!("{}\n", lin(p, 0.3)))
         .collect();
-    let r = t
-        .http
-        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
-        .header("content-type", "application/x-ndjson")
-        .body(body)
-        .send()
-        .await
-        .expect("stream");
-    let status = r.status().as_u16();
-    let o: Value = r.json().await.expect("outcome");
+    let (status, o) = post_lines(&t, id, body).await;
     assert_eq!(status, 200, "{o}");
     assert_eq!(
         (
@@ -237,16 +243,7 @@ async fn a_refused_motion_mid_stream() {
             .map(|p| format!("{}\n", lin(p, 0.2)))
             .collect::<String>(),
     );
-    let r = t
-        .http
-        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
-        .header("content-type", "application/x-ndjson")
-        .body(body)
-        .send()
-        .await
-        .expect("stream");
-    let status = r.status().as_u16();
-    let e: Value = r.json().await.expect("problem");
+    let (status, e) = post_lines(&t, id, body).await;
     assert_eq!(
         (status, e["code"].as_str(), e["motion"].as_u64()),
         (422, Some("unreachable"), Some(20)),
@@ -272,16 +269,7 @@ async fn a_refused_motion_mid_stream() {
         .collect();
     body.push_str("{\"type\": \"lin\", \"target\": {\"x\": \"far\"}}\n");
     body.push_str(&format!("{}\n", lin(&pts[6], 0.2)));
-    let r = t
-        .http
-        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
-        .header("content-type", "application/x-ndjson")
-        .body(body)
-        .send()
-        .await
-        .expect("stream");
-    let status = r.status().as_u16();
-    let e: Value = r.json().await.expect("problem");
+    let (status, e) = post_lines(&t, id, body).await;
     assert_eq!(
         (status, e["code"].as_str()),
         (422, Some("invalid_input")),
