@@ -563,3 +563,33 @@ fn a_path_trigger_switches_at_its_distance_from_the_end_point() {
     );
     krc.shutdown();
 }
+
+/// On the runtime as on a KRC, a LIN approximated into an SLIN stops
+/// exactly (two motion planners, docs/CONTROLLER.md 21): an uploaded module
+/// with LIN C_DIS then SLIN starts one chain of motion more than the same
+/// module with LIN C_DIS then LIN.
+#[test]
+fn a_lin_does_not_blend_into_a_spline_motion() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    std::fs::create_dir_all(dir.path().join("programs")).expect("programs");
+    let module = |n: u32, second: &str| {
+        format!(
+            "DEF kbu{n}()\n  $APO.CDIS = 5\n  PTP {{A1 0, A2 -80, A3 80, A4 0, A5 30, A6 0}}\n  \
+             LIN {{X 370}} C_DIS\n  {second} {{Y 30}}\nEND\n"
+        )
+    };
+    std::fs::write(dir.path().join("programs/kbu3.src"), module(3, "LIN")).expect("write");
+    std::fs::write(dir.path().join("programs/kbu4.src"), module(4, "SLIN")).expect("write");
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let mut chains = Vec::new();
+    for (cid, n) in [(1, 3), (2, 4)] {
+        let before = krc.stats().chains_started;
+        let r = round_trip(&krc, dir.path(), cid, Command::Run(n), 30);
+        assert_eq!(r.code, ResultCode::Ok, "{r:?} {:?}", krc.snapshot());
+        chains.push(krc.stats().chains_started - before);
+    }
+    // The same program but for the SLIN: one start from a standstill more.
+    assert_eq!(chains[1], chains[0] + 1, "{chains:?}");
+    krc.shutdown();
+}

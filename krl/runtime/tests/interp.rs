@@ -686,6 +686,35 @@ fn a_single_spline_motion_runs_like_a_block_of_one() {
     assert_eq!(motions(single), motions(block));
 }
 
+/// Conventional motions (PTP, LIN, CIRC) and spline motions (SPLINE
+/// blocks, SLIN, SCIRC, SPTP) never blend into each other on a KRC (two
+/// motion planners, docs/CONTROLLER.md 21): the last motion before a change
+/// of family ends in an exact stop, whatever its approximation; within a
+/// family the approximation stays.
+#[test]
+fn conventional_and_spline_motions_do_not_blend_into_each_other() {
+    let approx = |src: &str| -> Vec<f64> {
+        steps(src)
+            .into_iter()
+            .map(|s| match s {
+                Step::Move { motion, .. } => motion.approx_mm,
+                other => panic!("a motion, not {other:?}"),
+            })
+            .collect()
+    };
+    let head = "DEF f()\n  $APO.CDIS = 5\n  PTP {A1 0, A2 -80, A3 80, A4 0, A5 30, A6 0}\n";
+    // LIN into LIN, SLIN into SLIN: blended.
+    let same = approx(&format!(
+        "{head}  LIN {{X 380}} C_DIS\n  LIN {{X 360}}\n  SLIN {{Y 20}} C_SPL\n  SLIN {{Y 40}}\nEND\n"
+    ));
+    assert_eq!(same[1..], [5.0, 0.0, 5.0, 0.0], "{same:?}");
+    // LIN C_DIS into SLIN, and SLIN C_SPL into LIN: exact stops.
+    let mixed = approx(&format!(
+        "{head}  LIN {{X 380}} C_DIS\n  SLIN {{Y 20}} C_SPL\n  LIN {{X 360}} C_DIS\n  SPLINE\n    SPL {{Y 40}}\n  ENDSPLINE\nEND\n"
+    ));
+    assert_eq!(mixed[1..4], [0.0, 0.0, 0.0], "{mixed:?}");
+}
+
 #[test]
 fn runtime_errors_name_their_line() {
     let (line, msg) = runtime_error("DEF f()\n  DECL INT i\n  LOOP\n    i = 1\n  ENDLOOP\nEND\n");

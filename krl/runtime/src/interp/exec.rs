@@ -299,7 +299,9 @@ impl<'a> Interp<'a> {
         // The spline's and the motion's frames are large (in a debug
         // build): each counts as a level of its own.
         self.enter()?;
-        let r = self.spline(points, c_spl);
+        let r = self
+            .planner_boundary(true)
+            .and_then(|()| self.spline(points, c_spl));
         self.nesting -= 1;
         r.map(|()| Flow::Next)
     }
@@ -529,6 +531,7 @@ impl<'a> Interp<'a> {
     ) -> Result<Flow, RunError> {
         let approx_mm = if approx { self.cdis()? } else { 0.0 };
         let speeds = self.speeds()?;
+        self.planner_boundary(false)?;
         self.motion(kind, aux, target, approx_mm, speeds)?;
         Ok(Flow::Next)
     }

@@ -452,6 +452,11 @@ struct Interp<'a> {
     cart_line: u32,
     continue_pending: bool,
     continue_active: bool,
+    /// The family of the last motion: `Some(true)` spline (SPLINE blocks,
+    /// SLIN/SCIRC/SPTP), `Some(false)` conventional (PTP/LIN/CIRC). The two
+    /// are planned by different motion planners on a KRC and never blend
+    /// into each other ([`Interp::planner_boundary`]).
+    last_family: Option<bool>,
     /// User-defined (`STRUC`, `ENUM`) and harness types: upper-case name
     /// and typed template.
     types: HashMap<String, Value>,
@@ -539,6 +544,7 @@ impl<'a> Interp<'a> {
             turn: Some(RobotModel::turn(&axes)),
             cart_line: 0,
             continue_pending: false,
+            last_family: None,
             continue_active: false,
             types: HashMap::new(),
             max_statements: MAX_STATEMENTS,
@@ -644,6 +650,28 @@ impl<'a> Interp<'a> {
         self.cells = total;
         if let Some(f) = self.frame_cells.last_mut() {
             *f += n;
+        }
+        Ok(())
+    }
+
+    /// Before a motion of the `spline` family: where the previous motion
+    /// was of the other family, it ends in an exact stop — a KRC plans the
+    /// conventional motions (PTP, LIN, CIRC) and the spline ones (SPLINE
+    /// blocks, SLIN, SCIRC, SPTP) with two motion planners that cannot
+    /// approximate into each other (docs/CONTROLLER.md 21).
+    pub(super) fn planner_boundary(&mut self, spline: bool) -> Result<(), RunError> {
+        let other = self.last_family.is_some_and(|f| f != spline);
+        self.last_family = Some(spline);
+        if !other {
+            return Ok(());
+        }
+        if self.hosted.is_some() {
+            // Queued motions cannot change: an advance-run stop lets the
+            // robot finish them (it stops at the last one's end point).
+            return self.host_advance_stop();
+        }
+        if let Some(Step::Move { motion, .. }) = self.steps.last_mut() {
+            motion.approx_mm = 0.0;
         }
         Ok(())
     }
