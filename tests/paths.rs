@@ -279,12 +279,48 @@ async fn a_refused_motion_mid_stream() {
         e["detail"].as_str().is_some_and(|d| d.contains("line 6")),
         "{e}"
     );
+    assert_eq!(e["motion"], 5, "the bad line's index in the path: {e}");
+    // The path ends failed with the reason, as for a refused motion.
     let j = wait_path_end(&t, id).await;
     assert_eq!(
-        (j["state"].as_str(), j["completed"].as_u64()),
-        (Some("done"), Some(5)),
+        (
+            j["state"].as_str(),
+            j["completed"].as_u64(),
+            j["error"]["code"].as_str()
+        ),
+        (Some("failed"), Some(5), Some("invalid_input")),
         "{j}"
     );
+
+    // A motion with a bad number (negative speed) after 3 good ones: refused
+    // like an unreachable one, with its index in the path, and the path
+    // closes there.
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let good: Vec<Value> = pts[1..4].iter().map(|p| lin(p, 0.2)).collect();
+    let (s, o) = t.post_json(&url_of(id), &json!({"motions": good})).await;
+    assert_eq!(s, 200, "{o}");
+    let bad = json!({"motions": [lin(&pts[4], 0.2), lin(&pts[5], -1.0)]});
+    let (s, e) = t.post_json(&url_of(id), &bad).await;
+    assert_eq!(
+        (s, e["code"].as_str(), e["motion"].as_u64()),
+        (422, Some("invalid_input"), Some(4)),
+        "{e}"
+    );
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(
+        (
+            j["state"].as_str(),
+            j["completed"].as_u64(),
+            j["error"]["code"].as_str()
+        ),
+        (Some("failed"), Some(3), Some("invalid_input")),
+        "{j}"
+    );
+}
+
+fn url_of(id: u64) -> String {
+    format!("/api/v1/paths/{id}/motions")
 }
 
 /// Cancel and stop mid-stream: the robot stops at once, the path is
@@ -658,6 +694,52 @@ async fn thesis_linmov_calls_blend_when_the_site_enables_it() {
         (0, 39),
         "no stop between the 40 linmov calls"
     );
+}
+
+/// With blending on, a refused thesis call ends its client's path at once
+/// (the robot stops at the last accepted call): it does not leave an
+/// open, empty path holding the robot — and every client behind it — until
+/// the controller's idle end (5 s each, found by a review).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_refused_blended_thesis_call_leaves_no_path_open() {
+    let t = TestService::start(Options {
+        tweak: Box::new(|c| {
+            c.motion.thesis_blend_ms = 300;
+            c.simulator.kind = kuka_bridge_tests::test_simulator();
+        }),
+        ..Options::default()
+    })
+    .await;
+    to_start(&t, &[200.0, 0.0]).await;
+    let (s, v) = t.post("/krl/linmov?x=210").await;
+    assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
+    for _ in 0..3 {
+        let (s, v) = t.post("/krl/linmov?x=NaN").await;
+        assert_eq!(s, 422, "{v}");
+    }
+    // Every path has ended (the first with its one call), well before
+    // the controller's idle end of an open path (5 s).
+    wait_for(Duration::from_secs(3), "every path to end", async || {
+        let (_, jobs) = t.get("/api/v1/jobs?limit=20").await;
+        let open: Vec<_> = jobs
+            .as_array()
+            .expect("jobs")
+            .iter()
+            .filter(|j| j["operation"] == "path")
+            .filter(|j| {
+                !["done", "failed", "cancelled"].contains(&j["state"].as_str().unwrap_or(""))
+            })
+            .cloned()
+            .collect();
+        if open.is_empty() {
+            Ok(())
+        } else {
+            Err(format!("{open:?}"))
+        }
+    })
+    .await;
+    let (s, v) = t.post("/krl/linmov?x=220").await;
+    assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
 }
 
 /// An append that waits for room is withdrawn when its client stops

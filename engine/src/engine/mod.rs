@@ -587,8 +587,14 @@ impl Engine {
                 format!("job {path} is not a path"),
             ));
         }
-        if !motions.is_empty() {
-            self.shared.safety.check_request(&motions)?;
+        if !motions.is_empty()
+            && let Err(e) = self.shared.safety.check_request(&motions)
+            && e.motion.is_none()
+        {
+            // The request as a whole (empty, too many motions): refused
+            // without touching the path. A motion it refuses is refused by
+            // the actor, which closes the path there like any refusal.
+            return Err(e);
         }
         // A path queued behind other jobs takes appends once it is on the
         // controller: wait for that (within the append's own wait).
@@ -623,6 +629,27 @@ impl Engine {
                 close,
                 wait,
                 partial,
+                refusal: None,
+                reply: tx,
+            }))
+            .map_err(|_| stopped())?;
+        rx.await.map_err(|_| stopped())?
+    }
+
+    /// Closes the path because the client's input was refused before it
+    /// became motions (e.g. a bad line of a JSON-lines stream): the robot
+    /// stops at the last motion appended and the path's job fails with
+    /// `error`, as when a motion is refused.
+    pub async fn refuse_path(&self, path: JobId, error: BridgeError) -> Result<AppendOutcome> {
+        let (tx, rx) = oneshot::channel();
+        self.tx
+            .send(Msg::Append(actor::AppendRequest {
+                path,
+                motions: Vec::new(),
+                close: true,
+                wait: std::time::Duration::from_secs(10),
+                partial: false,
+                refusal: Some(error),
                 reply: tx,
             }))
             .map_err(|_| stopped())?;

@@ -285,14 +285,37 @@ async fn append_lines(
                 line_no + 1
             )));
         }
-        if let Some(e) = bad {
-            // The lines before the bad one run; then the path ends.
+        if let Some(mut e) = bad {
+            // The lines before the bad one run; then the path ends, failed
+            // with the reason (`motion`: the bad line's index in the path).
+            let mut flushed = true;
             while !done.batch.is_empty() {
                 if done.flush(engine, id, wait).await.is_err() {
+                    flushed = false;
                     break;
                 }
             }
-            close().await;
+            if flushed {
+                // Motions in the path so far (this request may have
+                // appended none: then the job says).
+                let total = if done.first.is_some() {
+                    done.total
+                } else {
+                    engine.job(id).map_or(0, |j| j.motions)
+                };
+                e.motion = Some(total);
+                if let Err(why) = engine.refuse_path(id, e.clone()).await
+                    && why.code != ErrorCode::PathClosed
+                {
+                    tracing::warn!(
+                        path = id,
+                        code = why.code.as_str(),
+                        "could not close the path after a bad line"
+                    );
+                }
+            } else {
+                close().await;
+            }
             return Err(e.into());
         }
         while done.batch.len() >= STREAM_BATCH

@@ -424,7 +424,23 @@ async fn blended(app: &AppState, who: &Who, m: MotionRequest) -> Response {
                 app.thesis_paths.lock().remove(&key);
             }
             Err(e) => {
+                // The path ends here: the robot stops at the last call that
+                // was accepted (a path this call opened has none and ends at
+                // once; left open it would hold the robot until the
+                // controller's idle end, and every client behind it).
                 app.thesis_paths.lock().remove(&key);
+                if let Err(close) = app
+                    .engine
+                    .append(id, Vec::new(), true, Duration::from_secs(2))
+                    .await
+                    && close.code != ErrorCode::PathClosed
+                {
+                    tracing::warn!(
+                        path = id,
+                        code = close.code.as_str(),
+                        "could not close the thesis client's path after a refused call"
+                    );
+                }
                 return fail(app, &e);
             }
         }

@@ -61,6 +61,10 @@ pub(crate) struct AppendRequest {
     /// (a JSON-lines stream, whose batches are arbitrary); otherwise the
     /// request is all or none.
     pub(crate) partial: bool,
+    /// The client's input was refused before it became motions (a bad
+    /// line of a JSON-lines stream): the path closes with this error, as
+    /// for a refused motion.
+    pub(crate) refusal: Option<BridgeError>,
     /// The answer.
     pub(crate) reply: oneshot::Sender<Result<AppendOutcome>>,
 }
@@ -219,6 +223,10 @@ impl Actor {
             let _ = req.reply.send(Err(closed_error(req.path)));
             return;
         }
+        if let Some(e) = &req.refusal {
+            tracing::warn!(path = p.job, code = e.code.as_str(), detail = %e.detail, "the client's input was refused; the path is closed at the last accepted motion");
+            p.refused.get_or_insert_with(|| e.clone());
+        }
         if req.motions.is_empty() {
             // A close (or nothing) needs no room: it does not wait behind
             // parked appends, which it ends.
@@ -332,10 +340,6 @@ impl Actor {
             if let Some(c) = p.options.config {
                 requests.iter_mut().for_each(|m| m.default_config(c));
             }
-            let mut records = resolve(&requests, &p.end, &self.speeds, approx)?;
-            // Within a path the last motion of an append blends into the
-            // next append's first (the robot stops at the path's end).
-            set_default_approx(&requests, &mut records, approx);
             let at = |mut e: BridgeError| {
                 if let Some(m) = e.motion {
                     e.motion = Some(first + m);
@@ -343,6 +347,13 @@ impl Actor {
                 }
                 e
             };
+            // Numbers and speed caps first: a motion refused here closes
+            // the path like one the plan refuses, and says where.
+            safety.check_request(&requests).map_err(at)?;
+            let mut records = resolve(&requests, &p.end, &self.speeds, approx).map_err(at)?;
+            // Within a path the last motion of an append blends into the
+            // next append's first (the robot stops at the path's end).
+            set_default_approx(&requests, &mut records, approx);
             safety
                 .choose_configurations(&requests, &mut records, &p.end, &tool, &base)
                 .map_err(at)?;
