@@ -357,6 +357,7 @@ async fn cancel_and_stop_mid_stream() {
         }
         let j = wait_path_end(&t, id).await;
         assert_eq!(j["state"], "cancelled", "{how}: {j}");
+        assert_eq!(j["path"]["closed"], true, "an ended path says so: {j}");
         let done = j["completed"].as_u64().expect("completed");
         assert!((2..40).contains(&done), "{how}: stopped part way: {j}");
         let (s, e) = t
@@ -535,6 +536,36 @@ async fn a_queued_path_takes_appends_and_an_idle_one_ends() {
         (Some("done"), Some(1)),
         "{jb}"
     );
+
+    // Ending a path that is still queued (behind a LIN the paused
+    // controller holds) answers at once: it has no motions, so it is
+    // cancelled, and closed; the LIN ahead is not touched.
+    t.pause_controller();
+    let (s, ahead) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [lin(&pts[10], 0.2)], "wait": false}),
+        )
+        .await;
+    assert_eq!(s, 202, "{ahead}");
+    let c = open_path(&t).await;
+    let (_, jc) = t.get(&format!("/api/v1/paths/{c}")).await;
+    assert_eq!(jc["state"], "queued", "{jc}");
+    let (s, jc) = t.delete(&format!("/api/v1/paths/{c}")).await;
+    assert_eq!(s, 200, "{jc}");
+    assert_eq!(
+        (jc["state"].as_str(), jc["path"]["closed"].as_bool()),
+        (Some("cancelled"), Some(true)),
+        "{jc}"
+    );
+    t.resume_controller();
+    let id = ahead["id"].as_u64().expect("id");
+    let j = t
+        .wait_job(id, "the LIN ahead", |j| {
+            ["done", "failed", "cancelled"].contains(&j["state"].as_str().unwrap_or(""))
+        })
+        .await;
+    assert_eq!(j["state"], "done", "the LIN ahead ran: {j}");
 }
 
 /// A client that disconnects in the middle of a JSON-lines stream: the

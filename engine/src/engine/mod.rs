@@ -91,6 +91,12 @@ impl Shared {
             tx.send_if_modified(|j| {
                 let was = j.state;
                 f(j);
+                if j.state.is_terminal()
+                    && let Some(p) = j.path.as_mut()
+                {
+                    // An ended path takes nothing more, however it ended.
+                    p.closed = true;
+                }
                 j.state.is_terminal() || (was == JobState::Queued && j.state != JobState::Queued)
             });
             tx.borrow().clone()

@@ -397,7 +397,8 @@ async fn get_path(
 
 /// End a path: it is closed and the robot finishes the motions already appended (the
 /// job becomes `done` when the last has run); with `cancel=true` the robot stops now
-/// and the path is cancelled. A path that has ended already is returned unchanged.
+/// and the path is cancelled. A path still queued behind other jobs (it has no motions
+/// yet) is cancelled at once. A path that has ended already is returned unchanged.
 #[utoipa::path(delete, path = "/api/v1/paths/{id}", tag = "motion",
     params(("id" = u64, Path, description = "The path's job id"), EndQuery),
     responses((status = 200, body = Job), (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON), (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
@@ -418,6 +419,13 @@ async fn end_path(
         // The controller confirms the stop within moments: answer with the
         // path's final record when it has (or as it is after 5 s).
         return Ok(ok_json(&app.engine.wait(id, Duration::from_secs(5)).await?));
+    }
+    if job.state == crate::engine::JobState::Queued {
+        // Still behind other jobs: it has no motions yet (appends wait for
+        // it to start), so closing it ends it now, without waiting for the
+        // jobs ahead.
+        app.engine.cancel(id).await?;
+        return Ok(ok_json(&app.engine.job(id)?));
     }
     if !job.state.is_terminal() {
         match app
