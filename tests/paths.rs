@@ -701,6 +701,13 @@ async fn thesis_linmov_calls_blend_when_the_site_enables_it() {
             0.001,
             "planned y",
         );
+        // As the controller reports positions: in thousandths (a planned
+        // end read 200.00000000000003 before).
+        let exact = v["position"].as_array().expect("position").iter().all(|c| {
+            let c = c.as_f64().expect("number");
+            (c * 1000.0).round() / 1000.0 == c
+        });
+        assert!(exact, "{v}");
     }
     // A PTP ends the blending path: it runs after the circle's last motion.
     let (s, v) = t.post("/krl/ptp?z=120").await;

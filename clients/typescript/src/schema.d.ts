@@ -300,7 +300,8 @@ export interface paths {
         /**
          * End a path: it is closed and the robot finishes the motions already appended (the
          *     job becomes `done` when the last has run); with `cancel=true` the robot stops now
-         *     and the path is cancelled. A path that has ended already is returned unchanged.
+         *     and the path is cancelled. A path still queued behind other jobs (it has no motions
+         *     yet) is cancelled at once. A path that has ended already is returned unchanged.
          * @description **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
          */
         delete: operations["endPath"];
@@ -329,8 +330,8 @@ export interface paths {
          *     sent; a refused motion closes the path at the last accepted motion (the answer names
          *     it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
          *     lines before the refused one). Omitted coordinates keep
-         *     the previous motion's value, across appends. While the path holds `MAX_PENDING`
-         *     (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
+         *     the previous motion's value, across appends. While the path holds 2000 motions not
+         *     yet on the controller an append waits for room, up to `wait_ms`,
          *     then answers `path_full` with `Retry-After`.
          *
          *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.

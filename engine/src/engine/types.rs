@@ -28,15 +28,23 @@ pub struct CartesianFrame {
     pub c: f64,
 }
 
+/// To the protocol's resolution (thousandths, PROTOCOL.md 12), without a
+/// negative zero: a pose the service computed (the planned end of an
+/// append) reads like one the controller reported, not `200.00000000000003`.
+fn thousandths(v: f64) -> f64 {
+    let r = (v * 1000.0).round() / 1000.0;
+    if r == 0.0 { 0.0 } else { r }
+}
+
 impl From<kuka_protocol::Frame> for CartesianFrame {
     fn from(f: kuka_protocol::Frame) -> Self {
         CartesianFrame {
-            x: f.x,
-            y: f.y,
-            z: f.z,
-            a: f.a,
-            b: f.b,
-            c: f.c,
+            x: thousandths(f.x),
+            y: thousandths(f.y),
+            z: thousandths(f.z),
+            a: thousandths(f.a),
+            b: thousandths(f.b),
+            c: thousandths(f.c),
         }
     }
 }

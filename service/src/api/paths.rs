@@ -139,8 +139,8 @@ async fn create_path(
 /// sent; a refused motion closes the path at the last accepted motion (the answer names
 /// it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
 /// lines before the refused one). Omitted coordinates keep
-/// the previous motion's value, across appends. While the path holds `MAX_PENDING`
-/// (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
+/// the previous motion's value, across appends. While the path holds 2000 motions not
+/// yet on the controller an append waits for room, up to `wait_ms`,
 /// then answers `path_full` with `Retry-After`.
 #[utoipa::path(post, path = "/api/v1/paths/{id}/motions", tag = "motion",
     params(("id" = u64, Path, description = "The path's job id"), AppendQuery),

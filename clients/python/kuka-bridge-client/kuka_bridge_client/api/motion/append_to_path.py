@@ -149,8 +149,8 @@ def sync_detailed(
     sent; a refused motion closes the path at the last accepted motion (the answer names
     it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
     lines before the refused one). Omitted coordinates keep
-    the previous motion's value, across appends. While the path holds `MAX_PENDING`
-    (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
+    the previous motion's value, across appends. While the path holds 2000 motions not
+    yet on the controller an append waits for room, up to `wait_ms`,
     then answers `path_full` with `Retry-After`.
 
     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds
@@ -204,8 +204,8 @@ def sync(
     sent; a refused motion closes the path at the last accepted motion (the answer names
     it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
     lines before the refused one). Omitted coordinates keep
-    the previous motion's value, across appends. While the path holds `MAX_PENDING`
-    (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
+    the previous motion's value, across appends. While the path holds 2000 motions not
+    yet on the controller an append waits for room, up to `wait_ms`,
     then answers `path_full` with `Retry-After`.
 
     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds
@@ -254,8 +254,8 @@ async def asyncio_detailed(
     sent; a refused motion closes the path at the last accepted motion (the answer names
     it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
     lines before the refused one). Omitted coordinates keep
-    the previous motion's value, across appends. While the path holds `MAX_PENDING`
-    (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
+    the previous motion's value, across appends. While the path holds 2000 motions not
+    yet on the controller an append waits for room, up to `wait_ms`,
     then answers `path_full` with `Retry-After`.
 
     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds
@@ -309,8 +309,8 @@ async def asyncio(
     sent; a refused motion closes the path at the last accepted motion (the answer names
     it and says why; a JSON object is appended all or none, a JSON-lines stream keeps the
     lines before the refused one). Omitted coordinates keep
-    the previous motion's value, across appends. While the path holds `MAX_PENDING`
-    (2000) motions not yet on the controller an append waits for room, up to `wait_ms`,
+    the previous motion's value, across appends. While the path holds 2000 motions not
+    yet on the controller an append waits for room, up to `wait_ms`,
     then answers `path_full` with `Retry-After`.
 
     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds

@@ -118,7 +118,8 @@ def sync_detailed(
 ) -> Response[Job | ProblemDetails]:
     """ End a path: it is closed and the robot finishes the motions already appended (the
     job becomes `done` when the last has run); with `cancel=true` the robot stops now
-    and the path is cancelled. A path that has ended already is returned unchanged.
+    and the path is cancelled. A path still queued behind other jobs (it has no motions
+    yet) is cancelled at once. A path that has ended already is returned unchanged.
 
      
 
@@ -159,7 +160,8 @@ def sync(
 ) -> Job | ProblemDetails | None:
     """ End a path: it is closed and the robot finishes the motions already appended (the
     job becomes `done` when the last has run); with `cancel=true` the robot stops now
-    and the path is cancelled. A path that has ended already is returned unchanged.
+    and the path is cancelled. A path still queued behind other jobs (it has no motions
+    yet) is cancelled at once. A path that has ended already is returned unchanged.
 
      
 
@@ -195,7 +197,8 @@ async def asyncio_detailed(
 ) -> Response[Job | ProblemDetails]:
     """ End a path: it is closed and the robot finishes the motions already appended (the
     job becomes `done` when the last has run); with `cancel=true` the robot stops now
-    and the path is cancelled. A path that has ended already is returned unchanged.
+    and the path is cancelled. A path still queued behind other jobs (it has no motions
+    yet) is cancelled at once. A path that has ended already is returned unchanged.
 
      
 
@@ -236,7 +239,8 @@ async def asyncio(
 ) -> Job | ProblemDetails | None:
     """ End a path: it is closed and the robot finishes the motions already appended (the
     job becomes `done` when the last has run); with `cancel=true` the robot stops now
-    and the path is cancelled. A path that has ended already is returned unchanged.
+    and the path is cancelled. A path still queued behind other jobs (it has no motions
+    yet) is cancelled at once. A path that has ended already is returned unchanged.
 
      
 
