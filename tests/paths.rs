@@ -734,6 +734,52 @@ async fn thesis_linmov_calls_blend_when_the_site_enables_it() {
     );
 }
 
+/// A path's progress comes as a job event per motion, in order, although
+/// a heartbeat reports several short motions at once (a review saw
+/// `completed` go 0, 2, 3, 4, 6, …).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn every_motion_of_a_path_has_its_progress_event() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(|c| c.simulator.kind = kuka_bridge_tests::test_simulator()),
+        ..Options::default()
+    })
+    .await;
+    let pts = circle(30, 20.0);
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let body: String = pts[1..]
+        .iter()
+        .map(|p| format!("{}\n", lin(p, 0.2)))
+        .collect();
+    let (status, o) = post_lines(&t, id, body).await;
+    assert_eq!(status, 200, "{o}");
+    let (s, _) = t.delete(&format!("/api/v1/paths/{id}")).await;
+    assert_eq!(s, 200);
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(
+        (j["state"].as_str(), j["completed"].as_u64()),
+        (Some("done"), Some(30)),
+        "{j}"
+    );
+    let (_, recent) = t.get("/api/v1/events/recent?types=job&limit=1000").await;
+    let seen: Vec<u64> = recent
+        .as_array()
+        .expect("recent")
+        .iter()
+        .filter(|e| e["data"]["id"].as_u64() == Some(id))
+        .filter(|e| ["executing", "done"].contains(&e["data"]["state"].as_str().unwrap_or("")))
+        .filter_map(|e| e["data"]["completed"].as_u64())
+        .collect();
+    let mut steps = seen.clone();
+    steps.dedup();
+    assert_eq!(
+        steps,
+        (0..=30).collect::<Vec<u64>>(),
+        "completed as published: {seen:?}"
+    );
+}
+
 /// With blending on, a refused thesis call ends its client's path at once
 /// (the robot stops at the last accepted call): it does not leave an
 /// open, empty path holding the robot — and every client behind it — until

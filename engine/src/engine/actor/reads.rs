@@ -142,17 +142,33 @@ impl Actor {
             if s.status == ControllerStatus::Busy && s.busy_cid == f.cid {
                 let id = f.id;
                 let index = s.busy_index as usize;
-                let current = self.shared_job(id).ok();
-                if current.is_some_and(|j| j.state != JobState::Executing || j.completed != index) {
-                    self.shared.update(id, |j| {
-                        j.state = JobState::Executing;
-                        j.completed = index;
-                    });
-                }
+                self.progress_to(id, index);
             }
         }
         self.path_state(&s);
         self.ctl.state = Some(s);
+    }
+
+    /// The job is executing with `index` motions completed: a job event
+    /// for each motion completed since the last one it published (a
+    /// heartbeat may report several at once: short motions of a path).
+    fn progress_to(&mut self, id: JobId, index: usize) {
+        let Ok(j) = self.shared_job(id) else { return };
+        if j.state == JobState::Executing && j.completed == index {
+            return;
+        }
+        let from = match j.state {
+            JobState::Executing if j.completed < index => j.completed + 1,
+            // Not reported executing yet: from its first motion on.
+            JobState::Queued | JobState::Sent => 0,
+            _ => index,
+        };
+        for k in from..=index {
+            self.shared.update(id, |j| {
+                j.state = JobState::Executing;
+                j.completed = k;
+            });
+        }
     }
 
     pub(super) fn on_result(&mut self, r: ResultRecord) {
@@ -267,6 +283,11 @@ impl Actor {
             }
         }
         let frame_op = is_frame_op(&f.op);
+        if matches!(f.op, Operation::Move(_) | Operation::Path(_)) && r.completed > 0 {
+            // The motions finished since the last heartbeat, each with its
+            // event, before the one that ends the job.
+            self.progress_to(f.id, r.completed as usize - 1);
+        }
         // Publish what the result changed (pose, frames, speeds) before the
         // job completes, so a client woken by the job reads the new state.
         self.publish_state();
