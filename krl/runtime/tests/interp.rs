@@ -565,7 +565,7 @@ fn spline_with_velocity_slin_and_c_spl() {
     SPL {X 340, Y 10} WITH $VEL.CP = 0.05
     SCIRC {X 350, Y 20}, {X 340, Y 30}
   ENDSPLINE C_SPL
-  LIN {X 300}
+  SLIN {X 300}
 END
 ",
     );
@@ -589,7 +589,7 @@ END
     assert_eq!(circ.velocity, 0.25, "WITH applies to its own segment only");
     assert_eq!(
         circ.approx_mm, 1.0,
-        "C_SPL: the block blends into the next LIN"
+        "C_SPL: the block blends into the next spline motion"
     );
     assert_eq!(ms.last().unwrap().velocity, 0.25);
 }
