@@ -515,7 +515,12 @@ fn a_path_is_read_a_few_lines_per_pass_within_the_budget() {
 #[test]
 fn a_path_trigger_switches_at_its_distance_from_the_end_point() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let krc = start(dir.path());
+    // Real time: the test reads the outputs between cycles, so the pose
+    // it notes is that of the cycle in which each switched (at the instant
+    // scale many cycles may pass between two reads).
+    let mut c = KrcConfig::new(dir.path());
+    c.time_scale = 1.0;
+    let krc = KrcController::start(c).expect("the runtime starts");
     std::fs::create_dir_all(dir.path().join("programs")).expect("programs");
     std::fs::write(
         dir.path().join("programs/kbu2.src"),
@@ -538,10 +543,13 @@ fn a_path_trigger_switches_at_its_distance_from_the_end_point() {
     // The Y of the TCP in the cycle each output first reads TRUE.
     let (mut at9, mut at10) = (None, None);
     let done = krc.wait_until(Duration::from_secs(30), |snap| {
-        if at9.is_none() && krc.bool_element("$OUT", 9) == Some(true) {
-            at9 = Some(snap.pose[1]);
+        if at9.is_none() {
+            if krc.bool_element("$OUT", 9) == Some(true) {
+                at9 = Some(snap.pose[1]);
+            }
+            return false;
         }
-        if at10.is_none() && krc.bool_element("$OUT", 10) == Some(true) {
+        if krc.bool_element("$OUT", 10) == Some(true) {
             at10 = Some(snap.pose[1]);
         }
         at10.is_some()
@@ -552,13 +560,14 @@ fn a_path_trigger_switches_at_its_distance_from_the_end_point() {
     let end = r.position.y;
     let start = end - 100.0;
     let (at9, at10) = (at9.expect("OUT 9"), at10.expect("OUT 10"));
-    // One 12 ms cycle at 0.1 m/s is 1.2 mm.
+    // One 12 ms cycle at 0.1 m/s is 1.2 mm; a read a few cycles late (a
+    // busy host) is still far from the other switching point.
     assert!(
-        (at9 - (end - 30.0)).abs() < 2.5,
+        (at9 - (end - 30.0)).abs() < 8.0,
         "PATH = -30 switched at y {at9:.1} (start {start:.1}, end {end:.1})"
     );
     assert!(
-        (at10 - end).abs() < 2.5,
+        (at10 - end).abs() < 8.0,
         "DISTANCE = 1 at y {at10:.1}, end {end:.1}"
     );
     krc.shutdown();
