@@ -66,6 +66,15 @@ async fn wait_path_end(t: &TestService, id: u64) -> Value {
     .await
 }
 
+/// A path's job as it ended: state, motions completed, error code.
+fn end_of(j: &Value) -> (Option<&str>, Option<u64>, Option<&str>) {
+    (
+        j["state"].as_str(),
+        j["completed"].as_u64(),
+        j["error"]["code"].as_str(),
+    )
+}
+
 /// Seconds the path's trace spans, and how many stops it shows before its
 /// end (the robot stood still between two of its motions).
 fn path_trace(t: &TestService, cid: i64) -> (f64, usize, usize) {
@@ -251,11 +260,7 @@ async fn a_refused_motion_mid_stream() {
     );
     let j = wait_path_end(&t, id).await;
     assert_eq!(
-        (
-            j["state"].as_str(),
-            j["completed"].as_u64(),
-            j["error"]["code"].as_str()
-        ),
+        end_of(&j),
         (Some("failed"), Some(20), Some("unreachable")),
         "{j}"
     );
@@ -283,11 +288,7 @@ async fn a_refused_motion_mid_stream() {
     // The path ends failed with the reason, as for a refused motion.
     let j = wait_path_end(&t, id).await;
     assert_eq!(
-        (
-            j["state"].as_str(),
-            j["completed"].as_u64(),
-            j["error"]["code"].as_str()
-        ),
+        end_of(&j),
         (Some("failed"), Some(5), Some("invalid_input")),
         "{j}"
     );
@@ -309,11 +310,7 @@ async fn a_refused_motion_mid_stream() {
     );
     let j = wait_path_end(&t, id).await;
     assert_eq!(
-        (
-            j["state"].as_str(),
-            j["completed"].as_u64(),
-            j["error"]["code"].as_str()
-        ),
+        end_of(&j),
         (Some("failed"), Some(3), Some("invalid_input")),
         "{j}"
     );

@@ -227,20 +227,10 @@ impl Safety {
         &self.motion
     }
 
-    /// Checks a request before it is queued (no knowledge of the start).
+    /// Checks a request before it is queued (no knowledge of the start):
+    /// [`Safety::check_batch`], then each motion's numbers and speeds.
     pub fn check_request(&self, requests: &[MotionRequest]) -> Result<()> {
-        if requests.is_empty() {
-            return Err(BridgeError::invalid(
-                "a motion request needs at least one motion",
-            ));
-        }
-        if requests.len() > self.motion.max_batch {
-            return Err(BridgeError::invalid(format!(
-                "{} motions in one batch; at most {} are allowed",
-                requests.len(),
-                self.motion.max_batch
-            )));
-        }
+        self.check_batch(requests)?;
         for (i, r) in requests.iter().enumerate() {
             match r {
                 MotionRequest::Ptp { target, .. } => check_target(target, i, true)?,
@@ -292,6 +282,23 @@ impl Safety {
                 ))
                 .at_motion(i));
             }
+        }
+        Ok(())
+    }
+
+    /// The request as a whole: at least one motion, at most `max_batch`.
+    pub fn check_batch(&self, requests: &[MotionRequest]) -> Result<()> {
+        if requests.is_empty() {
+            return Err(BridgeError::invalid(
+                "a motion request needs at least one motion",
+            ));
+        }
+        if requests.len() > self.motion.max_batch {
+            return Err(BridgeError::invalid(format!(
+                "{} motions in one batch; at most {} are allowed",
+                requests.len(),
+                self.motion.max_batch
+            )));
         }
         Ok(())
     }

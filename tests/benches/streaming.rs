@@ -322,13 +322,8 @@ fn main() {
             let (s, job) = t.post_json("/api/v1/motions", &body).await;
             assert_eq!(s, 202, "{job}");
             let id = job["id"].as_u64().expect("id");
-            loop {
-                let (_, j) = t.get(&format!("/api/v1/jobs/{id}")).await;
-                if j["state"] == "executing" {
-                    break;
-                }
-                tokio::time::sleep(Duration::from_millis(5)).await;
-            }
+            t.wait_job(id, "the LIN to execute", |j| j["state"] == "executing")
+                .await;
             let mut v1 = Vec::new();
             let mut thesis = Vec::new();
             let mut live = 0;

@@ -593,14 +593,11 @@ impl Engine {
                 format!("job {path} is not a path"),
             ));
         }
-        if !motions.is_empty()
-            && let Err(e) = self.shared.safety.check_request(&motions)
-            && e.motion.is_none()
-        {
-            // The request as a whole (empty, too many motions): refused
-            // without touching the path. A motion it refuses is refused by
-            // the actor, which closes the path there like any refusal.
-            return Err(e);
+        if !motions.is_empty() {
+            // The request as a whole (too many motions): refused without
+            // touching the path. Each motion is checked by the actor, which
+            // closes the path at a refused one like any refusal.
+            self.shared.safety.check_batch(&motions)?;
         }
         // A path queued behind other jobs takes appends once it is on the
         // controller: wait for that (within the append's own wait).

@@ -14,9 +14,23 @@ use kuka_protocol::{
 };
 
 fn start(dir: &Path) -> KrcController {
+    start_with(dir, |_| {})
+}
+
+/// [`start`] with settings of the test's own (`tweak` sees the instant
+/// time scale first).
+fn start_with(dir: &Path, tweak: impl FnOnce(&mut KrcConfig)) -> KrcController {
     let mut c = KrcConfig::new(dir);
     c.time_scale = 0.0;
+    tweak(&mut c);
     KrcController::start(c).expect("the runtime starts")
+}
+
+/// Puts the KRL module `kbu<n>.src` where RUN n finds it.
+fn upload(dir: &Path, n: u32, src: &str) {
+    let programs = dir.join("programs");
+    std::fs::create_dir_all(&programs).expect("program folder");
+    std::fs::write(programs.join(format!("kbu{n}.src")), src).expect("module written");
 }
 
 /// The Submit side has written its heartbeat: the state file exists
@@ -250,12 +264,7 @@ fn the_shipped_program_answers_through_the_channel_files() {
 fn an_uploaded_module_runs_and_kb_main_comes_back() {
     let dir = tempfile::tempdir().expect("tempdir");
     let krc = start(dir.path());
-    std::fs::create_dir_all(dir.path().join("programs")).expect("program folder");
-    std::fs::write(
-        dir.path().join("programs/kbu1.src"),
-        "DEF kbu1()\n  PTP {A1 10}\nEND\n",
-    )
-    .expect("module written");
+    upload(dir.path(), 1, "DEF kbu1()\n  PTP {A1 10}\nEND\n");
     assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
     let r = round_trip(&krc, dir.path(), 1, Command::Run(1), 30);
     let snap = krc.snapshot();
@@ -292,10 +301,7 @@ fn an_uploaded_module_runs_and_kb_main_comes_back() {
 #[test]
 fn the_program_works_with_a_kss_answering_cmd_ok() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let mut c = KrcConfig::new(dir.path());
-    c.time_scale = 0.0;
-    c.fct_success = "CMD_OK".into();
-    let krc = KrcController::start(c).expect("the runtime starts");
+    let krc = start_with(dir.path(), |c| c.fct_success = "CMD_OK".into());
     assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
     let r = round_trip(&krc, dir.path(), 1, Command::GetPosition, 5);
     assert_eq!(r.code, ResultCode::Ok, "{r:?}");
@@ -398,10 +404,7 @@ fn a_damaged_line_in_a_path_ends_it_after_the_motions_before_it() {
 #[test]
 fn a_path_is_read_a_few_lines_per_pass_within_the_budget() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let mut c = KrcConfig::new(dir.path());
-    c.time_scale = 0.0;
-    c.submit_budget = 5000;
-    let krc = KrcController::start(c).expect("the runtime starts");
+    let krc = start_with(dir.path(), |c| c.submit_budget = 5000);
     assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
     // Away from the home pose's wrist singularity (A5 = 0) first.
     let r = round_trip(
@@ -518,20 +521,17 @@ fn a_path_trigger_switches_at_its_distance_from_the_end_point() {
     // Real time: the test reads the outputs between cycles, so the pose
     // it notes is that of the cycle in which each switched (at the instant
     // scale many cycles may pass between two reads).
-    let mut c = KrcConfig::new(dir.path());
-    c.time_scale = 1.0;
-    let krc = KrcController::start(c).expect("the runtime starts");
-    std::fs::create_dir_all(dir.path().join("programs")).expect("programs");
-    std::fs::write(
-        dir.path().join("programs/kbu2.src"),
+    let krc = start_with(dir.path(), |c| c.time_scale = 1.0);
+    upload(
+        dir.path(),
+        2,
         "DEF kbu2()\n  $OUT[9] = FALSE\n  $OUT[10] = FALSE\n  \
          PTP {A1 0, A2 -80, A3 80, A4 0, A5 30, A6 0}\n  \
          $VEL.CP = 0.1\n  \
          TRIGGER WHEN PATH = -30 DELAY = 0 DO $OUT[9] = TRUE\n  \
          TRIGGER WHEN DISTANCE = 1 DELAY = 0 DO $OUT[10] = TRUE\n  \
          LIN_REL {Y 100}\nEND\n",
-    )
-    .expect("module written");
+    );
     assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
     let write = CommandFile {
         cid: 1,
@@ -581,15 +581,14 @@ fn a_path_trigger_switches_at_its_distance_from_the_end_point() {
 fn a_lin_does_not_blend_into_a_spline_motion() {
     let dir = tempfile::tempdir().expect("tempdir");
     let krc = start(dir.path());
-    std::fs::create_dir_all(dir.path().join("programs")).expect("programs");
     let module = |n: u32, second: &str| {
         format!(
             "DEF kbu{n}()\n  $APO.CDIS = 5\n  PTP {{A1 0, A2 -80, A3 80, A4 0, A5 30, A6 0}}\n  \
              LIN {{X 370}} C_DIS\n  {second} {{Y 30}}\nEND\n"
         )
     };
-    std::fs::write(dir.path().join("programs/kbu3.src"), module(3, "LIN")).expect("write");
-    std::fs::write(dir.path().join("programs/kbu4.src"), module(4, "SLIN")).expect("write");
+    upload(dir.path(), 3, &module(3, "LIN"));
+    upload(dir.path(), 4, &module(4, "SLIN"));
     assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
     let mut chains = Vec::new();
     for (cid, n) in [(1, 3), (2, 4)] {
