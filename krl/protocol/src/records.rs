@@ -102,6 +102,93 @@ pub enum MotionRecord {
         /// Motion parameters.
         params: MotionParams,
     },
+    /// `SLN i x y z a b c vel acc apo K` — SLIN, a straight line of the
+    /// spline family (blends only into spline motions, with C_SPL).
+    Slin {
+        /// Target TCP pose in the base frame.
+        target: Frame,
+        /// Motion parameters.
+        params: MotionParams,
+    },
+    /// `SCI i ax ay az x y z a b c vel acc apo K` — SCIRC, a circular arc
+    /// of the spline family through the auxiliary point's position.
+    Scirc {
+        /// Auxiliary point position (x, y, z in mm).
+        aux: [f64; 3],
+        /// End point.
+        target: Frame,
+        /// Motion parameters.
+        params: MotionParams,
+    },
+    /// `SPT i x y z a b c s t vel acc apo K` — SPTP to a Cartesian target;
+    /// `s`/`t` = -1 when not set. Stops exactly at its end, like PTP.
+    Sptp {
+        /// Target TCP pose in the base frame.
+        target: Frame,
+        /// Status, if set.
+        s: Option<u8>,
+        /// Turn, if set.
+        t: Option<u8>,
+        /// Motion parameters.
+        params: MotionParams,
+    },
+    /// `SPL i x y z a b c vel acc apo left K` — a point of a KRL `SPLINE`
+    /// block: the curve runs through the block's points without stopping.
+    /// `left` counts the block's points from this one to its end (1 = the
+    /// last point, whose `apo` is the block's C_SPL distance). A block has
+    /// 1 to [`MAX_SPLINE_POINTS`] points and is never split between two
+    /// commands.
+    Spl {
+        /// The point (TCP pose in the base frame).
+        target: Frame,
+        /// Motion parameters (the block's: the same on all its points).
+        params: MotionParams,
+        /// Points of the block from this one to its end, 1..=8.
+        left: u8,
+    },
+}
+
+/// Most points a spline block (`SPL` records) holds: the KRL program
+/// plays a block as one of its static `SPLINE … ENDSPLINE` statements of
+/// 1 to 8 points, and reads a block within one Submit pass.
+pub const MAX_SPLINE_POINTS: usize = 8;
+
+impl MotionRecord {
+    /// Its motion parameters.
+    pub fn params(&self) -> &MotionParams {
+        match self {
+            MotionRecord::Ptp { params, .. }
+            | MotionRecord::PtpAxes { params, .. }
+            | MotionRecord::Lin { params, .. }
+            | MotionRecord::Circ { params, .. }
+            | MotionRecord::Slin { params, .. }
+            | MotionRecord::Scirc { params, .. }
+            | MotionRecord::Sptp { params, .. }
+            | MotionRecord::Spl { params, .. } => params,
+        }
+    }
+
+    /// A motion of the spline family (SLIN, SCIRC, SPTP, SPL): a KRC plans
+    /// them with another motion planner than PTP/LIN/CIRC, and the two
+    /// families never blend into each other.
+    pub fn is_spline_family(&self) -> bool {
+        matches!(
+            self,
+            MotionRecord::Slin { .. }
+                | MotionRecord::Scirc { .. }
+                | MotionRecord::Sptp { .. }
+                | MotionRecord::Spl { .. }
+        )
+    }
+
+    /// Points of its spline block from this one to the end (1 for every
+    /// other record).
+    pub fn block_left(&self) -> usize {
+        match self {
+            MotionRecord::Spl { left, .. } => usize::from(*left),
+            _ => 1,
+        }
+    }
 }
 
 /// Speed, acceleration and approximation of one motion.
@@ -290,9 +377,73 @@ fn encode_motions(
                 params.fields(&mut f)?;
                 "CIR"
             }
+            MotionRecord::Slin { target, params } => {
+                target.fields(&mut f)?;
+                params.fields(&mut f)?;
+                "SLN"
+            }
+            MotionRecord::Scirc {
+                aux,
+                target,
+                params,
+            } => {
+                for (name, v) in ["aux_x", "aux_y", "aux_z"].into_iter().zip(aux) {
+                    f.push(real(name, *v)?);
+                }
+                target.fields(&mut f)?;
+                params.fields(&mut f)?;
+                "SCI"
+            }
+            MotionRecord::Sptp {
+                target,
+                s,
+                t,
+                params,
+            } => {
+                target.fields(&mut f)?;
+                f.push(Field::Int(s.map_or(-1, i32::from)));
+                f.push(Field::Int(t.map_or(-1, i32::from)));
+                params.fields(&mut f)?;
+                "SPT"
+            }
+            MotionRecord::Spl {
+                target,
+                params,
+                left,
+            } => {
+                if *left == 0 || usize::from(*left) > MAX_SPLINE_POINTS {
+                    return Err(EncodeError::Shape(format!(
+                        "a spline point's block has 1 to {MAX_SPLINE_POINTS} points left, not {left}"
+                    )));
+                }
+                target.fields(&mut f)?;
+                params.fields(&mut f)?;
+                f.push(Field::Int(i32::from(*left)));
+                "SPL"
+            }
         };
+        let continues = match i.checked_sub(1).map(|k| &motions[k]) {
+            Some(MotionRecord::Spl { left, .. }) if *left > 1 => Some(*left - 1),
+            _ => None,
+        };
+        match (continues, m) {
+            (None, _) => {}
+            (Some(e), MotionRecord::Spl { left, .. }) if *left == e => {}
+            (Some(_), _) => {
+                return Err(EncodeError::Shape(format!(
+                    "motion {index} interrupts a spline block"
+                )));
+            }
+        }
         write_line(body, tag, &f);
         n += 1;
+    }
+    if let Some(MotionRecord::Spl { left, .. }) = motions.last()
+        && *left > 1
+    {
+        return Err(EncodeError::Shape(format!(
+            "a spline block ends inside the command ({left} points left)"
+        )));
     }
     Ok(n)
 }
@@ -307,8 +458,9 @@ fn decode_motions(
     for k in 0..i64::from(n) {
         let tag = r.peek_tag().ok_or(DecodeError::Truncated)?;
         let (l, m) = match tag {
-            "PTP" => {
-                let mut l = r.line("PTP", "irrrrrriirrr")?;
+            "PTP" | "SPT" => {
+                let tag = if tag == "PTP" { "PTP" } else { "SPT" };
+                let mut l = r.line(tag, "irrrrrriirrr")?;
                 let idx = l.int();
                 let target = Frame::read(&mut l);
                 let s = l.int();
@@ -327,18 +479,22 @@ fn decode_motions(
                     st(s, 7).map_err(|v| l.invalid(format!("Status {v} is not in 0..=7 or -1")))?;
                 let t =
                     st(t, 63).map_err(|v| l.invalid(format!("Turn {v} is not in 0..=63 or -1")))?;
-                (
-                    l,
-                    (
-                        idx,
-                        MotionRecord::Ptp {
-                            target,
-                            s,
-                            t,
-                            params,
-                        },
-                    ),
-                )
+                let m = if tag == "PTP" {
+                    MotionRecord::Ptp {
+                        target,
+                        s,
+                        t,
+                        params,
+                    }
+                } else {
+                    MotionRecord::Sptp {
+                        target,
+                        s,
+                        t,
+                        params,
+                    }
+                };
+                (l, (idx, m))
             }
             "PTA" => {
                 let mut l = r.line("PTA", "irrrrrrrrr")?;
@@ -347,27 +503,63 @@ fn decode_motions(
                 let params = MotionParams::read(&mut l);
                 (l, (idx, MotionRecord::PtpAxes { axes, params }))
             }
-            "LIN" => {
-                let mut l = r.line("LIN", "irrrrrrrrr")?;
+            "LIN" | "SLN" => {
+                let spline = tag == "SLN";
+                let mut l = r.line(if spline { "SLN" } else { "LIN" }, "irrrrrrrrr")?;
                 let idx = l.int();
                 let target = Frame::read(&mut l);
                 let params = MotionParams::read(&mut l);
-                (l, (idx, MotionRecord::Lin { target, params }))
+                let m = if spline {
+                    MotionRecord::Slin { target, params }
+                } else {
+                    MotionRecord::Lin { target, params }
+                };
+                (l, (idx, m))
             }
-            "CIR" => {
-                let mut l = r.line("CIR", "irrrrrrrrrrrr")?;
+            "CIR" | "SCI" => {
+                let spline = tag == "SCI";
+                let mut l = r.line(if spline { "SCI" } else { "CIR" }, "irrrrrrrrrrrr")?;
                 let idx = l.int();
                 let aux = [l.real(), l.real(), l.real()];
                 let target = Frame::read(&mut l);
                 let params = MotionParams::read(&mut l);
+                let m = if spline {
+                    MotionRecord::Scirc {
+                        aux,
+                        target,
+                        params,
+                    }
+                } else {
+                    MotionRecord::Circ {
+                        aux,
+                        target,
+                        params,
+                    }
+                };
+                (l, (idx, m))
+            }
+            "SPL" => {
+                let mut l = r.line("SPL", "irrrrrrrrri")?;
+                let idx = l.int();
+                let target = Frame::read(&mut l);
+                let params = MotionParams::read(&mut l);
+                let left = l.int();
+                let left = u8::try_from(left)
+                    .ok()
+                    .filter(|n| (1..=MAX_SPLINE_POINTS).contains(&usize::from(*n)))
+                    .ok_or_else(|| {
+                        l.invalid(format!(
+                            "a spline point's block has 1 to {MAX_SPLINE_POINTS} points left, not {left}"
+                        ))
+                    })?;
                 (
                     l,
                     (
                         idx,
-                        MotionRecord::Circ {
-                            aux,
+                        MotionRecord::Spl {
                             target,
                             params,
+                            left,
                         },
                     ),
                 )
@@ -376,7 +568,7 @@ fn decode_motions(
             other => {
                 return Err(DecodeError::Tag {
                     line: r.next_line_number(),
-                    expected: "PTP, PTA, LIN or CIR",
+                    expected: "PTP, PTA, LIN, CIR, SLN, SCI, SPT or SPL",
                     found: other.to_string(),
                 });
             }
@@ -385,7 +577,31 @@ fn decode_motions(
         if i64::from(m.0) != want {
             return Err(l.invalid(format!("motion index {} where {want} was expected", m.0)));
         }
+        // A spline block is whole: each point after the first has one
+        // point left fewer, and no command ends inside a block.
+        let expect = match motions.last() {
+            Some(MotionRecord::Spl { left, .. }) if *left > 1 => Some(*left - 1),
+            _ => None,
+        };
+        match (expect, &m.1) {
+            (None, _) => {}
+            (Some(e), MotionRecord::Spl { left, .. }) if *left == e => {}
+            (Some(e), _) => {
+                return Err(l.invalid(format!(
+                    "motion {} continues a spline block and must be an SPL point with {e} left",
+                    m.0
+                )));
+            }
+        }
         motions.push(m.1);
+    }
+    if let Some(MotionRecord::Spl { left, .. }) = motions.last()
+        && *left > 1
+    {
+        return Err(DecodeError::Value {
+            line: r.next_line_number(),
+            what: format!("a spline block ends inside the command ({left} points left)"),
+        });
     }
     Ok(motions)
 }

@@ -43,6 +43,31 @@ fn sample_commands() -> Vec<CommandFile> {
                     target: f,
                     params: params(0.1),
                 },
+                MotionRecord::Sptp {
+                    target: f,
+                    s: None,
+                    t: Some(35),
+                    params: params(40.0),
+                },
+                MotionRecord::Slin {
+                    target: f,
+                    params: params(0.3),
+                },
+                MotionRecord::Scirc {
+                    aux: [4.0, 5.0, 6.0],
+                    target: f,
+                    params: params(0.2),
+                },
+                MotionRecord::Spl {
+                    target: f,
+                    params: params(0.2),
+                    left: 2,
+                },
+                MotionRecord::Spl {
+                    target: f,
+                    params: params(0.2),
+                    left: 1,
+                },
             ]),
         },
         CommandFile {
@@ -391,4 +416,75 @@ fn checksum_matches_the_documented_example() {
     assert_eq!(checksum([2, 17, 3, 0]), 10491);
     // Negative values and values beyond the modulus, as KRL computes them.
     assert_eq!(checksum([-1000, 2_147_483_647, 359_999]), 24905);
+}
+
+/// A spline block is whole in every command: a point that leaves its block
+/// unfinished, or a record in the middle of a block, is refused both ways.
+#[test]
+fn spline_blocks_are_never_split() {
+    let spl = |left| MotionRecord::Spl {
+        target: Frame::default(),
+        params: params(0.1),
+        left,
+    };
+    let lin = MotionRecord::Lin {
+        target: Frame::default(),
+        params: params(0.1),
+    };
+    for motions in [
+        vec![spl(2)],
+        vec![spl(3), spl(2), lin.clone()],
+        vec![spl(2), spl(2)],
+        vec![spl(9)],
+        vec![spl(0)],
+    ] {
+        let cmd = CommandFile {
+            cid: 4,
+            command: Command::Move(motions.clone()),
+        };
+        assert!(cmd.encode().is_err(), "{motions:?} was written");
+    }
+    // Written by hand: the same shapes are refused when read.
+    let good = CommandFile {
+        cid: 4,
+        command: Command::Move(vec![spl(2), spl(1), lin]),
+    }
+    .encode()
+    .expect("a whole block");
+    assert!(CommandFile::decode(&good).is_ok());
+    let line = |i: i64, left: i64| {
+        let v: [i64; 11] = [i, 0, 0, 0, 0, 0, 0, 100, 100_000, 2_500, left];
+        let text: Vec<String> = v
+            .iter()
+            .enumerate()
+            .map(|(k, x)| {
+                if (1..10).contains(&k) {
+                    format!("{}.{:03}", x / 1000, x % 1000)
+                } else {
+                    x.to_string()
+                }
+            })
+            .collect();
+        format!("SPL {} {}\n", text.join(" "), checksum(v))
+    };
+    let file = |body: &[String]| {
+        let n = body.len() as i64;
+        format!(
+            "CMD 2 4 1 {n} {}\n{}END 4 {n} {}\n",
+            checksum([2, 4, 1, n]),
+            body.concat(),
+            checksum([4, n])
+        )
+    };
+    assert!(CommandFile::decode(&file(&[line(0, 2), line(1, 1)])).is_ok());
+    for body in [
+        vec![line(0, 2)],
+        vec![line(0, 3), line(1, 1)],
+        vec![line(0, 9)],
+    ] {
+        assert!(
+            CommandFile::decode(&file(&body)).is_err(),
+            "{body:?} was read"
+        );
+    }
 }
