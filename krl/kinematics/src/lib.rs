@@ -18,5 +18,5 @@ pub use configure::{ConfigError, ConfigMode, Margins};
 pub use model::{
     Axes, IkError, LIMIT_TOL_DEG, RobotModel, ST_MATCH_TOL_DEG, ST_MATCH_TOL_MM, TURN_MATCH_TOL_DEG,
 };
-pub use plan::{Execution, Motion, MotionError, MotionKind, PlanSettings, Sample};
+pub use plan::{Execution, Motion, MotionError, MotionKind, PlanSettings, Sample, catmull_rom};
 pub use pose::Pose;

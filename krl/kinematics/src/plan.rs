@@ -1,4 +1,4 @@
-//! Motion planning and timing for PTP, axis PTP, LIN and CIRC with
+//! Motion planning and timing for PTP, axis PTP, LIN, CIRC and spline points with
 //! approximation: the trajectory the simulated controller executes and the
 //! service's safety module dry-runs before sending anything.
 //!
@@ -21,6 +21,12 @@
 //!   re-orientations take time too; its acceleration is also bounded so
 //!   that the orientation accelerates at most [`ORI_ACC_DEG_S2`]
 //!   ($ACC.ORI1).
+//! * **SPL** (a point of a spline block): the TCP follows the centripetal
+//!   Catmull-Rom curve through the block's points ([`catmull_rom`], arc
+//!   length from a table of 64 steps), planned like a LIN otherwise (speed,
+//!   orientation slerp, blending). SLIN/SCIRC/SPTP are planned as LIN/CIRC/
+//!   PTP; that the spline and the conventional family never blend into
+//!   each other is the caller's rule (their `approx_mm` is 0 there).
 //! * **Approximation** (C_DIS): a LIN/CIRC with `approx_mm > 0` followed by
 //!   another LIN/CIRC does not stop at the corner. Like a CNC junction-speed
 //!   planner, each corner gets a speed limit `√(a · r)` with
@@ -89,6 +95,54 @@ pub enum MotionKind {
         /// End point (position and orientation).
         target: Pose,
     },
+    /// One segment of a spline block (KRL `SPL`): the centripetal
+    /// Catmull-Rom curve ([`catmull_rom`]) from the start to `target`.
+    /// Its end tangents come from the block's neighbouring points: the
+    /// start of the previous segment (none when `first`) and `next` (none
+    /// at the block's end); a missing neighbour is the mirror image of the
+    /// segment's other end, so a block of one point is a straight line.
+    /// The orientation is slerped as in a LIN. Segments of one block are
+    /// tangent-continuous: planned with `approx_mm > 0` they run through
+    /// their points without slowing down.
+    Spl {
+        /// The point (TCP pose in the base frame).
+        target: Pose,
+        /// The first point of its block.
+        first: bool,
+        /// The block's next point, if this is not its last.
+        next: Option<Pose>,
+    },
+}
+
+/// A point of the centripetal Catmull-Rom curve (Barry–Goldman, α = ½)
+/// through the four control points `c`, between `c[1]` (`t = 0`) and
+/// `c[2]` (`t = 1`). The spline blocks of the simulated controllers
+/// follow this curve; a KRC's own spline is not published and may differ
+/// between the points (it passes through them too).
+pub fn catmull_rom(c: &[[f64; 3]; 4], t: f64) -> [f64; 3] {
+    let dist = |a: [f64; 3], b: [f64; 3]| {
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    let knot = |a: [f64; 3], b: [f64; 3]| dist(a, b).sqrt().max(1e-9);
+    let t0 = 0.0;
+    let t1 = t0 + knot(c[0], c[1]);
+    let t2 = t1 + knot(c[1], c[2]);
+    let t3 = t2 + knot(c[2], c[3]);
+    let u = t1 + (t2 - t1) * t;
+    let lerp = |p: [f64; 3], q: [f64; 3], ta: f64, tb: f64| {
+        let w = (u - ta) / (tb - ta);
+        [
+            p[0] + (q[0] - p[0]) * w,
+            p[1] + (q[1] - p[1]) * w,
+            p[2] + (q[2] - p[2]) * w,
+        ]
+    };
+    let a1 = lerp(c[0], c[1], t0, t1);
+    let a2 = lerp(c[1], c[2], t1, t2);
+    let a3 = lerp(c[2], c[3], t2, t3);
+    let b1 = lerp(a1, a2, t0, t2);
+    let b2 = lerp(a2, a3, t1, t3);
+    lerp(b1, b2, t1, t2)
 }
 
 /// One motion with its speed, acceleration and approximation.
@@ -333,6 +387,14 @@ fn validate_motion(m: &Motion) -> Result<(), MotionError> {
                 return Err(MotionError::Parameter("target must be finite"));
             }
         }
+        MotionKind::Spl { target, next, .. } => {
+            if m.velocity > MAX_CP_VELOCITY {
+                return Err(MotionError::Parameter("SPL velocity must be <= 2 m/s"));
+            }
+            if !target.is_finite() || next.is_some_and(|p| !p.is_finite()) {
+                return Err(MotionError::Parameter("spline points must be finite"));
+            }
+        }
         MotionKind::Circ { aux, target } => {
             if m.velocity > MAX_CP_VELOCITY {
                 return Err(MotionError::Parameter("CIRC velocity must be <= 2 m/s"));
@@ -348,7 +410,10 @@ fn validate_motion(m: &Motion) -> Result<(), MotionError> {
 }
 
 fn is_cartesian(m: &Motion) -> bool {
-    matches!(m.kind, MotionKind::Lin { .. } | MotionKind::Circ { .. })
+    matches!(
+        m.kind,
+        MotionKind::Lin { .. } | MotionKind::Circ { .. } | MotionKind::Spl { .. }
+    )
 }
 
 /// A trapezoidal (or triangular) speed profile over a distance.
@@ -434,7 +499,17 @@ enum Geom {
         /// Swept angle in radians (0, 2π).
         angle: f64,
     },
+    /// A Catmull-Rom segment, reparametrised by arc length.
+    Curve {
+        /// Control points.
+        c: [[f64; 3]; 4],
+        /// Arc length at `t = k / CURVE_STEPS`, `k = 0..=CURVE_STEPS`.
+        table: [f64; CURVE_STEPS + 1],
+    },
 }
+
+/// Intervals of a spline segment's arc-length table.
+const CURVE_STEPS: usize = 64;
 
 impl Geom {
     fn at(&self, u: f64) -> DVec3 {
@@ -446,8 +521,44 @@ impl Geom {
                 normal,
                 angle,
             } => center + DQuat::from_axis_angle(normal, angle * u) * r0,
+            Geom::Curve { c, table } => {
+                let len = table[CURVE_STEPS];
+                let s = u.clamp(0.0, 1.0) * len;
+                let j = table.partition_point(|l| *l < s).clamp(1, CURVE_STEPS);
+                let (l0, l1) = (table[j - 1], table[j]);
+                let w = if l1 > l0 { (s - l0) / (l1 - l0) } else { 1.0 };
+                let t = (j as f64 - 1.0 + w) / CURVE_STEPS as f64;
+                DVec3::from_array(catmull_rom(&c, t))
+            }
         }
     }
+}
+
+/// The spline segment from `p1` to `p2` with neighbours `before` and
+/// `after`: geometry, length and unit end tangents.
+fn curve(p1: DVec3, p2: DVec3, before: Option<DVec3>, after: Option<DVec3>) -> (Geom, f64, DVec3, DVec3) {
+    const SAME: f64 = 1e-6;
+    let p0 = before
+        .filter(|p| p.distance(p1) >= SAME)
+        .unwrap_or(2.0 * p1 - p2);
+    let p3 = after
+        .filter(|p| p.distance(p2) >= SAME)
+        .unwrap_or(2.0 * p2 - p1);
+    let c = [p0.to_array(), p1.to_array(), p2.to_array(), p3.to_array()];
+    let mut table = [0.0; CURVE_STEPS + 1];
+    let (mut prev, mut total) = (p1, 0.0);
+    for (k, slot) in table.iter_mut().enumerate().skip(1) {
+        let x = DVec3::from_array(catmull_rom(&c, k as f64 / CURVE_STEPS as f64));
+        total += prev.distance(x);
+        *slot = total;
+        prev = x;
+    }
+    let len = table[CURVE_STEPS];
+    let h = 1e-4;
+    let at = |t: f64| DVec3::from_array(catmull_rom(&c, t));
+    let dir_in = (at(h) - p1).normalize_or_zero();
+    let dir_out = (p2 - at(1.0 - h)).normalize_or_zero();
+    (Geom::Curve { c, table }, len, dir_in, dir_out)
 }
 
 /// One LIN/CIRC motion in a blended block.
@@ -472,10 +583,13 @@ struct Segment {
 }
 
 impl Segment {
+    /// `before`: the start of the previous segment of the same spline
+    /// block (only used by an `Spl` that is not its block's first point).
     fn build(
         motion: usize,
         m: &Motion,
         start: &Pose,
+        before: Option<DVec3>,
         settings: &PlanSettings,
     ) -> Result<Segment, MotionError> {
         let p0 = start.position();
@@ -491,6 +605,22 @@ impl Segment {
             MotionKind::Circ { aux, target } => {
                 let (geom, len, din, dout) = circle(p0, aux.position(), target.position())?;
                 (geom, len, din, dout, target.rotation())
+            }
+            MotionKind::Spl {
+                target,
+                first,
+                next,
+            } => {
+                let p1 = target.position();
+                if p0.distance(p1) <= EPS {
+                    // Only the orientation changes: as a LIN.
+                    (Geom::Line { p0, p1 }, 0.0, DVec3::ZERO, DVec3::ZERO, target.rotation())
+                } else {
+                    let before = if *first { None } else { before };
+                    let (geom, len, din, dout) =
+                        curve(p0, p1, before, next.as_ref().map(Pose::position));
+                    (geom, len, din, dout, target.rotation())
+                }
             }
             MotionKind::Ptp { .. } | MotionKind::PtpAxes { .. } => {
                 return Err(MotionError::Geometry("not a Cartesian motion"));
@@ -791,7 +921,7 @@ impl<'a> Planner<'a> {
                     .map_err(|e| (index, e.into()))?;
                 *axes
             }
-            MotionKind::Lin { .. } | MotionKind::Circ { .. } => {
+            MotionKind::Lin { .. } | MotionKind::Circ { .. } | MotionKind::Spl { .. } => {
                 return Err((index, MotionError::Geometry("not a PTP motion")));
             }
         };
@@ -831,12 +961,16 @@ impl<'a> Planner<'a> {
         let mut segs: Vec<Segment> = Vec::with_capacity(to - from);
         let mut pending = None;
         let mut start = self.pose(&self.axes);
+        // The previous segment's start: a spline point's tangent.
+        let mut before: Option<DVec3> = None;
         for (k, m) in motions.iter().enumerate().take(to).skip(from) {
             let target = match &m.kind {
-                MotionKind::Lin { target } | MotionKind::Circ { target, .. } => *target,
+                MotionKind::Lin { target }
+                | MotionKind::Circ { target, .. }
+                | MotionKind::Spl { target, .. } => *target,
                 MotionKind::Ptp { .. } | MotionKind::PtpAxes { .. } => break,
             };
-            let seg = Segment::build(k, m, &start, self.settings).and_then(|seg| {
+            let seg = Segment::build(k, m, &start, before, self.settings).and_then(|seg| {
                 self.model
                     .check_reachable(&target, self.tool, self.base)
                     .map(|()| seg)
@@ -854,6 +988,7 @@ impl<'a> Planner<'a> {
                     break;
                 }
             }
+            before = Some(start.position());
             start = target;
         }
         // Only the first block of a continuation enters at speed.

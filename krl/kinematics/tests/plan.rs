@@ -706,3 +706,123 @@ fn lin_through_the_a1_axis_is_an_overhead_singularity() {
         other => panic!("expected a singularity, got {other:?}"),
     }
 }
+
+/// Spline points (a block of `SPL`) on a circle, planned as the simulated
+/// controllers plan them: inner points blend (`approx_mm > 0`).
+fn spline_circle(v: f64, points: usize) -> (Pose, Vec<Motion>) {
+    let (cx, cy, z, r) = (400.0, 0.0, 300.0, 100.0);
+    let at = |k: usize| {
+        let phi = 2.0 * PI * k as f64 / points as f64;
+        Pose::new(cx + r * phi.cos(), cy + r * phi.sin(), z, 0.0, 180.0, 0.0)
+    };
+    let motions = (1..=points)
+        .map(|k| Motion {
+            kind: MotionKind::Spl {
+                target: at(k),
+                first: k == 1,
+                next: (k < points).then(|| at(k + 1)),
+            },
+            velocity: v,
+            acceleration_pct: 100.0,
+            approx_mm: if k < points { 1.0 } else { 0.0 },
+        })
+        .collect();
+    (at(0), motions)
+}
+
+#[test]
+fn a_spline_block_is_a_smooth_curve_through_its_points() {
+    let m = RobotModel::kr6_r700_sixx();
+    let settings = PlanSettings::default();
+    let v = 0.2;
+    let (start_pose, block) = spline_circle(v, 8);
+    let start = m
+        .inverse(&start_pose, &NONE, &NONE, None, None, &HOME)
+        .expect("reachable");
+    let ex = plan(&m, &start, &NONE, &NONE, &block, &settings);
+    assert_eq!(ex.error, None);
+    check_samples(&m, &ex, &settings);
+    // Eight points on a circle of 100 mm: the chords pass up to 7.6 mm
+    // inside it, the curve (apart from its first and last segment, whose
+    // outer tangent is mirrored) stays within 1.5 mm.
+    let centre = Pose::new(400.0, 0.0, 300.0, 0.0, 180.0, 0.0).position();
+    let mut worst: f64 = 0.0;
+    for s in ex.samples.iter().filter(|s| s.motion >= 1 && s.motion <= 6) {
+        let off = ((s.pose.position() - centre).length() - 100.0).abs();
+        worst = worst.max(off);
+        assert!((s.pose.z - 300.0).abs() < 1e-6);
+    }
+    assert!(worst < 1.5, "{worst} mm off the circle");
+    // It passes through every point (the junctions) and ends at the last.
+    for (j, mo) in block.iter().enumerate() {
+        let MotionKind::Spl { target, .. } = mo.kind else {
+            unreachable!()
+        };
+        if let Some(next) = ex.junctions.iter().find(|x| x.motion == j + 1) {
+            let at = m.forward(&next.axes, &NONE, &NONE);
+            assert!(at.distance_mm(&target) < 1e-3, "point {j}: {at:?}");
+        }
+    }
+    let end = m.forward(&ex.end_axes, &NONE, &NONE);
+    assert!(end.approx_eq(&start_pose, 1e-6, 1e-6), "{end:?}");
+    // No stop at the points: the TCP keeps the programmed speed.
+    let mid: Vec<_> = ex
+        .samples
+        .iter()
+        .filter(|s| s.t > 0.2 && s.t < ex.duration_s - 0.2)
+        .collect();
+    for w in mid.windows(2) {
+        let speed = w[0].pose.distance_mm(&w[1].pose) / (w[1].t - w[0].t);
+        assert!(speed > 0.95 * v * 1000.0, "{speed} mm/s at {}", w[0].t);
+    }
+    // Without blending each point is an exact stop: much slower.
+    let exact: Vec<Motion> = block
+        .iter()
+        .cloned()
+        .map(|mut mo| {
+            mo.approx_mm = 0.0;
+            mo
+        })
+        .collect();
+    let ex0 = plan(&m, &start, &NONE, &NONE, &exact, &settings);
+    assert_eq!(ex0.error, None);
+    // (each of the 7 inner stops costs about v/a = 87 ms)
+    assert!(
+        ex0.duration_s > ex.duration_s + 7.0 * 0.08,
+        "{} vs {}",
+        ex0.duration_s,
+        ex.duration_s
+    );
+}
+
+#[test]
+fn a_spline_block_of_one_point_is_a_straight_line() {
+    let m = RobotModel::kr6_r700_sixx();
+    let settings = PlanSettings::default();
+    let start_pose = Pose::new(450.0, -150.0, 400.0, 0.0, 180.0, 0.0);
+    let target = Pose::new(350.0, 200.0, 250.0, 0.0, 180.0, 0.0);
+    let spl = Motion {
+        kind: MotionKind::Spl {
+            target,
+            first: true,
+            next: None,
+        },
+        velocity: 0.25,
+        acceleration_pct: 100.0,
+        approx_mm: 0.0,
+    };
+    let a = plan(&m, &HOME, &NONE, &NONE, &[ptp(start_pose), spl], &settings);
+    let b = plan(
+        &m,
+        &HOME,
+        &NONE,
+        &NONE,
+        &[ptp(start_pose), lin(target, 0.25, 0.0)],
+        &settings,
+    );
+    assert_eq!(a.error, None);
+    assert!((a.duration_s - b.duration_s).abs() < 1e-3);
+    for (x, y) in a.samples.iter().zip(&b.samples) {
+        assert!(x.pose.distance_mm(&y.pose) < 0.05, "{:?} {:?}", x.pose, y.pose);
+    }
+}
