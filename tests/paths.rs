@@ -947,3 +947,236 @@ async fn a_small_streamed_batch_ends_with_its_result() {
         to_start(&t, &pts[0]).await;
     }
 }
+
+// ---------------------------------------------------------------------
+// JSON splines (issue 22, point 3): SPL points in spline blocks, SLIN,
+// SCIRC and SPTP, on both simulated controllers.
+// ---------------------------------------------------------------------
+
+fn spl(p: &[f64; 2], v: f64) -> Value {
+    json!({"type": "spl", "target": {"x": p[0], "y": p[1]}, "velocity_m_s": v})
+}
+
+/// Where the robot slowed below a quarter of `v` m/s between the first and
+/// the last sample of the job's trace (an exact stop; a blended junction
+/// keeps its speed): the number of such slow stretches. Found from the
+/// TCP's speed, so it reads the same on both simulators.
+fn slowdowns(t: &TestService, cid: i64, v: f64) -> usize {
+    let trace: Vec<_> = t.trace().into_iter().filter(|s| s.cid == cid).collect();
+    assert!(trace.len() > 10, "the job left a trace");
+    let speed = |a: &kuka_bridge_tests::Sample, b: &kuka_bridge_tests::Sample| {
+        let d = ((a.pose[0] - b.pose[0]).powi(2)
+            + (a.pose[1] - b.pose[1]).powi(2)
+            + (a.pose[2] - b.pose[2]).powi(2))
+        .sqrt();
+        d / (b.t - a.t).max(1e-9)
+    };
+    let speeds: Vec<f64> = trace.windows(2).map(|w| speed(&w[0], &w[1])).collect();
+    // From the first sample at speed to the last one at speed.
+    let fast = |s: &f64| *s >= 0.25 * v * 1000.0;
+    let (Some(from), Some(to)) = (speeds.iter().position(fast), speeds.iter().rposition(fast))
+    else {
+        return 0;
+    };
+    let mut slow = 0;
+    let mut in_slow = false;
+    for s in &speeds[from..=to] {
+        if !fast(s) && !in_slow {
+            slow += 1;
+        }
+        in_slow = !fast(s);
+    }
+    slow
+}
+
+/// Eight SPL points on a circle of 50 mm (one spline block) and back with
+/// an SLIN: the TCP follows a smooth curve through the points, not the
+/// chords between them (3.8 mm inside the circle at their middle), and
+/// never stops on the way.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_spline_block_is_a_smooth_curve_without_stops() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    let pts = circle(8, 50.0);
+    to_start(&t, &pts[0]).await;
+    let mut batch: Vec<Value> = pts[1..].iter().map(|p| spl(p, 0.2)).collect();
+    // The block's end blends (C_SPL, 10 mm) into the SLIN's 90° turn.
+    batch[7]["approx_mm"] = json!(10);
+    batch.push(json!({"type": "slin", "target": {"x": 190.0, "y": 0.0}, "velocity_m_s": 0.2}));
+    let (s, b) = t.motions(json!(batch)).await;
+    assert_eq!(s, 200, "{b}");
+    assert_eq!(b["state"], "done", "{b}");
+    assert_eq!(b["completed"], 9, "{b}");
+    let cid = b["cid"].as_i64().expect("cid");
+    let trace: Vec<_> = t.trace().into_iter().filter(|s| s.cid == cid).collect();
+    let mut worst: f64 = 0.0;
+    let mut checked = 0;
+    for s in &trace {
+        let (dx, dy) = (s.pose[0] - 190.0, s.pose[1]);
+        let r = dx.hypot(dy);
+        let angle = dy.atan2(dx).rem_euclid(std::f64::consts::TAU).to_degrees();
+        // Away from the block's first and last segment (their outer
+        // tangent is mirrored) and from the SLIN to the centre.
+        if (50.0..=305.0).contains(&angle) && r > 40.0 {
+            worst = worst.max((r - 50.0).abs());
+            checked += 1;
+            assert_close(s.pose[2], 100.0, 0.01, "z on the spline");
+        }
+    }
+    assert!(checked > 30, "{checked} samples on the curve");
+    assert!(
+        worst < 1.5,
+        "the TCP is {worst:.2} mm off the circle through the points"
+    );
+    assert_eq!(
+        slowdowns(&t, cid, 0.2),
+        0,
+        "no stop in the block, none between the block and the SLIN"
+    );
+    let (_, pos) = t.get("/api/v1/position").await;
+    let pos = &pos["position"];
+    assert_close(pos["x"].as_f64().expect("x"), 190.0, 0.01, "x at the end");
+    assert_close(pos["y"].as_f64().expect("y"), 0.0, 0.01, "y at the end");
+}
+
+/// A KRC's two motion planners never blend into each other: LIN → SLIN
+/// and SLIN → LIN stop exactly even with an approximation distance, SLIN →
+/// SCIRC → SLIN blend.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn spline_motions_blend_only_into_spline_motions() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    let pts = circle(8, 50.0);
+    to_start(&t, &pts[0]).await;
+    let m = |ty: &str, p: &[f64; 2]| json!({"type": ty, "target": {"x": p[0], "y": p[1]}, "velocity_m_s": 0.2, "approx_mm": 5});
+    let batch = json!([
+        m("lin", &pts[1]),
+        m("slin", &pts[2]),
+        {"type": "scirc", "aux": {"x": pts[3][0], "y": pts[3][1]}, "target": {"x": pts[4][0], "y": pts[4][1]},
+         "velocity_m_s": 0.2, "approx_mm": 5},
+        m("slin", &pts[5]),
+        m("lin", &pts[6]),
+        m("lin", &pts[7]),
+    ]);
+    let (s, b) = t.motions(batch).await;
+    assert_eq!(s, 200, "{b}");
+    assert_eq!(b["state"], "done", "{b}");
+    let cid = b["cid"].as_i64().expect("cid");
+    assert_eq!(
+        slowdowns(&t, cid, 0.2),
+        2,
+        "stops at LIN → SLIN and SLIN → LIN only"
+    );
+}
+
+/// An SPTP without Status chooses the arm configuration like a PTP, and
+/// reports it.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_sptp_reaches_its_target_with_a_chosen_configuration() {
+    let t = TestService::start(Options::default()).await;
+    let (s, b) = t
+        .motions(json!([{"type": "sptp", "target": {"x": 250, "y": 50, "z": 150, "a": 0, "b": 180, "c": 0}}]))
+        .await;
+    assert_eq!(s, 200, "{b}");
+    assert_eq!(b["state"], "done", "{b}");
+    let c = &b["configurations"][0];
+    assert_eq!(c["motion"], 0, "{b}");
+    assert!(c["s"].is_u64() && c["t"].is_u64(), "{b}");
+    let (_, pos) = t.get("/api/v1/position").await;
+    let pos = &pos["position"];
+    for (k, want) in [("x", 250.0), ("y", 50.0), ("z", 150.0)] {
+        assert_close(pos[k].as_f64().expect(k), want, 0.01, k);
+    }
+}
+
+/// Spline points streamed into a path: each append's run of SPL points is
+/// played as blocks (8 points at most), every point once, in order, and
+/// the blocks blend into each other.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn spline_points_stream_into_a_path_as_whole_blocks() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    let pts = circle(36, 50.0);
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    // Appends of 12 points: a block of 8 and one of 4 each.
+    for chunk in pts[1..].chunks(12) {
+        let motions: Vec<Value> = chunk.iter().map(|p| spl(p, 0.2)).collect();
+        let (s, o) = t
+            .post_json(
+                &format!("/api/v1/paths/{id}/motions"),
+                &json!({"motions": motions}),
+            )
+            .await;
+        assert_eq!(s, 200, "{o}");
+    }
+    let (s, j) = t.delete(&format!("/api/v1/paths/{id}")).await;
+    assert_eq!(s, 200, "{j}");
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(end_of(&j), (Some("done"), Some(36), None), "{j}");
+    let cid = j["cid"].as_i64().expect("cid");
+    let trace: Vec<_> = t.trace().into_iter().filter(|s| s.cid == cid).collect();
+    let motions: Vec<usize> = trace.iter().map(|s| s.motion).collect();
+    assert!(
+        motions.windows(2).all(|w| w[0] <= w[1]),
+        "in order: {motions:?}"
+    );
+    assert_eq!(motions.last(), Some(&35), "every point ran");
+    assert_eq!(slowdowns(&t, cid, 0.2), 0, "the blocks blend");
+    let end = &j["position"];
+    assert_close(end["x"].as_f64().expect("x"), pts[36][0], 0.01, "x");
+    assert_close(end["y"].as_f64().expect("y"), pts[36][1], 0.01, "y");
+}
+
+/// Spline motions are checked like the others before anything is sent.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn bad_spline_motions_are_refused_with_their_index() {
+    let t = TestService::start(Options::default()).await;
+    let pts = circle(8, 50.0);
+    to_start(&t, &pts[0]).await;
+    let cases = [
+        (json!([spl(&pts[1], 0.2), {"type": "spl"}]), 422, None),
+        (
+            json!([spl(&pts[1], 0.2), {"type": "spl", "target": {"x": 2000}}]),
+            422,
+            Some(1),
+        ),
+        (json!([spl(&pts[1], -1.0)]), 422, Some(0)),
+        (
+            json!([spl(&pts[1], 0.2), {"type": "scirc", "aux": {"x": 1.0}, "target": {"x": 1.0}}]),
+            422,
+            Some(1),
+        ),
+        (
+            json!([{"type": "spl", "target": {"x": 200, "c": "x"}}]),
+            422,
+            None,
+        ),
+        (
+            json!([{"type": "sptp", "target": {"x": 200, "s": 9}}]),
+            422,
+            Some(0),
+        ),
+    ];
+    for (body, status, motion) in cases {
+        let (s, e) = t.motions(body.clone()).await;
+        assert_eq!(s, status, "{body} → {e}");
+        assert!(e["code"].is_string() && e["detail"].is_string(), "{e}");
+        if let Some(m) = motion {
+            assert_eq!(e["motion"], m, "{body} → {e}");
+        }
+    }
+    // Nothing moved.
+    let (_, pos) = t.get("/api/v1/position").await;
+    let pos = &pos["position"];
+    assert_close(pos["x"].as_f64().expect("x"), pts[0][0], 0.01, "x");
+}

@@ -2,7 +2,7 @@
 //! relative), and their resolution into the absolute protocol records the
 //! controller executes.
 
-use kuka_protocol::{Frame, MotionParams, MotionRecord};
+use kuka_protocol::{Frame, MAX_SPLINE_POINTS, MotionParams, MotionRecord};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
@@ -147,46 +147,147 @@ pub enum MotionRequest {
         /// Approximation distance in mm.
         approx_mm: Option<f64>,
     },
+    /// SLIN: a straight line of the spline family (KRL `SLIN`). Blends
+    /// (`C_SPL`) only into spline motions (`slin`, `scirc`, `spl`); before
+    /// a `ptp`/`lin`/`circ` the robot stops exactly, as on a KRC.
+    #[schema(example = json!({"type": "slin", "target": {"x": 250, "y": 100}, "velocity_m_s": 0.1, "approx_mm": 5}))]
+    Slin {
+        /// Target.
+        target: TargetSpec,
+        /// Add to the start instead of replacing.
+        #[serde(default)]
+        relative: bool,
+        /// TCP speed in m/s.
+        velocity_m_s: Option<f64>,
+        /// % of max acceleration.
+        acceleration_pct: Option<f64>,
+        /// Approximation distance in mm (C_SPL).
+        approx_mm: Option<f64>,
+    },
+    /// SCIRC: a circular arc of the spline family through `aux` to
+    /// `target` (KRL `SCIRC`).
+    Scirc {
+        /// Auxiliary point.
+        aux: AuxPoint,
+        /// End point.
+        target: TargetSpec,
+        /// Add both points to the start instead of replacing.
+        #[serde(default)]
+        relative: bool,
+        /// TCP speed in m/s.
+        velocity_m_s: Option<f64>,
+        /// % of max acceleration.
+        acceleration_pct: Option<f64>,
+        /// Approximation distance in mm (C_SPL).
+        approx_mm: Option<f64>,
+    },
+    /// SPTP: point-to-point of the spline family (KRL `SPTP`) to a
+    /// Cartesian target; stops exactly at its end, like `ptp`.
+    #[schema(example = json!({"type": "sptp", "target": {"x": 300, "y": 0, "z": 400, "a": 0, "b": 90, "c": 0}}))]
+    Sptp {
+        /// Target.
+        target: TargetSpec,
+        /// Add to the start instead of replacing.
+        #[serde(default)]
+        relative: bool,
+        /// % of max axis speed (default from config).
+        velocity_pct: Option<f64>,
+        /// % of max acceleration.
+        acceleration_pct: Option<f64>,
+        /// Approximation distance in mm (not used: an SPTP stops exactly).
+        approx_mm: Option<f64>,
+        /// How the arm configuration is chosen when `s` is omitted, as for
+        /// `ptp`.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        config: Option<Configuration>,
+    },
+    /// SPL: a point of a spline block (KRL `SPLINE … SPL … ENDSPLINE`).
+    /// Consecutive `spl` motions of one request form a block: the TCP
+    /// follows a smooth curve through their points without stopping. A
+    /// block ends after 8 points, at a point with `approx_mm: 0`, where
+    /// the speed or acceleration changes, and at the end of the request;
+    /// the next block follows with the last point's approximation
+    /// (`C_SPL`).
+    #[schema(example = json!({"type": "spl", "target": {"x": 300, "y": 50}, "velocity_m_s": 0.2}))]
+    Spl {
+        /// The point.
+        target: TargetSpec,
+        /// Add to the previous point instead of replacing.
+        #[serde(default)]
+        relative: bool,
+        /// TCP speed in m/s.
+        velocity_m_s: Option<f64>,
+        /// % of max acceleration.
+        acceleration_pct: Option<f64>,
+        /// Approximation distance in mm (C_SPL) where the block ends; 0
+        /// ends the block here with an exact stop.
+        approx_mm: Option<f64>,
+    },
 }
 
 impl MotionRequest {
-    /// The PTP's `config`, if it is a PTP that has one.
+    /// The (S)PTP's `config`, if it is a Cartesian PTP that has one.
     pub fn config(&self) -> Option<Configuration> {
         match self {
-            MotionRequest::Ptp { config, .. } => *config,
+            MotionRequest::Ptp { config, .. } | MotionRequest::Sptp { config, .. } => *config,
             _ => None,
         }
     }
 
-    /// Gives a PTP without `config` this one.
+    /// Gives a Cartesian (S)PTP without `config` this one.
     pub fn default_config(&mut self, c: Configuration) {
-        if let MotionRequest::Ptp { config, .. } = self {
+        if let MotionRequest::Ptp { config, .. } | MotionRequest::Sptp { config, .. } = self {
             config.get_or_insert(c);
         }
     }
 
-    /// `ptp`, `ptp_axes`, `lin` or `circ`.
+    /// `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp` or `spl`.
     pub fn kind(&self) -> &'static str {
         match self {
             MotionRequest::Ptp { .. } => "ptp",
             MotionRequest::PtpAxes { .. } => "ptp_axes",
             MotionRequest::Lin { .. } => "lin",
             MotionRequest::Circ { .. } => "circ",
+            MotionRequest::Slin { .. } => "slin",
+            MotionRequest::Scirc { .. } => "scirc",
+            MotionRequest::Sptp { .. } => "sptp",
+            MotionRequest::Spl { .. } => "spl",
         }
     }
 
-    /// PTP or axis PTP (speed in %), as opposed to LIN/CIRC (speed in m/s).
+    /// PTP, axis PTP or SPTP (speed in %), as opposed to the path motions
+    /// (speed in m/s).
     pub fn is_ptp(&self) -> bool {
         matches!(
             self,
-            MotionRequest::Ptp { .. } | MotionRequest::PtpAxes { .. }
+            MotionRequest::Ptp { .. } | MotionRequest::PtpAxes { .. } | MotionRequest::Sptp { .. }
         )
+    }
+
+    /// Its Cartesian target, if it has one (all but `ptp_axes`).
+    pub fn target(&self) -> Option<&TargetSpec> {
+        match self {
+            MotionRequest::Ptp { target, .. }
+            | MotionRequest::Lin { target, .. }
+            | MotionRequest::Circ { target, .. }
+            | MotionRequest::Slin { target, .. }
+            | MotionRequest::Scirc { target, .. }
+            | MotionRequest::Sptp { target, .. }
+            | MotionRequest::Spl { target, .. } => Some(target),
+            MotionRequest::PtpAxes { .. } => None,
+        }
     }
 
     /// `(velocity, acceleration_pct, approx_mm)` as given.
     pub fn speed(&self) -> (Option<f64>, Option<f64>, Option<f64>) {
         match self {
             MotionRequest::Ptp {
+                velocity_pct,
+                acceleration_pct,
+                approx_mm,
+                ..
+            }
+            | MotionRequest::Sptp {
                 velocity_pct,
                 acceleration_pct,
                 approx_mm,
@@ -205,6 +306,24 @@ impl MotionRequest {
                 ..
             }
             | MotionRequest::Circ {
+                velocity_m_s,
+                acceleration_pct,
+                approx_mm,
+                ..
+            }
+            | MotionRequest::Slin {
+                velocity_m_s,
+                acceleration_pct,
+                approx_mm,
+                ..
+            }
+            | MotionRequest::Scirc {
+                velocity_m_s,
+                acceleration_pct,
+                approx_mm,
+                ..
+            }
+            | MotionRequest::Spl {
                 velocity_m_s,
                 acceleration_pct,
                 approx_mm,
@@ -288,7 +407,11 @@ pub fn set_default_approx(
                 MotionRecord::Ptp { params, .. }
                 | MotionRecord::PtpAxes { params, .. }
                 | MotionRecord::Lin { params, .. }
-                | MotionRecord::Circ { params, .. } => params,
+                | MotionRecord::Circ { params, .. }
+                | MotionRecord::Slin { params, .. }
+                | MotionRecord::Scirc { params, .. }
+                | MotionRecord::Sptp { params, .. }
+                | MotionRecord::Spl { params, .. } => params,
             };
             params.approx_mm = default_approx_mm;
         }
@@ -340,18 +463,50 @@ pub fn resolve(
                     params,
                 }
             }
-            MotionRequest::Lin {
+            MotionRequest::Sptp {
                 target, relative, ..
             } => {
                 for (p, c) in pose.iter_mut().zip(target.components()) {
                     *p = pick(c, *relative, *p);
                 }
-                MotionRecord::Lin {
+                MotionRecord::Sptp {
                     target: Frame::from_array(pose),
+                    s: st(target.s),
+                    t: st(target.t),
                     params,
                 }
             }
+            MotionRequest::Lin {
+                target, relative, ..
+            }
+            | MotionRequest::Slin {
+                target, relative, ..
+            }
+            | MotionRequest::Spl {
+                target, relative, ..
+            } => {
+                for (p, c) in pose.iter_mut().zip(target.components()) {
+                    *p = pick(c, *relative, *p);
+                }
+                let target = Frame::from_array(pose);
+                match req {
+                    MotionRequest::Slin { .. } => MotionRecord::Slin { target, params },
+                    // (Its block: `form_spline_blocks` below.)
+                    MotionRequest::Spl { .. } => MotionRecord::Spl {
+                        target,
+                        params,
+                        left: 1,
+                    },
+                    _ => MotionRecord::Lin { target, params },
+                }
+            }
             MotionRequest::Circ {
+                aux,
+                target,
+                relative,
+                ..
+            }
+            | MotionRequest::Scirc {
                 aux,
                 target,
                 relative,
@@ -365,10 +520,19 @@ pub fn resolve(
                 for (p, c) in pose.iter_mut().zip(target.components()) {
                     *p = pick(c, *relative, *p);
                 }
-                MotionRecord::Circ {
-                    aux,
-                    target: Frame::from_array(pose),
-                    params,
+                let target = Frame::from_array(pose);
+                if matches!(req, MotionRequest::Scirc { .. }) {
+                    MotionRecord::Scirc {
+                        aux,
+                        target,
+                        params,
+                    }
+                } else {
+                    MotionRecord::Circ {
+                        aux,
+                        target,
+                        params,
+                    }
                 }
             }
             MotionRequest::PtpAxes {
@@ -407,5 +571,40 @@ pub fn resolve(
         }
         out.push(record);
     }
+    form_spline_blocks(requests, &mut out);
     Ok(out)
+}
+
+/// Groups each run of consecutive `spl` records into spline blocks of at
+/// most [`MAX_SPLINE_POINTS`] points with the same speed and acceleration;
+/// a point whose request sets `approx_mm: 0` ends its block (an exact
+/// stop there). Sets every point's `left`.
+fn form_spline_blocks(requests: &[MotionRequest], records: &mut [MotionRecord]) {
+    let ends_block = |records: &[MotionRecord], i: usize| -> bool {
+        let (MotionRecord::Spl { params, .. }, Some(MotionRecord::Spl { params: next, .. })) =
+            (&records[i], records.get(i + 1))
+        else {
+            return true;
+        };
+        requests.get(i).is_some_and(|r| r.speed().2 == Some(0.0))
+            || params.velocity != next.velocity
+            || params.acceleration_pct != next.acceleration_pct
+    };
+    let mut i = 0;
+    while i < records.len() {
+        if !matches!(records[i], MotionRecord::Spl { .. }) {
+            i += 1;
+            continue;
+        }
+        let mut n = 1;
+        while n < MAX_SPLINE_POINTS && !ends_block(records, i + n - 1) {
+            n += 1;
+        }
+        for (k, rec) in records[i..i + n].iter_mut().enumerate() {
+            if let MotionRecord::Spl { left, .. } = rec {
+                *left = (n - k) as u8;
+            }
+        }
+        i += n;
+    }
 }

@@ -233,9 +233,14 @@ impl Safety {
         self.check_batch(requests)?;
         for (i, r) in requests.iter().enumerate() {
             match r {
-                MotionRequest::Ptp { target, .. } => check_target(target, i, true)?,
-                MotionRequest::Lin { target, .. } => check_target(target, i, false)?,
-                MotionRequest::Circ { aux, target, .. } => {
+                MotionRequest::Ptp { target, .. } | MotionRequest::Sptp { target, .. } => {
+                    check_target(target, i, true)?
+                }
+                MotionRequest::Lin { target, .. }
+                | MotionRequest::Slin { target, .. }
+                | MotionRequest::Spl { target, .. } => check_target(target, i, false)?,
+                MotionRequest::Circ { aux, target, .. }
+                | MotionRequest::Scirc { aux, target, .. } => {
                     check_target(target, i, false)?;
                     for (name, v) in [("aux.x", aux.x), ("aux.y", aux.y), ("aux.z", aux.z)] {
                         finite(name, v, i)?;
@@ -347,7 +352,7 @@ impl Safety {
             .iter()
             .map(|r| r.config().unwrap_or(self.motion.configuration).into())
             .collect();
-        let motions: Vec<_> = records.iter().map(kuka_krl_runtime::to_motion).collect();
+        let motions = kuka_krl_runtime::to_motions(records);
         let to_pose = |f: &Frame| kuka_krl_runtime::frame_to_pose(f);
         let (tool, base) = (to_pose(tool), to_pose(base));
         // A configuration whose PTP or following path would break the
@@ -404,7 +409,9 @@ impl Safety {
                 .at_motion(at)
         })?;
         for (record, c) in records.iter_mut().zip(&chosen) {
-            if let (MotionRecord::Ptp { s, t, .. }, Some(c)) = (record, c) {
+            if let (MotionRecord::Ptp { s, t, .. } | MotionRecord::Sptp { s, t, .. }, Some(c)) =
+                (record, c)
+            {
                 *s = Some(c.s);
                 *t = Some(c.t);
             }
@@ -453,16 +460,8 @@ impl Safety {
         let targets = || -> Result<()> {
             for (i, m) in motions.iter().enumerate() {
                 let mut points: Vec<[f64; 3]> = Vec::with_capacity(2);
-                match m {
-                    MotionRecord::Ptp { target, .. } | MotionRecord::Lin { target, .. } => {
-                        points.push([target.x, target.y, target.z])
-                    }
-                    MotionRecord::Circ { aux, target, .. } => {
-                        points.push(*aux);
-                        points.push([target.x, target.y, target.z]);
-                    }
-                    MotionRecord::PtpAxes { .. } => {}
-                }
+                points.extend(m.aux());
+                points.extend(m.target().map(|t| [t.x, t.y, t.z]));
                 for p in points {
                     if let Some(why) = self.place_violation(p, 0.0) {
                         return Err(BridgeError::new(
@@ -483,12 +482,7 @@ impl Safety {
             let pose = motions
                 .iter()
                 .rev()
-                .find_map(|m| match m {
-                    MotionRecord::Ptp { target, .. }
-                    | MotionRecord::Lin { target, .. }
-                    | MotionRecord::Circ { target, .. } => Some(*target),
-                    MotionRecord::PtpAxes { .. } => None,
-                })
+                .find_map(|m| m.target().copied())
                 .unwrap_or(start.pose);
             return Ok((
                 Vec::new(),
@@ -499,7 +493,7 @@ impl Safety {
             ));
         };
         let records = motions;
-        let motions: Vec<_> = records.iter().map(kuka_krl_runtime::to_motion).collect();
+        let motions = kuka_krl_runtime::to_motions(records);
         let to_pose = |f: &Frame| kuka_krl_runtime::frame_to_pose(f);
         let execution = plan::plan(
             model,
@@ -548,7 +542,8 @@ impl Safety {
             Some((i, e)) => {
                 let mut err = motion_error(&e).at_motion(i);
                 // KUKA keeps the Status of a PTP without S: say how to change it.
-                if let Some(MotionRecord::Ptp { s: None, .. }) = records.get(i)
+                if let Some(MotionRecord::Ptp { s: None, .. } | MotionRecord::Sptp { s: None, .. }) =
+                    records.get(i)
                     && matches!(err.code, ErrorCode::SoftwareLimit | ErrorCode::Unreachable)
                 {
                     err.detail.push_str(&format!(
@@ -672,9 +667,9 @@ impl Safety {
             if let Some(ws) = &self.workspace {
                 let mut points = Vec::with_capacity(2);
                 match &motion.kind {
-                    MotionKind::Ptp { target, .. } | MotionKind::Lin { target } => {
-                        points.push(*target)
-                    }
+                    MotionKind::Ptp { target, .. }
+                    | MotionKind::Lin { target }
+                    | MotionKind::Spl { target, .. } => points.push(*target),
                     MotionKind::Circ { aux, target } => points.extend([*aux, *target]),
                     MotionKind::PtpAxes { .. } => {}
                 }

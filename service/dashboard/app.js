@@ -7,7 +7,7 @@
 // the event stream; nothing polls in a tight loop.
 import { ArmView } from "./arm.js";
 import { Projection } from "./projections.js";
-import { arc, tcpInBase } from "./kinematics.js";
+import { arc, splineSegment, tcpInBase } from "./kinematics.js";
 import { $, el, fmt, download, textWithCode } from "./dom.js";
 import { renderPlugins } from "./plugins.js";
 import { classifyPlan, sampleIsTravel } from "./travel.js";
@@ -326,7 +326,8 @@ async function fetchTrace() {
 }
 
 /**
- * A plan's path and kinds: `points` (CIRCs as arcs), `travel[i]` = the
+ * A plan's path and kinds: `points` (CIRCs as arcs, spline blocks as their
+ * curves), `travel[i]` = the
  * segment to points[i] is travel, the drawing plane and the travel flag of
  * each motion (travel.js). `start` = where the batch starts, or null (a plan
  * from the history).
@@ -346,7 +347,15 @@ function planOf(plan, start) {
       points.push(m.start);
       travel.push(false);
     }
-    const pts = m.type === "circ" && m.start && m.aux ? arc(m.start, m.aux, m.end).slice(1) : [m.end];
+    const prev = plan.motions[i - 1];
+    const inBlock = prev && prev.type === "spl" && prev.left > 1;
+    const after = m.type === "spl" && plan.motions[i].left > 1 ? k.motions[i + 1]?.end : null;
+    const pts =
+      (m.type === "circ" || m.type === "scirc") && m.start && m.aux
+        ? arc(m.start, m.aux, m.end).slice(1)
+        : m.type === "spl" && m.start
+          ? splineSegment(m.start, m.end, inBlock ? k.motions[i - 1].start : null, after).slice(1)
+          : [m.end];
     for (const p of pts) {
       points.push(p);
       travel.push(k.travel[i]);

@@ -108,6 +108,44 @@ const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
  * Points along the arc from `start` through `aux` to `end` (a CIRC), or
  * the straight segment when the three are collinear.
  */
+/**
+ * Points of one segment of a spline block, from `start` to `end` (both
+ * included): the centripetal Catmull-Rom curve the simulated controllers
+ * follow (krl/kinematics `catmull_rom`), with `before` (the previous
+ * point of the block, or null) and `after` (the next one, or null) as its
+ * neighbours; a missing neighbour is mirrored.
+ */
+export function splineSegment(start, end, before, after, steps = 16) {
+  const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+  if (dist(start, end) < 1e-6) return [start, end];
+  const mirror = (p, q) => [2 * p[0] - q[0], 2 * p[1] - q[1], 2 * p[2] - q[2]];
+  const c = [
+    before && dist(before, start) >= 1e-6 ? before : mirror(start, end),
+    start,
+    end,
+    after && dist(after, end) >= 1e-6 ? after : mirror(end, start),
+  ];
+  const knot = (a, b) => Math.max(Math.sqrt(dist(a, b)), 1e-9);
+  const t1 = knot(c[0], c[1]);
+  const t2 = t1 + knot(c[1], c[2]);
+  const t3 = t2 + knot(c[2], c[3]);
+  const lerp = (p, q, ta, tb, u) => {
+    const w = (u - ta) / (tb - ta);
+    return [p[0] + (q[0] - p[0]) * w, p[1] + (q[1] - p[1]) * w, p[2] + (q[2] - p[2]) * w];
+  };
+  const out = [];
+  for (let i = 0; i <= steps; i++) {
+    const u = t1 + ((t2 - t1) * i) / steps;
+    const a1 = lerp(c[0], c[1], 0, t1, u);
+    const a2 = lerp(c[1], c[2], t1, t2, u);
+    const a3 = lerp(c[2], c[3], t2, t3, u);
+    const b1 = lerp(a1, a2, 0, t2, u);
+    const b2 = lerp(a2, a3, t1, t3, u);
+    out.push(lerp(b1, b2, t1, t2, u));
+  }
+  return out;
+}
+
 export function arc(start, aux, end, steps = 48) {
   const u = sub(aux, start), v = sub(end, start);
   const n = cross(u, v);

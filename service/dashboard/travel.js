@@ -4,8 +4,8 @@
 //
 // The rule (docs/DASHBOARD.md, "Drawing and travel"): the drawing plane of
 // a batch is the lowest Z (base frame) among the start and end points of
-// its LIN and CIRC motions. A motion is travel when it is a PTP (Cartesian
-// or axis-specific), or a LIN or CIRC whose start, end or (CIRC)
+// its path motions (LIN, CIRC, SLIN, SCIRC, SPL). A motion is travel when it
+// is a PTP (Cartesian, axis-specific or SPTP), or a path motion whose start, end or (CIRC)
 // auxiliary point lies more than PLANE_TOL_MM above that plane. A batch
 // without LIN or CIRC has no drawing plane: all of it is travel. The
 // first motion starts where the robot was when the plan arrived (unknown
@@ -15,7 +15,7 @@
 /** How far above the drawing plane a point may be and still be on it (mm). */
 export const PLANE_TOL_MM = 0.5;
 
-const isCp = (m) => m.type === "lin" || m.type === "circ";
+const isCp = (m) => ["lin", "circ", "slin", "scirc", "spl"].includes(m.type);
 
 /**
  * Classifies the motions of a plan (`plan.motions` of a `plan` event):

@@ -485,12 +485,16 @@ pub struct PlannedMotion {
     /// Target TCP pose in the base frame `[x, y, z, a, b, c]` (not for `ptp_axes`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub target: Option<[f64; 6]>,
-    /// Auxiliary point `[x, y, z]` of a `circ`.
+    /// Auxiliary point `[x, y, z]` of a `circ` or `scirc`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub aux: Option<[f64; 3]>,
     /// Target axis angles A1..A6 of a `ptp_axes`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub axes: Option<[f64; 6]>,
+    /// Of an `spl`: the points of its spline block from this one to the
+    /// block's end (1 = the last point).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub left: Option<u8>,
 }
 
 impl From<&kuka_protocol::MotionRecord> for PlannedMotion {
@@ -501,12 +505,21 @@ impl From<&kuka_protocol::MotionRecord> for PlannedMotion {
             M::PtpAxes { axes, .. } => ("ptp_axes", None, None, Some(*axes)),
             M::Lin { target, .. } => ("lin", Some(target.to_array()), None, None),
             M::Circ { aux, target, .. } => ("circ", Some(target.to_array()), Some(*aux), None),
+            M::Slin { target, .. } => ("slin", Some(target.to_array()), None, None),
+            M::Scirc { aux, target, .. } => ("scirc", Some(target.to_array()), Some(*aux), None),
+            M::Sptp { target, .. } => ("sptp", Some(target.to_array()), None, None),
+            M::Spl { target, .. } => ("spl", Some(target.to_array()), None, None),
+        };
+        let left = match m {
+            M::Spl { left, .. } => Some(*left),
+            _ => None,
         };
         PlannedMotion {
             kind: kind.into(),
             target,
             aux,
             axes,
+            left,
         }
     }
 }

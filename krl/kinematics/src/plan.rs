@@ -536,7 +536,12 @@ impl Geom {
 
 /// The spline segment from `p1` to `p2` with neighbours `before` and
 /// `after`: geometry, length and unit end tangents.
-fn curve(p1: DVec3, p2: DVec3, before: Option<DVec3>, after: Option<DVec3>) -> (Geom, f64, DVec3, DVec3) {
+fn curve(
+    p1: DVec3,
+    p2: DVec3,
+    before: Option<DVec3>,
+    after: Option<DVec3>,
+) -> (Geom, f64, DVec3, DVec3) {
     const SAME: f64 = 1e-6;
     let p0 = before
         .filter(|p| p.distance(p1) >= SAME)
@@ -614,7 +619,13 @@ impl Segment {
                 let p1 = target.position();
                 if p0.distance(p1) <= EPS {
                     // Only the orientation changes: as a LIN.
-                    (Geom::Line { p0, p1 }, 0.0, DVec3::ZERO, DVec3::ZERO, target.rotation())
+                    (
+                        Geom::Line { p0, p1 },
+                        0.0,
+                        DVec3::ZERO,
+                        DVec3::ZERO,
+                        target.rotation(),
+                    )
                 } else {
                     let before = if *first { None } else { before };
                     let (geom, len, din, dout) =

@@ -823,6 +823,11 @@ fn a_spline_block_of_one_point_is_a_straight_line() {
     assert_eq!(a.error, None);
     assert!((a.duration_s - b.duration_s).abs() < 1e-3);
     for (x, y) in a.samples.iter().zip(&b.samples) {
-        assert!(x.pose.distance_mm(&y.pose) < 0.05, "{:?} {:?}", x.pose, y.pose);
+        assert!(
+            x.pose.distance_mm(&y.pose) < 0.05,
+            "{:?} {:?}",
+            x.pose,
+            y.pose
+        );
     }
 }

@@ -181,6 +181,28 @@ impl MotionRecord {
         )
     }
 
+    /// Its Cartesian target (all but an axis PTP).
+    pub fn target(&self) -> Option<&Frame> {
+        match self {
+            MotionRecord::Ptp { target, .. }
+            | MotionRecord::Lin { target, .. }
+            | MotionRecord::Circ { target, .. }
+            | MotionRecord::Slin { target, .. }
+            | MotionRecord::Scirc { target, .. }
+            | MotionRecord::Sptp { target, .. }
+            | MotionRecord::Spl { target, .. } => Some(target),
+            MotionRecord::PtpAxes { .. } => None,
+        }
+    }
+
+    /// The auxiliary point of a CIRC or SCIRC.
+    pub fn aux(&self) -> Option<[f64; 3]> {
+        match self {
+            MotionRecord::Circ { aux, .. } | MotionRecord::Scirc { aux, .. } => Some(*aux),
+            _ => None,
+        }
+    }
+
     /// Points of its spline block from this one to the end (1 for every
     /// other record).
     pub fn block_left(&self) -> usize {
@@ -189,6 +211,21 @@ impl MotionRecord {
             _ => 1,
         }
     }
+}
+
+/// How many of `motions` (from the first, which starts a block or is no
+/// spline point) can go into one command of at most `max` motions without
+/// splitting a spline block: `max` or fewer, never more.
+pub fn whole_blocks(motions: &[MotionRecord], max: usize) -> usize {
+    let mut n = 0;
+    while n < motions.len() {
+        let block = motions[n].block_left();
+        if n + block > max {
+            break;
+        }
+        n += block;
+    }
+    n.min(motions.len())
 }
 
 /// Speed, acceleration and approximation of one motion.

@@ -22,45 +22,82 @@ pub fn pose_to_frame(p: &Pose) -> Frame {
     }
 }
 
-/// Converts a protocol motion record to a planner motion.
+/// Approximation the planner gets between two points of one spline block:
+/// the curve is tangent-continuous there, so the corner needs no rounding;
+/// any distance above 0 only tells the planner not to stop.
+const SPL_INNER_APPROX_MM: f64 = 1.0;
+
+/// Converts a protocol motion record to a planner motion on its own: a
+/// spline point as the only point of its block. Use [`to_motions`] for a
+/// command's records, which knows the blocks and the blending rules.
 pub fn to_motion(r: &MotionRecord) -> Motion {
-    let (kind, p) = match r {
-        MotionRecord::Ptp {
-            target,
-            s,
-            t,
-            params,
-        } => (
-            MotionKind::Ptp {
-                target: frame_to_pose(target),
-                s: *s,
-                t: *t,
-            },
-            params,
-        ),
-        MotionRecord::PtpAxes { axes, params } => (MotionKind::PtpAxes { axes: *axes }, params),
-        MotionRecord::Lin { target, params } => (
-            MotionKind::Lin {
-                target: frame_to_pose(target),
-            },
-            params,
-        ),
-        MotionRecord::Circ {
-            aux,
-            target,
-            params,
-        } => (
-            MotionKind::Circ {
-                aux: Pose::new(aux[0], aux[1], aux[2], 0.0, 0.0, 0.0),
-                target: frame_to_pose(target),
-            },
-            params,
-        ),
-    };
-    Motion {
-        kind,
-        velocity: p.velocity,
-        acceleration_pct: p.acceleration_pct,
-        approx_mm: p.approx_mm,
-    }
+    to_motions(std::slice::from_ref(r)).remove(0)
+}
+
+/// Converts a command's motion records (in order) to planner motions, one
+/// per record, with the blending rules of the KRL program:
+///
+/// * SLIN/SCIRC/SPTP are planned as LIN/CIRC/PTP;
+/// * an `SPL` is a segment of its block's curve (its neighbours from the
+///   block), and a block's inner points never stop;
+/// * the conventional (PTP/LIN/CIRC) and the spline family (SLIN/SCIRC/
+///   SPTP/SPL) never blend into each other: a motion followed by one of
+///   the other family stops exactly (a KRC's two motion planners,
+///   docs/CONTROLLER.md point 21). The last record blends as asked (in a
+///   path the next motion may come later).
+pub fn to_motions(records: &[MotionRecord]) -> Vec<Motion> {
+    records
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let next = records.get(i + 1);
+            let p = r.params();
+            let kind = match r {
+                MotionRecord::Ptp { target, s, t, .. }
+                | MotionRecord::Sptp { target, s, t, .. } => MotionKind::Ptp {
+                    target: frame_to_pose(target),
+                    s: *s,
+                    t: *t,
+                },
+                MotionRecord::PtpAxes { axes, .. } => MotionKind::PtpAxes { axes: *axes },
+                MotionRecord::Lin { target, .. } | MotionRecord::Slin { target, .. } => {
+                    MotionKind::Lin {
+                        target: frame_to_pose(target),
+                    }
+                }
+                MotionRecord::Circ { aux, target, .. }
+                | MotionRecord::Scirc { aux, target, .. } => MotionKind::Circ {
+                    aux: Pose::new(aux[0], aux[1], aux[2], 0.0, 0.0, 0.0),
+                    target: frame_to_pose(target),
+                },
+                MotionRecord::Spl { target, left, .. } => MotionKind::Spl {
+                    target: frame_to_pose(target),
+                    first: !matches!(
+                        i.checked_sub(1).map(|k| &records[k]),
+                        Some(MotionRecord::Spl { left: l, .. }) if *l > 1
+                    ),
+                    next: match next {
+                        Some(MotionRecord::Spl { target, .. }) if *left > 1 => {
+                            Some(frame_to_pose(target))
+                        }
+                        _ => None,
+                    },
+                },
+            };
+            let inner = matches!(r, MotionRecord::Spl { left, .. } if *left > 1);
+            let approx_mm = if inner {
+                SPL_INNER_APPROX_MM
+            } else if next.is_some_and(|n| n.is_spline_family() != r.is_spline_family()) {
+                0.0
+            } else {
+                p.approx_mm
+            };
+            Motion {
+                kind,
+                velocity: p.velocity,
+                acceleration_pct: p.acceleration_pct,
+                approx_mm,
+            }
+        })
+        .collect()
 }

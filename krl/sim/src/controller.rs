@@ -9,10 +9,10 @@ use kuka_kinematics::{
 };
 use kuka_krl_runtime::interp::{self, RunError};
 use kuka_krl_runtime::program::{Phase, PrepareError, phases};
-use kuka_krl_runtime::{frame_to_pose, pose_to_frame, to_motion};
+use kuka_krl_runtime::{frame_to_pose, pose_to_frame, to_motions};
 use kuka_protocol::{
     Cid, Command, ControllerStatus, Frame, OperatingMode, RESULT_HISTORY, ResultCode, ResultRecord,
-    SpeedRecord, StateFile,
+    SpeedRecord, StateFile, whole_blocks,
 };
 use serde::Serialize;
 
@@ -316,12 +316,14 @@ impl Controller {
             Command::Append(_) => {}
             Command::OpenPath(chunk) => {
                 let mut run = PathRun::new(cid, self.axes);
-                let take = chunk
-                    .motions
-                    .len()
-                    .min(crate::path::STREAM_CAPACITY as usize);
-                let motions: Vec<Motion> = chunk.motions[..take].iter().map(to_motion).collect();
-                run.append(&self.model, &self.tool, &self.base, &self.plan, motions);
+                let take = whole_blocks(&chunk.motions, crate::path::STREAM_CAPACITY as usize);
+                run.append(
+                    &self.model,
+                    &self.tool,
+                    &self.base,
+                    &self.plan,
+                    &chunk.motions[..take],
+                );
                 run.closed = chunk.close && take == chunk.motions.len();
                 self.path = Some((run, now, now));
                 // Answered when the path ends.
@@ -405,8 +407,7 @@ impl Controller {
                 self.start(cid, vec![home], now);
             }
             Command::Move(records) => {
-                let motions: Vec<Motion> = records.iter().map(to_motion).collect();
-                self.start(cid, motions, now);
+                self.start(cid, to_motions(&records), now);
             }
             Command::Run(n) => {
                 let loaded = program.unwrap_or_else(|| Err("program not loaded".into()));
@@ -437,9 +438,15 @@ impl Controller {
         // Motions already stored (a resend) are skipped: each runs once.
         let skip = (run.stored - chunk.first) as usize;
         let fresh = chunk.motions.get(skip..).unwrap_or(&[]);
-        let take = fresh.len().min(run.room() as usize);
-        let motions: Vec<Motion> = fresh[..take].iter().map(to_motion).collect();
-        run.append(&self.model, &self.tool, &self.base, &self.plan, motions);
+        // (Never part of a spline block: the rest is sent again.)
+        let take = whole_blocks(fresh, run.room() as usize);
+        run.append(
+            &self.model,
+            &self.tool,
+            &self.base,
+            &self.plan,
+            &fresh[..take],
+        );
         if chunk.close && take == fresh.len() {
             run.closed = true;
         }

@@ -13,8 +13,8 @@
 use std::collections::VecDeque;
 
 use kuka_kinematics::plan::{self, Junction, Sample};
-use kuka_kinematics::{Axes, Motion, MotionError, PlanSettings, Pose, RobotModel};
-use kuka_protocol::Cid;
+use kuka_kinematics::{Axes, Motion, MotionError, MotionKind, PlanSettings, Pose, RobotModel};
+use kuka_protocol::{Cid, MotionRecord};
 
 /// Motions the stream buffer holds (stored and not yet started), as the
 /// shipped KRL program's ring `kb_sq` (`kb_main.dat`).
@@ -62,6 +62,9 @@ pub(crate) struct PathRun {
     pub(crate) current: usize,
     /// The robot stands at the end of what was stored (waiting for more).
     pub(crate) waiting: bool,
+    /// The last stored record: whether the next one may blend into it
+    /// (the same motion family) decides its approximation.
+    last_record: Option<MotionRecord>,
 }
 
 impl PathRun {
@@ -81,6 +84,7 @@ impl PathRun {
             t: 0.0,
             current: 0,
             waiting: true,
+            last_record: None,
         }
     }
 
@@ -100,10 +104,20 @@ impl PathRun {
         tool: &Pose,
         base: &Pose,
         settings: &PlanSettings,
-        motions: Vec<Motion>,
+        records: &[MotionRecord],
     ) {
-        if motions.is_empty() {
+        let Some(first_record) = records.first() else {
             return;
+        };
+        let motions = kuka_krl_runtime::to_motions(records);
+        // The last stored motion blended optimistically: it stops exactly
+        // if the new one is of the other motion family (replanned below if
+        // the robot has not started it yet).
+        if let Some(prev) = self.last_record.replace(records[records.len() - 1].clone())
+            && prev.is_spline_family() != first_record.is_spline_family()
+            && let Some(m) = self.queue.back_mut()
+        {
+            m.approx_mm = 0.0;
         }
         let first_new = self.stored as usize;
         self.stored += motions.len() as u32;
@@ -113,10 +127,18 @@ impl PathRun {
         }
         self.queue.extend(motions);
         // The first junction ahead of the robot (a motion not yet started).
+        // (Not inside a spline block: its curve depends on the point
+        // before, so a block is replanned from its first point.)
+        let inner_spl = |motion: usize| {
+            motion
+                .checked_sub(self.queue_from)
+                .and_then(|k| self.queue.get(k))
+                .is_some_and(|m| matches!(m.kind, MotionKind::Spl { first: false, .. }))
+        };
         let ahead = self
             .junctions
             .iter()
-            .position(|j| j.t > self.t + 1e-9 && j.motion > self.current);
+            .position(|j| j.t > self.t + 1e-9 && j.motion > self.current && !inner_spl(j.motion));
         let from = match ahead {
             Some(k) => {
                 let j = self.junctions[k];

@@ -722,7 +722,9 @@ impl Actor {
                     .zip(&ends)
                     .enumerate()
                     .filter_map(|(motion, ((req, chosen), &(s, t)))| {
-                        let MotionRequest::Ptp { target, .. } = req else {
+                        let (MotionRequest::Ptp { target, .. }
+                        | MotionRequest::Sptp { target, .. }) = req
+                        else {
                             return None;
                         };
                         // What was sent: the request's S/T as given, the
@@ -755,7 +757,8 @@ impl Actor {
                     // A big batch streams: the robot starts on its first
                     // chunk while the rest follows (paths::BATCH_AS_PATH).
                     let cid = self.next_cid()?;
-                    let sent = paths::APPEND_CHUNK.min(records.len());
+                    // (A spline block is never split between commands.)
+                    let sent = kuka_protocol::whole_blocks(&records, paths::APPEND_CHUNK);
                     let chunk = PathChunk {
                         path: cid,
                         first: 0,

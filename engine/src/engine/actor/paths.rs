@@ -415,7 +415,10 @@ impl Actor {
         if !lead_over {
             return;
         }
-        let count = p.pending.len().min(p.room as usize).min(APPEND_CHUNK);
+        // (A spline block is never split between commands: it waits for
+        // room for all its points.)
+        let max = p.pending.len().min(p.room as usize).min(APPEND_CHUNK);
+        let count = kuka_protocol::whole_blocks(p.pending.make_contiguous(), max);
         let close = p.close_requested && count == p.pending.len();
         if count == 0 && !close {
             return;
