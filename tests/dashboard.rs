@@ -2027,3 +2027,90 @@ async fn the_page_joins_a_paths_appends_into_one_plan() {
     let (s, _) = t.delete(&format!("/api/v1/paths/{id}?cancel=true")).await;
     assert_eq!(s, 200);
 }
+
+/// A spline block on the page: the plan is drawn as the curve through the
+/// points (not the chords between them) and lies on what the robot drew.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_page_draws_a_spline_block_as_its_curve() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    open(&browser, &t).await;
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 240, "y": 0, "z": 100, "a": 0, "b": 180, "c": 0, "s": 6}}]))
+        .await;
+    assert_eq!(s, 200, "{v}");
+    // Eight points on a circle of 50 mm around (190, 0): one block.
+    let points: Vec<Value> = (1..=8)
+        .map(|i| {
+            let a = std::f64::consts::TAU * f64::from(i) / 8.0;
+            json!({"type": "spl", "target": {"x": 190.0 + 50.0 * a.cos(), "y": 50.0 * a.sin()}, "velocity_m_s": 0.2})
+        })
+        .collect();
+    let (s, job) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": points, "wait": false}),
+        )
+        .await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("job id");
+    browser
+        .wait_js(
+            &format!("window.dashboard.lastPlan && window.dashboard.lastPlan.job === {id}"),
+            WAIT,
+            "the plan of the spline block",
+        )
+        .await;
+    let planned = browser
+        .eval("return window.dashboard.lastPlan.points;")
+        .await;
+    let planned: Vec<[f64; 3]> = planned
+        .as_array()
+        .expect("planned points")
+        .iter()
+        .map(|p| [f(&p[0]), f(&p[1]), f(&p[2])])
+        .collect();
+    assert!(planned.len() > 8 * 8, "{} points: a curve", planned.len());
+    // Away from the block's mirrored first and last segment, the drawn
+    // plan keeps to the circle (chords would pass 3.8 mm inside it).
+    let mut checked = 0;
+    for q in &planned {
+        let (dx, dy) = (q[0] - 190.0, q[1]);
+        let angle = dy.atan2(dx).rem_euclid(std::f64::consts::TAU).to_degrees();
+        if (50.0..=305.0).contains(&angle) {
+            let r = dx.hypot(dy);
+            assert!(
+                (r - 50.0).abs() < 1.5,
+                "planned {q:?} is {r:.2} mm from the centre"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 30, "{checked} planned points checked");
+    let j = t
+        .wait_job(id, "the block to run", |j| j["state"] == "done")
+        .await;
+    let cid = j["cid"].as_i64().expect("cid");
+    let drawn: Vec<[f64; 3]> = t
+        .trace()
+        .into_iter()
+        .filter(|s| s.cid == cid)
+        .map(|s| [s.pose[0], s.pose[1], s.pose[2]])
+        .collect();
+    for q in &planned {
+        let nearest = drawn
+            .iter()
+            .map(|d| ((d[0] - q[0]).powi(2) + (d[1] - q[1]).powi(2)).sqrt())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest < 1.5,
+            "planned point {q:?} is {nearest:.2} mm off the drawing"
+        );
+    }
+}

@@ -7,7 +7,7 @@
 // its path motions (LIN, CIRC, SLIN, SCIRC, SPL). A motion is travel when it
 // is a PTP (Cartesian, axis-specific or SPTP), or a path motion whose start, end or (CIRC)
 // auxiliary point lies more than PLANE_TOL_MM above that plane. A batch
-// without LIN or CIRC has no drawing plane: all of it is travel. The
+// without path motions has no drawing plane: all of it is travel. The
 // first motion starts where the robot was when the plan arrived (unknown
 // for a plan read from the history: then only its end and auxiliary point
 // count). Plain functions, no DOM.

@@ -1860,7 +1860,7 @@ export interface components {
          *     m/s; `approx_mm` > 0 blends into the next motion of a batch (C_DIS).
          *     `relative: true` adds the given components to the start of the motion.
          */
-        MotionRequest: components["schemas"]["PtpMotion"] | components["schemas"]["AxisMotion"] | components["schemas"]["LinMotion"] | components["schemas"]["CircMotion"];
+        MotionRequest: components["schemas"]["PtpMotion"] | components["schemas"]["AxisMotion"] | components["schemas"]["LinMotion"] | components["schemas"]["CircMotion"] | components["schemas"]["SlinMotionRequest"] | components["schemas"]["ScircMotionRequest"] | components["schemas"]["SptpMotionRequest"] | components["schemas"]["SplMotionRequest"];
         /**
          * @description A new token.
          * @example {
@@ -1939,10 +1939,16 @@ export interface components {
         };
         /** @description One motion of a [`JobPlan`]. */
         PlannedMotion: {
-            /** @description Auxiliary point `[x, y, z]` of a `circ`. */
+            /** @description Auxiliary point `[x, y, z]` of a `circ` or `scirc`. */
             aux?: number[] | null;
             /** @description Target axis angles A1..A6 of a `ptp_axes`. */
             axes?: number[] | null;
+            /**
+             * Format: int32
+             * @description Of an `spl`: the points of its spline block from this one to the
+             *     block's end (1 = the last point).
+             */
+            left?: number | null;
             /** @description Target TCP pose in the base frame `[x, y, z, a, b, c]` (not for `ptp_axes`). */
             target?: number[] | null;
             /** @description `ptp`, `ptp_axes`, `lin` or `circ`. */
@@ -2908,6 +2914,164 @@ export interface components {
              * @enum {string}
              */
             type: "circ";
+            /**
+             * Format: double
+             * @description TCP speed in m/s.
+             */
+            velocity_m_s?: number | null;
+        };
+        /**
+         * @description SLIN: a straight line of the spline family (KRL `SLIN`). Blends
+         *     (`C_SPL`) only into spline motions (`slin`, `scirc`, `spl`); before
+         *     a `ptp`/`lin`/`circ` the robot stops exactly, as on a KRC.
+         * @example {
+         *       "type": "slin",
+         *       "target": {
+         *         "x": 250,
+         *         "y": 100
+         *       },
+         *       "velocity_m_s": 0.1,
+         *       "approx_mm": 5
+         *     }
+         */
+        SlinMotionRequest: {
+            /**
+             * Format: double
+             * @description % of max acceleration.
+             */
+            acceleration_pct?: number | null;
+            /**
+             * Format: double
+             * @description Approximation distance in mm (C_SPL).
+             */
+            approx_mm?: number | null;
+            /** @description Add to the start instead of replacing. */
+            relative?: boolean;
+            /** @description Target. */
+            target: components["schemas"]["TargetSpec"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "slin";
+            /**
+             * Format: double
+             * @description TCP speed in m/s.
+             */
+            velocity_m_s?: number | null;
+        };
+        /**
+         * @description SCIRC: a circular arc of the spline family through `aux` to
+         *     `target` (KRL `SCIRC`).
+         */
+        ScircMotionRequest: {
+            /**
+             * Format: double
+             * @description % of max acceleration.
+             */
+            acceleration_pct?: number | null;
+            /**
+             * Format: double
+             * @description Approximation distance in mm (C_SPL).
+             */
+            approx_mm?: number | null;
+            /** @description Auxiliary point. */
+            aux: components["schemas"]["AuxPoint"];
+            /** @description Add both points to the start instead of replacing. */
+            relative?: boolean;
+            /** @description End point. */
+            target: components["schemas"]["TargetSpec"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "scirc";
+            /**
+             * Format: double
+             * @description TCP speed in m/s.
+             */
+            velocity_m_s?: number | null;
+        };
+        /**
+         * @description SPTP: point-to-point of the spline family (KRL `SPTP`) to a
+         *     Cartesian target; stops exactly at its end, like `ptp`.
+         * @example {
+         *       "type": "sptp",
+         *       "target": {
+         *         "x": 300,
+         *         "y": 0,
+         *         "z": 400,
+         *         "a": 0,
+         *         "b": 90,
+         *         "c": 0
+         *       }
+         *     }
+         */
+        SptpMotionRequest: {
+            /**
+             * Format: double
+             * @description % of max acceleration.
+             */
+            acceleration_pct?: number | null;
+            /**
+             * Format: double
+             * @description Approximation distance in mm (not used: an SPTP stops exactly).
+             */
+            approx_mm?: number | null;
+            config?: components["schemas"]["Configuration"] | null;
+            /** @description Add to the start instead of replacing. */
+            relative?: boolean;
+            /** @description Target. */
+            target: components["schemas"]["TargetSpec"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "sptp";
+            /**
+             * Format: double
+             * @description % of max axis speed (default from config).
+             */
+            velocity_pct?: number | null;
+        };
+        /**
+         * @description SPL: a point of a spline block (KRL `SPLINE … SPL … ENDSPLINE`).
+         *     Consecutive `spl` motions of one request form a block: the TCP
+         *     follows a smooth curve through their points without stopping. A
+         *     block ends after 8 points, at a point with `approx_mm: 0`, where
+         *     the speed or acceleration changes, and at the end of the request;
+         *     the next block follows with the last point's approximation
+         *     (`C_SPL`).
+         * @example {
+         *       "type": "spl",
+         *       "target": {
+         *         "x": 300,
+         *         "y": 50
+         *       },
+         *       "velocity_m_s": 0.2
+         *     }
+         */
+        SplMotionRequest: {
+            /**
+             * Format: double
+             * @description % of max acceleration.
+             */
+            acceleration_pct?: number | null;
+            /**
+             * Format: double
+             * @description Approximation distance in mm (C_SPL) where the block ends; 0
+             *     ends the block here with an exact stop.
+             */
+            approx_mm?: number | null;
+            /** @description Add to the previous point instead of replacing. */
+            relative?: boolean;
+            /** @description The point. */
+            target: components["schemas"]["TargetSpec"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "spl";
             /**
              * Format: double
              * @description TCP speed in m/s.

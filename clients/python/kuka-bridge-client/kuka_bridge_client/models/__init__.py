@@ -61,9 +61,17 @@ from .robot_state import RobotState
 from .role import Role
 from .run_request import RunRequest
 from .schema_violation import SchemaViolation
+from .scirc_motion_request import ScircMotionRequest
+from .scirc_motion_request_type import ScircMotionRequestType
 from .sim_snapshot import SimSnapshot
+from .slin_motion_request import SlinMotionRequest
+from .slin_motion_request_type import SlinMotionRequestType
 from .speed_settings import SpeedSettings
 from .speed_update import SpeedUpdate
+from .spl_motion_request import SplMotionRequest
+from .spl_motion_request_type import SplMotionRequestType
+from .sptp_motion_request import SptpMotionRequest
+from .sptp_motion_request_type import SptpMotionRequestType
 from .state_event import StateEvent
 from .state_event_type import StateEventType
 from .stopped import Stopped
@@ -139,9 +147,17 @@ __all__ = (
     "Role",
     "RunRequest",
     "SchemaViolation",
+    "ScircMotionRequest",
+    "ScircMotionRequestType",
     "SimSnapshot",
+    "SlinMotionRequest",
+    "SlinMotionRequestType",
     "SpeedSettings",
     "SpeedUpdate",
+    "SplMotionRequest",
+    "SplMotionRequestType",
+    "SptpMotionRequest",
+    "SptpMotionRequestType",
     "StateEvent",
     "StateEventType",
     "Stopped",

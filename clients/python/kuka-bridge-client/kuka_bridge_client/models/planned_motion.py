@@ -26,8 +26,10 @@ class PlannedMotion:
 
         Attributes:
             type_ (str): `ptp`, `ptp_axes`, `lin` or `circ`.
-            aux (list[float] | None | Unset): Auxiliary point `[x, y, z]` of a `circ`.
+            aux (list[float] | None | Unset): Auxiliary point `[x, y, z]` of a `circ` or `scirc`.
             axes (list[float] | None | Unset): Target axis angles A1..A6 of a `ptp_axes`.
+            left (int | None | Unset): Of an `spl`: the points of its spline block from this one to the
+                block's end (1 = the last point).
             target (list[float] | None | Unset): Target TCP pose in the base frame `[x, y, z, a, b, c]` (not for
                 `ptp_axes`).
      """
@@ -35,6 +37,7 @@ class PlannedMotion:
     type_: str
     aux: list[float] | None | Unset = UNSET
     axes: list[float] | None | Unset = UNSET
+    left: int | None | Unset = UNSET
     target: list[float] | None | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
@@ -65,6 +68,12 @@ class PlannedMotion:
         else:
             axes = self.axes
 
+        left: int | None | Unset
+        if isinstance(self.left, Unset):
+            left = UNSET
+        else:
+            left = self.left
+
         target: list[float] | None | Unset
         if isinstance(self.target, Unset):
             target = UNSET
@@ -85,6 +94,8 @@ class PlannedMotion:
             field_dict["aux"] = aux
         if axes is not UNSET:
             field_dict["axes"] = axes
+        if left is not UNSET:
+            field_dict["left"] = left
         if target is not UNSET:
             field_dict["target"] = target
 
@@ -133,6 +144,16 @@ class PlannedMotion:
         axes = _parse_axes(d.pop("axes", UNSET))
 
 
+        def _parse_left(data: object) -> int | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(int | None | Unset, data)
+
+        left = _parse_left(d.pop("left", UNSET))
+
+
         def _parse_target(data: object) -> list[float] | None | Unset:
             if data is None:
                 return data
@@ -155,6 +176,7 @@ class PlannedMotion:
             type_=type_,
             aux=aux,
             axes=axes,
+            left=left,
             target=target,
         )
 

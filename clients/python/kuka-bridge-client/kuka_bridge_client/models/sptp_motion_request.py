@@ -1,0 +1,210 @@
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, TypeVar, BinaryIO, TextIO, TYPE_CHECKING, Generator
+
+from attrs import define as _attrs_define
+from attrs import field as _attrs_field
+
+from ..types import UNSET, Unset
+
+from ..models.configuration import Configuration
+from ..models.sptp_motion_request_type import SptpMotionRequestType
+from ..types import UNSET, Unset
+from typing import cast
+
+if TYPE_CHECKING:
+  from ..models.target_spec import TargetSpec
+
+
+
+
+
+T = TypeVar("T", bound="SptpMotionRequest")
+
+
+
+@_attrs_define
+class SptpMotionRequest:
+    """ SPTP: point-to-point of the spline family (KRL `SPTP`) to a
+    Cartesian target; stops exactly at its end, like `ptp`.
+
+        Example:
+            {'type': 'sptp', 'target': {'x': 300, 'y': 0, 'z': 400, 'a': 0, 'b': 90, 'c': 0}}
+
+        Attributes:
+            target (TargetSpec): A Cartesian target; omitted components keep their current value (the
+                previous motion's target inside a batch). Example: {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c':
+                0.0}.
+            type_ (SptpMotionRequestType):
+            acceleration_pct (float | None | Unset): % of max acceleration.
+            approx_mm (float | None | Unset): Approximation distance in mm (not used: an SPTP stops exactly).
+            config (Configuration | None | Unset):
+            relative (bool | Unset): Add to the start instead of replacing.
+            velocity_pct (float | None | Unset): % of max axis speed (default from config).
+     """
+
+    target: TargetSpec
+    type_: SptpMotionRequestType
+    acceleration_pct: float | None | Unset = UNSET
+    approx_mm: float | None | Unset = UNSET
+    config: Configuration | None | Unset = UNSET
+    relative: bool | Unset = UNSET
+    velocity_pct: float | None | Unset = UNSET
+    additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
+
+
+
+
+
+    def to_dict(self) -> dict[str, Any]:
+        from ..models.target_spec import TargetSpec # noqa: PLC0415
+        target = self.target.to_dict()
+
+        type_ = self.type_.value
+
+        acceleration_pct: float | None | Unset
+        if isinstance(self.acceleration_pct, Unset):
+            acceleration_pct = UNSET
+        else:
+            acceleration_pct = self.acceleration_pct
+
+        approx_mm: float | None | Unset
+        if isinstance(self.approx_mm, Unset):
+            approx_mm = UNSET
+        else:
+            approx_mm = self.approx_mm
+
+        config: None | str | Unset
+        if isinstance(self.config, Unset):
+            config = UNSET
+        elif isinstance(self.config, Configuration):
+            config = self.config.value
+        else:
+            config = self.config
+
+        relative = self.relative
+
+        velocity_pct: float | None | Unset
+        if isinstance(self.velocity_pct, Unset):
+            velocity_pct = UNSET
+        else:
+            velocity_pct = self.velocity_pct
+
+
+        field_dict: dict[str, Any] = {}
+        field_dict.update(self.additional_properties)
+        field_dict.update({
+            "target": target,
+            "type": type_,
+        })
+        if acceleration_pct is not UNSET:
+            field_dict["acceleration_pct"] = acceleration_pct
+        if approx_mm is not UNSET:
+            field_dict["approx_mm"] = approx_mm
+        if config is not UNSET:
+            field_dict["config"] = config
+        if relative is not UNSET:
+            field_dict["relative"] = relative
+        if velocity_pct is not UNSET:
+            field_dict["velocity_pct"] = velocity_pct
+
+        return field_dict
+
+
+
+    @classmethod
+    def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        from ..models.target_spec import TargetSpec # noqa: PLC0415
+        d = dict(src_dict)
+        target = TargetSpec.from_dict(d.pop("target"))
+
+
+
+
+        type_ = SptpMotionRequestType(d.pop("type"))
+
+
+
+
+        def _parse_acceleration_pct(data: object) -> float | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(float | None | Unset, data)
+
+        acceleration_pct = _parse_acceleration_pct(d.pop("acceleration_pct", UNSET))
+
+
+        def _parse_approx_mm(data: object) -> float | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(float | None | Unset, data)
+
+        approx_mm = _parse_approx_mm(d.pop("approx_mm", UNSET))
+
+
+        def _parse_config(data: object) -> Configuration | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            try:
+                if not isinstance(data, str):
+                    raise TypeError()
+                config_type_0 = Configuration(data)
+
+
+
+                return config_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(Configuration | None | Unset, data)
+
+        config = _parse_config(d.pop("config", UNSET))
+
+
+        relative = d.pop("relative", UNSET)
+
+        def _parse_velocity_pct(data: object) -> float | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(float | None | Unset, data)
+
+        velocity_pct = _parse_velocity_pct(d.pop("velocity_pct", UNSET))
+
+
+        sptp_motion_request = cls(
+            target=target,
+            type_=type_,
+            acceleration_pct=acceleration_pct,
+            approx_mm=approx_mm,
+            config=config,
+            relative=relative,
+            velocity_pct=velocity_pct,
+        )
+
+
+        sptp_motion_request.additional_properties = d
+        return sptp_motion_request
+
+    @property
+    def additional_keys(self) -> list[str]:
+        return list(self.additional_properties.keys())
+
+    def __getitem__(self, key: str) -> Any:
+        return self.additional_properties[key]
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        self.additional_properties[key] = value
+
+    def __delitem__(self, key: str) -> None:
+        del self.additional_properties[key]
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.additional_properties

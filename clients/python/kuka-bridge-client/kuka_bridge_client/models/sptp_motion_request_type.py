@@ -1,0 +1,7 @@
+from enum import StrEnum
+
+class SptpMotionRequestType(StrEnum):
+    SPTP = "sptp"
+
+    def __str__(self) -> str:
+        return str(self.value)
