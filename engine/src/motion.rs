@@ -575,6 +575,32 @@ pub fn resolve(
     Ok(out)
 }
 
+/// How many of the last `requests` form a spline block the next motion
+/// could still continue: its `spl` points after the last complete block
+/// (8 points, or ended by `approx_mm: 0` or a change of speed or
+/// acceleration as [`resolve`] forms blocks; speeds compared as given).
+/// A stream appends everything before them, so that its blocks do not
+/// depend on how its bytes arrive.
+pub fn open_spline_tail(requests: &[MotionRequest]) -> usize {
+    let run = requests
+        .iter()
+        .rev()
+        .take_while(|r| matches!(r, MotionRequest::Spl { .. }))
+        .count();
+    let mut block = 0;
+    for (i, r) in requests[requests.len() - run..].iter().enumerate() {
+        let ends = r.speed().2 == Some(0.0);
+        let next = requests.get(requests.len() - run + i + 1);
+        let (v, a, _) = r.speed();
+        let changes = next.is_some_and(|n| (n.speed().0, n.speed().1) != (v, a));
+        block += 1;
+        if block == MAX_SPLINE_POINTS || ends || changes {
+            block = 0;
+        }
+    }
+    block
+}
+
 /// Groups each run of consecutive `spl` records into spline blocks of at
 /// most [`MAX_SPLINE_POINTS`] points with the same speed and acceleration;
 /// a point whose request sets `approx_mm: 0` ends its block (an exact

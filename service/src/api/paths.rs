@@ -204,21 +204,31 @@ struct Streamed {
 }
 
 impl Streamed {
-    /// Appends up to [`STREAM_BATCH`] of the parsed motions.
+    /// Appends up to [`STREAM_BATCH`] of the parsed motions; unless `last`,
+    /// not the `spl` points of a spline block the next lines may continue
+    /// (a block never depends on where the bytes broke). The number
+    /// appended (0: only such points are parsed).
     async fn flush(
         &mut self,
         engine: &crate::engine::Engine,
         id: JobId,
         wait: Duration,
-    ) -> Result<(), BridgeError> {
-        let take = self.batch.len().min(STREAM_BATCH);
+        last: bool,
+    ) -> Result<usize, BridgeError> {
+        let mut take = self.batch.len().min(STREAM_BATCH);
+        if !last {
+            take -= crate::motion::open_spline_tail(&self.batch[..take]);
+        }
+        if take == 0 {
+            return Ok(0);
+        }
         let motions: Vec<MotionRequest> = self.batch.drain(..take).collect();
         let o = engine.append_with(id, motions, false, wait, true).await?;
         self.first.get_or_insert(o.first);
         self.appended += o.appended;
         self.total = o.total;
         self.end = Some(o.end);
-        Ok(())
+        Ok(take)
     }
 }
 
@@ -290,7 +300,7 @@ async fn append_lines(
             // with the reason (`motion`: the bad line's index in the path).
             let mut flushed = true;
             while !done.batch.is_empty() {
-                if done.flush(engine, id, wait).await.is_err() {
+                if done.flush(engine, id, wait, true).await.is_err() {
                     flushed = false;
                     break;
                 }
@@ -321,11 +331,16 @@ async fn append_lines(
         while done.batch.len() >= STREAM_BATCH
             || (!done.batch.is_empty() && (ended || buf.is_empty()))
         {
-            if let Err(e) = done.flush(engine, id, wait).await {
-                if e.code != ErrorCode::PathClosed {
-                    close().await;
+            match done.flush(engine, id, wait, ended).await {
+                // Only an open spline block: its next lines decide.
+                Ok(0) => break,
+                Ok(_) => {}
+                Err(e) => {
+                    if e.code != ErrorCode::PathClosed {
+                        close().await;
+                    }
+                    return Err(e.into());
                 }
-                return Err(e.into());
             }
         }
         if ended {
