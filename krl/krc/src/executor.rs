@@ -372,7 +372,8 @@ impl Executor {
 /// When motion `k` (chain-wide) starts (or ends) in the chain's plan.
 /// Chain time at which trigger `tr` of motion `k` (chain-wide) switches.
 /// `PATH = d`: where the TCP is `d` mm along the path from the motion's
-/// end (before it for d < 0, into the following motions for d > 0). The
+/// end (before it for d < 0, into the following motions for d > 0), or
+/// with `ONSTART` from its start point. The
 /// end of an approximated motion is taken where the planned path passes
 /// from it to the next (the middle of the blend in this planner; KSS
 /// relates the switching point to the approximation contour, which the
@@ -383,7 +384,16 @@ fn trigger_time(chain: &Chain, k: usize, tr: &TriggerAt) -> f64 {
         return motion_time(chain, k, tr.at >= 0.5);
     }
     let s = &chain.samples;
-    let Some(end) = s.iter().rposition(|x| x.motion == k) else {
+    let found = if tr.onstart {
+        // From the motion's start point: the last sample of the motions
+        // before it (or its first, at the chain's start).
+        s.iter()
+            .position(|x| x.motion >= k)
+            .map(|i| i.saturating_sub(1))
+    } else {
+        s.iter().rposition(|x| x.motion == k)
+    };
+    let Some(end) = found else {
         return chain.duration_s;
     };
     let mut run = 0.0;

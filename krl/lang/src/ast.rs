@@ -339,6 +339,9 @@ pub enum StmtKind {
         path: bool,
         /// The `DISTANCE`/`PATH` value.
         at: Expr,
+        /// `ONSTART` (spline `PATH` triggers): `at` is measured from the
+        /// start point of the motion (segment) instead of its end point.
+        onstart: bool,
         /// `DELAY` in ms.
         delay: Expr,
         /// The action.

@@ -1060,7 +1060,7 @@ impl Parser {
         };
         self.expect_sym("=")?;
         let at = self.expr()?;
-        self.eat_kw("ONSTART");
+        let onstart = self.eat_kw("ONSTART");
         self.expect_kw("DELAY")?;
         self.expect_sym("=")?;
         let delay = self.expr()?;
@@ -1074,6 +1074,7 @@ impl Parser {
         Ok(StmtKind::Trigger {
             path,
             at,
+            onstart,
             delay,
             action,
         })

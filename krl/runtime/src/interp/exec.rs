@@ -257,11 +257,16 @@ impl<'a> Interp<'a> {
                 approx,
                 ..
             } => self.exec_motion(*kind, aux.as_ref(), target, approx.is_some()),
-            StmtKind::Spline { points, approx, .. } => self.exec_spline(points, approx.is_some()),
+            StmtKind::Spline {
+                points,
+                triggers,
+                approx,
+                ..
+            } => self.exec_spline(points, triggers, approx.is_some()),
             // A single SPTP/SLIN/SCIRC plays as a spline block of one point
             // (check_subset refuses the _REL forms).
             StmtKind::SplineMotion { point, .. } => {
-                self.exec_spline(std::slice::from_ref(point), point.approx.is_some())
+                self.exec_spline(std::slice::from_ref(point), &[], point.approx.is_some())
             }
             _ => self.exec_other(s),
         }
@@ -279,9 +284,10 @@ impl<'a> Interp<'a> {
             StmtKind::Trigger {
                 path,
                 at,
+                onstart,
                 delay,
                 action,
-            } if self.hosted.is_some() => self.trigger(*path, at, delay, action)?,
+            } if self.hosted.is_some() => self.trigger(*path, *onstart, at, delay, action)?,
             StmtKind::Brake if self.hosted.is_some() => self.host_wait(super::Wait::Brake)?,
             StmtKind::Resume if self.hosted.is_some() => self.resume()?,
             _ => {
@@ -295,13 +301,18 @@ impl<'a> Interp<'a> {
         Ok(Flow::Next)
     }
 
-    fn exec_spline(&mut self, points: &'a [SplinePoint], c_spl: bool) -> Result<Flow, RunError> {
+    fn exec_spline(
+        &mut self,
+        points: &'a [SplinePoint],
+        triggers: &'a [Stmt],
+        c_spl: bool,
+    ) -> Result<Flow, RunError> {
         // The spline's and the motion's frames are large (in a debug
         // build): each counts as a level of its own.
         self.enter()?;
         let r = self
             .planner_boundary(true)
-            .and_then(|()| self.spline(points, c_spl));
+            .and_then(|()| self.spline(points, triggers, c_spl));
         self.nesting -= 1;
         r.map(|()| Flow::Next)
     }

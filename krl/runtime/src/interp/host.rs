@@ -65,10 +65,14 @@ pub struct TriggerAt {
     /// Its id (reported back in [`Turn::fired`]).
     pub id: u64,
     /// `PATH = mm` (distance along the path from the end point, negative
-    /// before it) rather than `DISTANCE = 0|1` (start or end point).
+    /// before it; from the start point with `onstart`) rather than
+    /// `DISTANCE = 0|1` (start or end point).
     pub path: bool,
     /// The `DISTANCE`/`PATH` value.
     pub at: f64,
+    /// `PATH … ONSTART`: `at` is measured from the motion's start point
+    /// (after it for `at` > 0) instead of its end point.
+    pub onstart: bool,
     /// `DELAY` in ms.
     pub delay_ms: f64,
 }
@@ -326,12 +330,28 @@ impl<'a> Interp<'a> {
     pub(super) fn trigger(
         &mut self,
         path: bool,
+        onstart: bool,
         at: &Expr,
         delay: &Expr,
         action: &'a Stmt,
     ) -> Result<(), RunError> {
         let at = self.eval_num(at)?;
         let delay_ms = self.eval_num(delay)?;
+        self.trigger_at(path, onstart && path, at, delay_ms, action);
+        Ok(())
+    }
+
+    /// A `TRIGGER` whose values are evaluated: attached to the next
+    /// motion queued (a spline block's triggers are placed by
+    /// [`Interp::spline`]).
+    pub(super) fn trigger_at(
+        &mut self,
+        path: bool,
+        onstart: bool,
+        at: f64,
+        delay_ms: f64,
+        action: &'a Stmt,
+    ) {
         if let Some(h) = self.hosted.as_mut() {
             let id = h.next_trigger;
             h.next_trigger += 1;
@@ -339,13 +359,13 @@ impl<'a> Interp<'a> {
                 TriggerAt {
                     id,
                     path,
+                    onstart,
                     at,
                     delay_ms,
                 },
                 action,
             ));
         }
-        Ok(())
     }
 
     /// A motion or a dwell in hosted mode: queue it and wait for room, or

@@ -3,7 +3,7 @@
 //! blended LINs.
 
 use kuka_kinematics::{MotionKind as MoveKind, Pose};
-use kuka_krl::{Expr, MotionKind as KrlMotion, SplinePoint, SplinePointKind};
+use kuka_krl::{Expr, MotionKind as KrlMotion, SplinePoint, SplinePointKind, Stmt, StmtKind};
 
 use super::sysvars::Speeds;
 use super::values::Value;
@@ -40,16 +40,35 @@ impl<'a> Interp<'a> {
         sp
     }
 
+    /// A spline block (or a single spline motion: a block of one point).
+    /// Inner `SLIN`/`SCIRC` points are approximated with `$APO.CDIS`, the
+    /// block's end only with `C_SPL` (`c_spl`). A `TRIGGER WHEN PATH`
+    /// inside the block belongs to the point after it: `PATH = 0` switches
+    /// where the robot reaches that point, `PATH = 0 ONSTART` where its
+    /// segment starts (an `SPL` point's trigger goes with the last, with
+    /// `ONSTART` the first, of the LINs its segment is sampled into).
     pub(super) fn spline(
         &mut self,
         points: &'a [SplinePoint],
+        triggers: &'a [Stmt],
         c_spl: bool,
     ) -> Result<(), RunError> {
         let first = self.steps.len();
         let cdis = self.cdis()?;
-        let mut run: Vec<(Pose, Speeds, u32)> = Vec::new();
+        let end_approx = if c_spl { cdis } else { 0.0 };
+        let mut run: Vec<SplRun<'a>> = Vec::new();
         let mut run_start = self.pos;
-        for p in points {
+        let mut next_trigger = 0;
+        for (j, p) in points.iter().enumerate() {
+            let last = j + 1 == points.len();
+            // The triggers written before this point (and after the one
+            // before it).
+            let mut mine: Vec<PointTrigger<'a>> = Vec::new();
+            while let Some(t) = triggers.get(next_trigger).filter(|t| t.line < p.line) {
+                next_trigger += 1;
+                self.line = t.line;
+                mine.push(self.spline_trigger(t)?);
+            }
             self.line = p.line;
             self.tick()?;
             let sp = self.point_speeds(&p.with)?;
@@ -63,37 +82,80 @@ impl<'a> Interp<'a> {
                     if run.is_empty() {
                         run_start = self.pos;
                     }
-                    run.push((pose, sp, p.line));
+                    run.push(SplRun {
+                        pose,
+                        speeds: sp,
+                        line: p.line,
+                        triggers: mine,
+                    });
                     self.moved_to_pose(pose);
                     self.turn = None;
                 }
                 kind => {
-                    self.flush_spl(run_start, &mut run)?;
+                    self.flush_spl(run_start, &mut run, None)?;
                     self.line = p.line;
+                    for t in mine {
+                        self.trigger_at(true, t.onstart, t.at, t.delay_ms, t.action);
+                    }
                     let (k, approx) = match kind {
                         SplinePointKind::Slin => (KrlMotion::Lin, cdis),
                         SplinePointKind::Scirc => (KrlMotion::Circ, cdis),
                         _ => (KrlMotion::Ptp, 0.0),
                     };
+                    let approx = if last && kind != SplinePointKind::Sptp {
+                        end_approx
+                    } else {
+                        approx
+                    };
                     self.motion(k, p.aux.as_ref(), &p.target, approx, sp)?;
                 }
             }
         }
-        self.flush_spl(run_start, &mut run)?;
+        if let Some(t) = triggers.get(next_trigger) {
+            self.line = t.line;
+            return Err(self.err("a TRIGGER after the last point of a spline block"));
+        }
+        self.flush_spl(run_start, &mut run, Some(end_approx))?;
         if self.steps.len() > first
             && let Some(Step::Move { motion, .. }) = self.steps.last_mut()
         {
-            motion.approx_mm = if c_spl { cdis } else { 0.0 };
+            motion.approx_mm = end_approx;
         }
         Ok(())
     }
 
+    /// A `TRIGGER` inside a spline block, evaluated: KRL allows only
+    /// `TRIGGER WHEN PATH` there.
+    fn spline_trigger(&mut self, t: &'a Stmt) -> Result<PointTrigger<'a>, RunError> {
+        match &t.kind {
+            StmtKind::Trigger {
+                path: true,
+                at,
+                onstart,
+                delay,
+                action,
+            } => Ok(PointTrigger {
+                onstart: *onstart,
+                at: self.eval_num(at)?,
+                delay_ms: self.eval_num(delay)?,
+                action,
+            }),
+            StmtKind::Trigger { .. } => {
+                Err(self.err("only TRIGGER WHEN PATH is allowed in a spline block"))
+            }
+            _ => Err(self.err("a spline block holds points and path triggers only")),
+        }
+    }
+
     /// Samples a run of `SPL` points (a centripetal Catmull-Rom curve from
     /// `start` through them) into short, blended LINs.
+    /// `end_approx`: the run ends the block, its last LIN is approximated
+    /// by this (else by half its length, as every other).
     fn flush_spl(
         &mut self,
         start: Pose,
-        run: &mut Vec<(Pose, Speeds, u32)>,
+        run: &mut Vec<SplRun<'a>>,
+        end_approx: Option<f64>,
     ) -> Result<(), RunError> {
         if run.is_empty() {
             return Ok(());
@@ -101,14 +163,31 @@ impl<'a> Interp<'a> {
         let pts = std::mem::take(run);
         let mut q: Vec<Pose> = Vec::with_capacity(pts.len() + 1);
         q.push(start);
-        q.extend(pts.iter().map(|p| p.0));
-        for (i, (b, sp, line)) in pts.iter().enumerate() {
-            self.line = *line;
+        q.extend(pts.iter().map(|p| p.pose));
+        let count = pts.len();
+        for (i, point) in pts.into_iter().enumerate() {
+            let SplRun {
+                pose: b,
+                speeds: sp,
+                line,
+                triggers,
+            } = point;
+            let b = &b;
+            let end = end_approx.filter(|_| i + 1 == count);
+            self.line = line;
             let a = q[i];
             let (pa, pb) = (p3(&a), p3(b));
             if dist(pa, pb) < 1e-6 {
+                for t in triggers {
+                    self.trigger_at(true, t.onstart, t.at, t.delay_ms, t.action);
+                }
                 if a.angle_deg(b) > 1e-9 {
-                    self.emit(MoveKind::Lin { target: *b }, sp.cp, sp.cp_acc_pct, 0.0)?;
+                    self.emit(
+                        MoveKind::Lin { target: *b },
+                        sp.cp,
+                        sp.cp_acc_pct,
+                        end.unwrap_or(0.0),
+                    )?;
                 }
                 continue;
             }
@@ -162,11 +241,40 @@ impl<'a> Interp<'a> {
                 };
                 let chord = dist(last, p3(&target));
                 last = p3(&target);
-                self.emit(MoveKind::Lin { target }, sp.cp, sp.cp_acc_pct, chord / 2.0)?;
+                let approx = match end {
+                    Some(e) if k == n => e,
+                    _ => chord / 2.0,
+                };
+                // The point's triggers: PATH is measured from it (with
+                // ONSTART from the point before, the segment's start).
+                for t in triggers
+                    .iter()
+                    .filter(|t| (t.onstart && k == 1) || (!t.onstart && k == n))
+                {
+                    self.trigger_at(true, t.onstart, t.at, t.delay_ms, t.action);
+                }
+                self.emit(MoveKind::Lin { target }, sp.cp, sp.cp_acc_pct, approx)?;
             }
         }
         Ok(())
     }
+}
+
+/// An `SPL` point waiting in a run: its pose, speeds, line and triggers.
+struct SplRun<'a> {
+    pose: Pose,
+    speeds: Speeds,
+    line: u32,
+    triggers: Vec<PointTrigger<'a>>,
+}
+
+/// A spline block's `TRIGGER WHEN PATH`, evaluated, for the point after it.
+struct PointTrigger<'a> {
+    /// `ONSTART`: measured from the segment's start (the point before).
+    onstart: bool,
+    at: f64,
+    delay_ms: f64,
+    action: &'a Stmt,
 }
 
 fn p3(p: &Pose) -> [f64; 3] {

@@ -275,8 +275,16 @@ impl Checker {
                 if !with.is_empty() {
                     return self.refuse(l, "WITH after SPLINE (put WITH on the points)");
                 }
+                // The KRC-like runtime plays a spline block's TRIGGER WHEN
+                // PATH (at the point after it); the step list has no
+                // trigger actions, as for a TRIGGER anywhere else.
                 if let Some(t) = triggers.first() {
-                    return self.refuse(t.line, "TRIGGER in a spline block");
+                    let what = if matches!(t.kind, StmtKind::Trigger { path: false, .. }) {
+                        "TRIGGER WHEN DISTANCE in a spline block (KRL allows only PATH there)"
+                    } else {
+                        "TRIGGER in a spline block"
+                    };
+                    return self.refuse(t.line, what);
                 }
                 for p in points {
                     let is_sptp = p.kind == SplinePointKind::Sptp;
