@@ -601,3 +601,393 @@ fn a_lin_does_not_blend_into_a_spline_motion() {
     assert_eq!(chains[1], chains[0] + 1, "{chains:?}");
     krc.shutdown();
 }
+
+/// The PTP of a test to a pose away from the home pose's wrist
+/// singularity (A5 = 0); the TCP pose there.
+fn away_from_home(krc: &KrcController, dir: &Path, cid: i32) -> Frame {
+    let r = round_trip(
+        krc,
+        dir,
+        cid,
+        Command::Move(vec![MotionRecord::PtpAxes {
+            axes: [0.0, -80.0, 80.0, 0.0, 30.0, 0.0],
+            params: MotionParams {
+                velocity: 50.0,
+                acceleration_pct: 100.0,
+                approx_mm: 0.0,
+            },
+        }]),
+        20,
+    );
+    assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+    r.position
+}
+
+fn cp(velocity: f64, approx_mm: f64) -> MotionParams {
+    MotionParams {
+        velocity,
+        acceleration_pct: 100.0,
+        approx_mm,
+    }
+}
+
+/// `p` moved by (dx, dy, dz) mm.
+fn offset(p: Frame, dx: f64, dy: f64, dz: f64) -> Frame {
+    Frame {
+        x: p.x + dx,
+        y: p.y + dy,
+        z: p.z + dz,
+        ..p
+    }
+}
+
+/// An SPL block of the given points (the block's speeds on each, its
+/// apo on the last).
+fn spl_block(points: &[Frame], velocity: f64, apo: f64) -> Vec<MotionRecord> {
+    let n = points.len();
+    points
+        .iter()
+        .enumerate()
+        .map(|(j, p)| MotionRecord::Spl {
+            target: *p,
+            params: cp(velocity, if j + 1 == n { apo } else { 0.0 }),
+            left: u8::try_from(n - j).expect("at most 8 points"),
+        })
+        .collect()
+}
+
+/// The JSON splines' records in a MOVE batch, run by the shipped program
+/// (with SREAD parsing and, as a site without it, character parsing):
+/// SLIN (C_SPL) into an SPL block of 5 points (one SPLINE block, C_SPL)
+/// into an SCIRC, which stops exactly before the SPTP (PTP and SPTP are
+/// not blended into); the SPTP ends where its target is. Every motion's
+/// index is reported (the trace's busy_idx takes each value in order), and
+/// the only stops are after the SCIRC and at the end.
+#[test]
+fn a_batch_of_spline_motions_runs_with_c_spl_and_reports_each_motion() {
+    for offset_base in [0, 1] {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let krc = start_with(dir.path(), |c| c.text_offset_base = offset_base);
+        assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+        let mode = if offset_base == 0 { 1 } else { 2 };
+        assert_eq!(krc.int_variable("kb_txt_mode"), Some(mode));
+        let p = away_from_home(&krc, dir.path(), 1);
+        let mut batch = vec![MotionRecord::Slin {
+            target: offset(p, 30.0, 0.0, 0.0),
+            params: cp(0.2, 5.0),
+        }];
+        let points: Vec<Frame> = [
+            (40.0, 10.0),
+            (50.0, 20.0),
+            (60.0, 10.0),
+            (70.0, 0.0),
+            (80.0, 10.0),
+        ]
+        .iter()
+        .map(|(dx, dy)| offset(p, *dx, *dy, 0.0))
+        .collect();
+        batch.extend(spl_block(&points, 0.2, 5.0));
+        batch.push(MotionRecord::Scirc {
+            aux: {
+                let a = offset(p, 90.0, 20.0, 0.0);
+                [a.x, a.y, a.z]
+            },
+            target: offset(p, 80.0, 30.0, 0.0),
+            params: cp(0.2, 5.0),
+        });
+        batch.push(MotionRecord::Sptp {
+            target: p,
+            s: None,
+            t: None,
+            params: MotionParams {
+                velocity: 50.0,
+                acceleration_pct: 100.0,
+                approx_mm: 0.0,
+            },
+        });
+        let n = batch.len();
+        let before = krc.stats();
+        krc.clear_trace();
+        let r = round_trip(&krc, dir.path(), 2, Command::Move(batch), 30);
+        assert_eq!(
+            (r.code, r.completed),
+            (ResultCode::Ok, n as u32),
+            "{r:?}\n{:?}",
+            krc.stats()
+        );
+        // The SPTP's target, and the axes the answer carries give it.
+        let model = kuka_kinematics::RobotModel::kr3_r540();
+        let fk = model.forward(
+            &r.axes,
+            &kuka_kinematics::Pose::IDENTITY,
+            &kuka_kinematics::Pose::IDENTITY,
+        );
+        for (got, want) in [
+            (r.position.x, p.x),
+            (r.position.y, p.y),
+            (r.position.z, p.z),
+        ] {
+            assert!((got - want).abs() < 0.01, "{r:?} vs {p:?}");
+        }
+        assert!(
+            (fk.x - p.x).abs() < 0.01 && (fk.y - p.y).abs() < 0.01 && (fk.z - p.z).abs() < 0.01,
+            "{fk:?} vs {p:?}"
+        );
+        let after = krc.stats();
+        assert!(after.motion_errors.is_empty(), "{after:?}");
+        assert_eq!(
+            after.chains_started - before.chains_started,
+            2,
+            "SLIN, the block and the SCIRC blend; the SPTP starts from a standstill: {after:?}"
+        );
+        let trace = krc.trace();
+        let stops: Vec<usize> = trace.iter().filter(|s| s.stop).map(|s| s.motion).collect();
+        assert_eq!(stops.len(), 2, "{stops:?}");
+        // Progress: busy_idx takes every index 0..n in order.
+        let mut seen: Vec<usize> = trace
+            .iter()
+            .filter(|s| s.cid == 2)
+            .map(|s| s.motion)
+            .collect();
+        seen.dedup();
+        assert_eq!(seen, (0..n).collect::<Vec<_>>(), "busy_idx over the batch");
+        // The block's points are reported where the robot starts each
+        // segment: busy_idx becomes 1 + j near the point before.
+        for j in 1..points.len() {
+            let at = trace
+                .iter()
+                .find(|s| s.cid == 2 && s.motion == 1 + j)
+                .expect("reported");
+            let prev = points[j - 1];
+            let d = ((at.pose[0] - prev.x).powi(2) + (at.pose[1] - prev.y).powi(2)).sqrt();
+            assert!(
+                d < 8.0,
+                "point {j} reported {d:.1} mm from its segment's start"
+            );
+        }
+        assert!(krc.snapshot().submit_error.is_none());
+        krc.shutdown();
+    }
+}
+
+/// A path of SLINs and SPL blocks of 8 points, streamed as the service
+/// streams it (a PATH carrying the first 40 motions, APPENDs from the
+/// stored count): `kb_pth_chunk` (8) lines per command force every block
+/// to the command after the motion before it, yet each motion is stored
+/// once (the stored counts only grow, by whole blocks), none is lost, the
+/// path ends where its last point is, without a stop between, and no
+/// Submit pass runs over 5,000 statements with 8 SPL lines.
+#[test]
+fn a_streamed_path_stores_spline_blocks_whole_within_the_budget() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start_with(dir.path(), |c| c.submit_budget = 5000);
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let p = away_from_home(&krc, dir.path(), 1);
+    let mut motions = Vec::new();
+    for b in 0..5 {
+        let y0 = if b % 2 == 0 { 0.0 } else { 20.0 };
+        motions.push(MotionRecord::Slin {
+            // (the first long: the PATH stores it alone, the robot runs
+            // it while the first block comes with the next APPEND)
+            target: offset(p, if b == 0 { -150.0 } else { -30.0 }, y0, 0.0),
+            params: cp(0.2, 2.0),
+        });
+        let points: Vec<Frame> = (1..=8)
+            .map(|j| {
+                let dy = f64::from(j) * 2.5;
+                offset(
+                    p,
+                    if j % 2 == 0 { 3.0 } else { -3.0 },
+                    if b % 2 == 0 { dy } else { 20.0 - dy },
+                    0.0,
+                )
+            })
+            .collect();
+        let last = b == 4;
+        motions.extend(spl_block(&points, 0.2, if last { 0.0 } else { 2.0 }));
+    }
+    let n = motions.len();
+    let end = match motions.last() {
+        Some(MotionRecord::Spl { target, .. }) => *target,
+        other => panic!("{other:?}"),
+    };
+    let before = krc.stats();
+    krc.clear_trace();
+    let path = 2;
+    // Up to 40 motions, a block never split (as the service cuts them).
+    let chunk = |first: usize| {
+        let mut end = (first + 40).min(n);
+        while end < n && motions[end - 1].block_left() > 1 {
+            end -= 1;
+        }
+        PathChunk {
+            path,
+            first: first as u32,
+            motions: motions[first..end].to_vec(),
+            close: end == n,
+        }
+    };
+    write_command(
+        &krc,
+        dir.path(),
+        &CommandFile {
+            cid: path,
+            command: Command::OpenPath(chunk(0)),
+        }
+        .encode()
+        .expect("encodes"),
+    );
+    let mut stored = 0usize;
+    assert!(krc.wait_until(Duration::from_secs(5), |_| {
+        let s = std::fs::read_to_string(dir.path().join(STATE_FILE))
+            .ok()
+            .and_then(|t| kuka_protocol::StateFile::decode(&t).ok());
+        if let Some(s) = s.filter(|s| s.busy_cid == path && s.stored > 0) {
+            stored = s.stored as usize;
+        }
+        stored > 0
+    }));
+    // The SLIN; its block of 8 did not fit into the 7 lines left.
+    assert_eq!(stored, 1, "the PATH stored {stored}");
+    let mut counts = vec![stored];
+    let mut cid = path;
+    while stored < n {
+        cid += 1;
+        let r = round_trip(&krc, dir.path(), cid, Command::Append(chunk(stored)), 5);
+        assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+        let now = r.completed as usize;
+        assert!(
+            now > stored && now - stored <= 8,
+            "APPEND {cid}: {stored} -> {now}"
+        );
+        // never inside a block: a count is a block's start or the end
+        assert_eq!(
+            motions[now - 1].block_left(),
+            1,
+            "APPEND {cid} stored up to {now}: {counts:?}"
+        );
+        stored = now;
+        counts.push(stored);
+    }
+    let r = wait_result(&krc, dir.path(), path, 60);
+    assert_eq!(
+        (r.code, r.completed),
+        (ResultCode::Ok, n as u32),
+        "{r:?} {counts:?}"
+    );
+    assert!(
+        (r.position.x - end.x).abs() < 0.01 && (r.position.y - end.y).abs() < 0.01,
+        "{r:?} vs {end:?}"
+    );
+    let after = krc.stats();
+    assert!(after.motion_errors.is_empty(), "{after:?}");
+    assert_eq!(after.passes_overrun - before.passes_overrun, 0, "{after:?}");
+    assert!(after.pass_statements_max <= 5000, "{after:?}");
+    // Each motion ran once, in order: busy_idx went through all of them.
+    let mut seen: Vec<usize> = krc
+        .trace()
+        .iter()
+        .filter(|s| s.cid == i64::from(path))
+        .map(|s| s.motion)
+        .collect();
+    seen.dedup();
+    assert_eq!(seen, (0..n).collect::<Vec<_>>(), "{counts:?}");
+    // No stop inside or between the blocks. (The robot may stop after
+    // the first SLIN: the PATH stored it alone, and the runtime blends
+    // only into a motion planned before the robot starts the one before.)
+    let stops: Vec<usize> = krc
+        .trace()
+        .iter()
+        .filter(|s| s.stop && s.cid == i64::from(path))
+        .map(|s| s.motion)
+        .collect();
+    assert!(
+        stops.iter().all(|m| *m == 0 || *m + 1 == n) && stops.last() == Some(&(n - 1)),
+        "stops at {stops:?}"
+    );
+    krc.shutdown();
+}
+
+/// Replaces the last field (the checksum) of `line` by the right one.
+fn rechecksum(line: &str) -> String {
+    let fields: Vec<&str> = line.split(' ').collect();
+    let values = fields[1..fields.len() - 1].iter().map(|f| {
+        if f.contains('.') {
+            (f.parse::<f64>().expect("REAL") * 1000.0).round() as i64
+        } else {
+            f.parse::<i64>().expect("INT")
+        }
+    });
+    let ck = kuka_protocol::checksum(values);
+    format!("{} {ck}", fields[..fields.len() - 1].join(" "))
+}
+
+/// A malformed block the service never sends (its encoder refuses it):
+/// an SPL with 3 points left followed by a LIN, in a MOVE and in a PATH;
+/// and a MOVE that ends inside a block. The program answers BAD_COMMAND
+/// (10) and nothing of the MOVE moves.
+#[test]
+fn a_malformed_spline_block_is_a_bad_command() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let p = away_from_home(&krc, dir.path(), 1);
+    let good = vec![
+        MotionRecord::Spl {
+            target: offset(p, 10.0, 0.0, 0.0),
+            params: cp(0.2, 0.0),
+            left: 1,
+        },
+        MotionRecord::Lin {
+            target: offset(p, 20.0, 0.0, 0.0),
+            params: cp(0.2, 0.0),
+        },
+    ];
+    // SPL ... 1 K -> SPL ... 3 K: a block of 3 interrupted by the LIN.
+    let damage = |text: &str| {
+        let spl = text.lines().find(|l| l.starts_with("SPL")).expect("SPL");
+        let mut f: Vec<&str> = spl.split(' ').collect();
+        let n = f.len();
+        assert_eq!(f[n - 2], "1");
+        f[n - 2] = "3";
+        text.replace(spl, &rechecksum(&f.join(" ")))
+    };
+    let text = CommandFile {
+        cid: 2,
+        command: Command::Move(good.clone()),
+    }
+    .encode()
+    .expect("encodes");
+    let r = round_trip_text(&krc, dir.path(), 2, &damage(&text), 10);
+    assert_eq!(r.code, ResultCode::BadCommand, "{r:?}");
+    // The batch's last motion an SPL with 2 points left.
+    let text = CommandFile {
+        cid: 3,
+        command: Command::Move(good[..1].to_vec()),
+    }
+    .encode()
+    .expect("encodes");
+    let r = round_trip_text(&krc, dir.path(), 3, &damage(&text), 10);
+    assert_eq!(r.code, ResultCode::BadCommand, "{r:?}");
+    assert!((r.position.x - p.x).abs() < 0.01, "nothing moved: {r:?}");
+    // In a path: the motions before it run, the path ends with 10.
+    let mut motions = vec![MotionRecord::Lin {
+        target: offset(p, 0.0, 10.0, 0.0),
+        params: cp(0.2, 0.0),
+    }];
+    motions.extend(good);
+    let text = CommandFile {
+        cid: 4,
+        command: Command::OpenPath(PathChunk {
+            path: 4,
+            first: 0,
+            motions,
+            close: true,
+        }),
+    }
+    .encode()
+    .expect("encodes");
+    let r = round_trip_text(&krc, dir.path(), 4, &damage(&text), 20);
+    assert_eq!((r.code, r.completed), (ResultCode::BadCommand, 1), "{r:?}");
+    krc.shutdown();
+}
