@@ -798,6 +798,15 @@ async fn a_refused_blended_thesis_call_leaves_no_path_open() {
         let (s, v) = t.post("/krl/linmov?x=NaN").await;
         assert_eq!(s, 422, "{v}");
     }
+    // Refused by the plan: the sentence is about the call, not about a
+    // path the thesis client does not know of.
+    let (s, v) = t.post("/krl/linmov?x=2000").await;
+    assert_eq!(s, 422, "{v}");
+    let detail = v["detail"].as_str().expect("detail");
+    assert!(
+        !detail.contains("path") && !detail.starts_with("motion") && v.get("motion").is_none(),
+        "{v}"
+    );
     // Every path has ended (the first with its one call), well before
     // the controller's idle end of an open path (5 s).
     wait_for(Duration::from_secs(3), "every path to end", async || {
@@ -1179,4 +1188,56 @@ async fn bad_spline_motions_are_refused_with_their_index() {
     let (_, pos) = t.get("/api/v1/position").await;
     let pos = &pos["position"];
     assert_close(pos["x"].as_f64().expect("x"), pts[0][0], 0.01, "x");
+}
+
+/// Bodies of the wrong kind get an answer that says what to send.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn path_requests_with_the_wrong_body_say_what_to_send() {
+    let t = TestService::start(Options::default()).await;
+    let send = async |path: &str, ct: &str, body: &str| {
+        let r = t
+            .http
+            .post(t.url(path))
+            .header("content-type", ct)
+            .body(body.to_string())
+            .send()
+            .await
+            .expect("request");
+        let status = r.status().as_u16();
+        let v: Value = r.json().await.expect("a JSON answer");
+        (status, v)
+    };
+    let (s, v) = send("/api/v1/paths", "text/plain", "{}").await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (415, Some("unsupported_media_type")),
+        "{v}"
+    );
+    let (s, v) = send("/api/v1/paths", "application/json", "[1]").await;
+    assert_eq!(s, 422, "{v}");
+    assert!(
+        v["detail"]
+            .as_str()
+            .is_some_and(|d| d.contains("JSON object")),
+        "{v}"
+    );
+    let id = open_path(&t).await;
+    let url = format!("/api/v1/paths/{id}/motions");
+    let (s, v) = send(&url, "text/plain", "{}").await;
+    assert_eq!(s, 415, "{v}");
+    let d = v["detail"].as_str().expect("detail");
+    assert!(
+        d.contains("application/json") && d.contains("application/x-ndjson"),
+        "{v}"
+    );
+    // A huge number is shown as the client wrote it, not in 301 digits.
+    let (s, v) = send(
+        &url,
+        "application/json",
+        r#"{"motions": [{"type": "lin", "target": {"x": 1e300}}]}"#,
+    )
+    .await;
+    assert_eq!(s, 422, "{v}");
+    let d = v["detail"].as_str().expect("detail");
+    assert!(d.contains("1e300") && d.len() < 200, "{d}");
 }

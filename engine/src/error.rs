@@ -298,6 +298,16 @@ impl BridgeError {
 /// Result alias for the service library.
 pub type Result<T, E = BridgeError> = std::result::Result<T, E>;
 
+/// A number from a request as an error sentence shows it: compact for very
+/// large or very small values (`1e300`, not 301 digits).
+pub fn shown(v: f64) -> String {
+    if v.is_finite() && v != 0.0 && !(1e-4..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 /// An error and its causes as one sentence ("a: b: c"), for places that
 /// must turn an error chain into a `detail`.
 pub fn chain(e: &dyn std::error::Error) -> String {

@@ -12,7 +12,7 @@ use kuka_krl_runtime::interp::{RunError, Start, Step};
 use kuka_krl_runtime::program::PrepareError;
 use kuka_protocol::{Frame, MAX_REAL, MotionRecord, SpeedRecord};
 
-use crate::error::{BridgeError, ErrorCode, Result};
+use crate::error::{BridgeError, ErrorCode, Result, shown};
 use crate::motion::{MotionRequest, StartPoint, TargetSpec};
 use crate::settings::{MotionConfig, WorkspaceBox, Zones};
 use kuka_kinematics::configure::{self, ConfigError, Failure, Margins};
@@ -29,7 +29,8 @@ pub struct Safety {
 fn finite(what: &str, v: Option<f64>, i: usize) -> Result<()> {
     match v {
         Some(x) if !x.is_finite() || x.abs() > MAX_REAL => Err(BridgeError::invalid(format!(
-            "motion {i}: {what} = {x} is not a finite number within ±{MAX_REAL}"
+            "motion {i}: {what} = {} is not a finite number within ±{MAX_REAL}",
+            shown(x)
         ))
         .at_motion(i)),
         _ => Ok(()),
@@ -312,7 +313,8 @@ impl Safety {
         // Below the file protocol's step the controller would read 0.
         if !v.is_finite() || v < kuka_protocol::REAL_STEP {
             return Err(BridgeError::invalid(format!(
-                "motion {i}: {name} = {v} must be a positive number of at least {}",
+                "motion {i}: {name} = {} must be a positive number of at least {}",
+                shown(v),
                 kuka_protocol::REAL_STEP
             ))
             .at_motion(i));
@@ -320,7 +322,10 @@ impl Safety {
         if v > max {
             return Err(BridgeError::new(
                 ErrorCode::SpeedLimit,
-                format!("motion {i}: {name} = {v}{unit} exceeds the configured cap of {max}{unit}"),
+                format!(
+                    "motion {i}: {name} = {}{unit} exceeds the configured cap of {max}{unit}",
+                    shown(v)
+                ),
             )
             .at_motion(i));
         }
@@ -654,13 +659,19 @@ impl Safety {
             };
             let v = motion.velocity;
             if !(v.is_finite() && v > 0.0) {
-                let e = BridgeError::invalid(format!("{name} = {v} must be a positive number"));
+                let e = BridgeError::invalid(format!(
+                    "{name} = {} must be a positive number",
+                    shown(v)
+                ));
                 return Err(at(e, *line));
             }
             if v > max {
                 let e = BridgeError::new(
                     ErrorCode::SpeedLimit,
-                    format!("{name} = {v}{unit} exceeds the configured cap of {max}{unit}"),
+                    format!(
+                        "{name} = {}{unit} exceeds the configured cap of {max}{unit}",
+                        shown(v)
+                    ),
                 );
                 return Err(at(e, *line));
             }

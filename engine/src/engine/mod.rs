@@ -693,7 +693,8 @@ fn check_speeds(s: &SpeedSettings, safety: &Safety) -> Result<()> {
         // Below the file protocol's step the controller would read 0.
         if !v.is_finite() || v < kuka_protocol::REAL_STEP {
             return Err(BridgeError::invalid(format!(
-                "{name} = {v} must be a positive number of at least {}",
+                "{name} = {} must be a positive number of at least {}",
+                crate::error::shown(v),
                 kuka_protocol::REAL_STEP
             )));
         }

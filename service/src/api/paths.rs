@@ -102,14 +102,29 @@ pub struct EndQuery {
 async fn create_path(
     State(app): State<AppState>,
     who: Who,
+    headers: axum::http::HeaderMap,
     body: axum::body::Bytes,
 ) -> Result<Response, Problem> {
     // The body is optional: no body opens a path with the defaults.
     let create: PathCreate = if body.iter().all(u8::is_ascii_whitespace) {
         PathCreate::default()
     } else {
-        serde_json::from_slice(&body)
-            .map_err(|e| BridgeError::invalid(format!("request body: {e}")))?
+        if !is_json(&headers) {
+            return Err(BridgeError::new(
+                ErrorCode::UnsupportedMediaType,
+                "send the path's options as application/json, or no body for the defaults",
+            )
+            .into());
+        }
+        let v: serde_json::Value = serde_json::from_slice(&body)
+            .map_err(|e| BridgeError::invalid(format!("request body: {e}")))?;
+        if !v.is_object() {
+            return Err(BridgeError::invalid(
+                "the request body is a JSON object of options, e.g. {} or {\"config\": \"auto\"}",
+            )
+            .into());
+        }
+        serde_json::from_value(v).map_err(|e| BridgeError::invalid(format!("request body: {e}")))?
     };
     let job = app
         .engine
@@ -178,6 +193,13 @@ async fn append(
     if q.close.is_some() {
         return Err(BridgeError::invalid(
             "the query parameter close is for JSON-lines streams; a JSON body says \"close\"",
+        )
+        .into());
+    }
+    if !is_json(req.headers()) {
+        return Err(BridgeError::new(
+            ErrorCode::UnsupportedMediaType,
+            "send the motions as application/json (an object with \"motions\") or as JSON lines (application/x-ndjson, one motion per line)",
         )
         .into());
     }
@@ -455,6 +477,18 @@ async fn end_path(
         }
     }
     Ok(ok_json(&app.engine.job(id)?))
+}
+
+/// The request says its body is JSON (`application/json` or a `+json` type).
+fn is_json(headers: &axum::http::HeaderMap) -> bool {
+    headers
+        .get(header::CONTENT_TYPE)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.split(';').next())
+        .is_some_and(|v| {
+            let v = v.trim().to_ascii_lowercase();
+            v == "application/json" || (v.starts_with("application/") && v.ends_with("+json"))
+        })
 }
 
 fn parse_id(id: &str) -> Result<JobId, BridgeError> {

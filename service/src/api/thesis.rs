@@ -441,6 +441,16 @@ async fn blended(app: &AppState, who: &Who, m: MotionRequest) -> Response {
                         "could not close the thesis client's path after a refused call"
                     );
                 }
+                // A thesis client sent one motion and knows of no path: the
+                // sentence is about its call.
+                let mut e = e;
+                if let Some(cut) = e.detail.rfind(" (motion ") {
+                    e.detail.truncate(cut);
+                }
+                if let Some(rest) = e.detail.strip_prefix("motion 0: ") {
+                    e.detail = rest.to_string();
+                }
+                e.motion = None;
                 return fail(app, &e);
             }
         }

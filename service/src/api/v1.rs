@@ -200,7 +200,8 @@ pub(crate) fn check_frame(f: &CartesianFrame) -> Result<(), BridgeError> {
     ] {
         if !v.is_finite() || v.abs() > MAX_REAL {
             return Err(BridgeError::invalid(format!(
-                "{name} = {v} is not a finite number within ±{MAX_REAL}"
+                "{name} = {} is not a finite number within ±{MAX_REAL}",
+                crate::error::shown(v)
             )));
         }
     }
