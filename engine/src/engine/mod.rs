@@ -633,6 +633,7 @@ impl Engine {
                 wait,
                 partial,
                 refusal: None,
+                keepalive: false,
                 reply: tx,
             }))
             .map_err(|_| stopped())?;
@@ -653,6 +654,29 @@ impl Engine {
                 wait: std::time::Duration::from_secs(10),
                 partial: false,
                 refusal: Some(error),
+                keepalive: false,
+                reply: tx,
+            }))
+            .map_err(|_| stopped())?;
+        rx.await.map_err(|_| stopped())?
+    }
+
+    /// Keeps an open path alive while its client is still there but sends
+    /// nothing (a JSON-lines stream that pauses): if the controller has
+    /// nothing else coming, an APPEND without motions tells it the service
+    /// is there, so the KRL program's idle end of a path (`kb_path_idle_ms`,
+    /// meant for a service that is gone) does not end it.
+    pub async fn keep_path_alive(&self, path: JobId) -> Result<AppendOutcome> {
+        let (tx, rx) = oneshot::channel();
+        self.tx
+            .send(Msg::Append(actor::AppendRequest {
+                path,
+                motions: Vec::new(),
+                close: false,
+                wait: std::time::Duration::from_secs(1),
+                partial: false,
+                refusal: None,
+                keepalive: true,
                 reply: tx,
             }))
             .map_err(|_| stopped())?;

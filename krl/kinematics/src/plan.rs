@@ -485,6 +485,10 @@ impl Trapezoid {
 
 /// Path geometry of one Cartesian segment (positions in mm).
 #[derive(Debug, Clone, Copy)]
+#[expect(
+    clippy::large_enum_variant,
+    reason = "segments live only while one blended block is planned; a spline's arc-length table inline keeps Segment Copy and needs no allocation per segment"
+)]
 enum Geom {
     Line {
         p0: DVec3,

@@ -65,7 +65,8 @@ fn target(m: &Motion) -> Pose {
     match &m.kind {
         MotionKind::Ptp { target, .. }
         | MotionKind::Lin { target }
-        | MotionKind::Circ { target, .. } => *target,
+        | MotionKind::Circ { target, .. }
+        | MotionKind::Spl { target, .. } => *target,
         MotionKind::PtpAxes { .. } => panic!("axis motion"),
     }
 }

@@ -399,6 +399,31 @@ fn edge_batch() -> CommandFile {
                 target: frame(8192.021, -8388.607, 0.5, -0.5, 179.999, -180.0),
                 params: params(0.001, 0.001, 0.001),
             },
+            MotionRecord::Sptp {
+                target: frame(-0.001, 9999.999, 1.0, 180.0, -89.999, 0.0),
+                s: Some(7),
+                t: Some(63),
+                params: params(100.0, 1.0, 0.0),
+            },
+            MotionRecord::Slin {
+                target: frame(9999.999, -9999.999, 0.001, 0.0, 0.0, -179.999),
+                params: params(2.0, 100.0, 9999.999),
+            },
+            MotionRecord::Scirc {
+                aux: [0.001, -0.001, 5000.5],
+                target: frame(-5.5, 6.25, -7.125, 45.0, -45.0, 90.0),
+                params: params(0.001, 50.0, 0.5),
+            },
+            MotionRecord::Spl {
+                target: frame(-9999.999, 1.0, 2.0, 3.0, 4.0, 5.0),
+                params: params(1.5, 75.0, 3.0),
+                left: 2,
+            },
+            MotionRecord::Spl {
+                target: frame(9999.999, -1.0, -2.0, -3.0, -4.0, -5.0),
+                params: params(1.5, 75.0, 9999.999),
+                left: 1,
+            },
         ]),
     }
 }
@@ -540,6 +565,43 @@ fn command_records(cmd: &CommandFile) -> Vec<(&'static str, Vec<Val>)> {
                         v.extend(frame_vals(target));
                         v.extend(params_vals(params));
                         "CIR"
+                    }
+                    MotionRecord::Sptp {
+                        target,
+                        s,
+                        t,
+                        params,
+                    } => {
+                        v.extend(frame_vals(target));
+                        v.push(Val::I(s.map_or(-1, i64::from)));
+                        v.push(Val::I(t.map_or(-1, i64::from)));
+                        v.extend(params_vals(params));
+                        "SPT"
+                    }
+                    MotionRecord::Slin { target, params } => {
+                        v.extend(frame_vals(target));
+                        v.extend(params_vals(params));
+                        "SLN"
+                    }
+                    MotionRecord::Scirc {
+                        aux,
+                        target,
+                        params,
+                    } => {
+                        v.extend(aux.iter().copied().map(Val::R));
+                        v.extend(frame_vals(target));
+                        v.extend(params_vals(params));
+                        "SCI"
+                    }
+                    MotionRecord::Spl {
+                        target,
+                        params,
+                        left,
+                    } => {
+                        v.extend(frame_vals(target));
+                        v.extend(params_vals(params));
+                        v.push(Val::I(i64::from(*left)));
+                        "SPL"
                     }
                 };
                 body.push((tag, v));
@@ -744,7 +806,8 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(
         tags,
         [
-            "APD", "CIR", "CMD", "END", "FRM", "LIN", "PRG", "PTA", "PTP", "SPD"
+            "APD", "CIR", "CMD", "END", "FRM", "LIN", "PRG", "PTA", "PTP", "SCI", "SLN", "SPD",
+            "SPL", "SPT"
         ],
         "the samples cover every command record"
     );
@@ -792,8 +855,8 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(
         tags,
         BTreeSet::from([
-            "APD", "CIR", "CMD", "END", "FRM", "LIN", "PRG", "PTA", "PTP", "RES", "RSL", "SPD",
-            "STA"
+            "APD", "CIR", "CMD", "END", "FRM", "LIN", "PRG", "PTA", "PTP", "RES", "RSL", "SCI",
+            "SLN", "SPD", "SPL", "SPT", "STA"
         ]),
         "kb_submit.src parses exactly the protocol's records"
     );
@@ -1308,7 +1371,34 @@ fn assert_motion(g: &Globals, i: usize, m: &MotionRecord) {
             target,
             params,
         } => (4, -1, -1, target.to_array(), *aux, params),
+        MotionRecord::Slin { target, params } => (5, -1, -1, target.to_array(), [0.0; 3], params),
+        MotionRecord::Scirc {
+            aux,
+            target,
+            params,
+        } => (6, -1, -1, target.to_array(), *aux, params),
+        MotionRecord::Sptp {
+            target,
+            s,
+            t,
+            params,
+        } => (
+            7,
+            s.map_or(-1, i64::from),
+            t.map_or(-1, i64::from),
+            target.to_array(),
+            [0.0; 3],
+            params,
+        ),
+        MotionRecord::Spl { target, params, .. } => {
+            (8, -1, -1, target.to_array(), [0.0; 3], params)
+        }
     };
+    assert_eq!(
+        int("N"),
+        Some(m.block_left() as i64),
+        "kb_mot[{i}].N for {m:?}"
+    );
     let ctx = format!("kb_mot[{i}] for {m:?}");
     assert_eq!(int("K"), Some(k), "{ctx}");
     assert_eq!(int("S"), Some(s), "{ctx}");

@@ -213,6 +213,11 @@ async fn append(
     Ok(ok_json(&outcome))
 }
 
+/// How long a JSON-lines stream may pause before the service tells the
+/// controller that its path is still in use (well within the KRL
+/// program's `kb_path_idle_ms`, 5 s).
+const STREAM_KEEPALIVE: Duration = Duration::from_secs(2);
+
 /// What a JSON-lines stream has appended so far.
 #[derive(Default)]
 struct Streamed {
@@ -276,7 +281,24 @@ async fn append_lines(
             .await;
     };
     loop {
-        let ended = match body.next().await {
+        // A pause in the stream is not a client that is gone: while the
+        // connection is open the path is kept alive (the controller ends a
+        // path nobody appends to after `kb_path_idle_ms`, 5 s).
+        let next = loop {
+            match tokio::time::timeout(STREAM_KEEPALIVE, body.next()).await {
+                Ok(next) => break next,
+                Err(_) => {
+                    if let Err(e) = engine.keep_path_alive(id).await {
+                        tracing::debug!(
+                            path = id,
+                            code = e.code.as_str(),
+                            "keep-alive of a paused stream"
+                        );
+                    }
+                }
+            }
+        };
+        let ended = match next {
             None => true,
             Some(Ok(bytes)) => {
                 buf.extend_from_slice(&bytes);

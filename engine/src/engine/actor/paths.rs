@@ -65,6 +65,8 @@ pub(crate) struct AppendRequest {
     /// line of a JSON-lines stream): the path closes with this error, as
     /// for a refused motion.
     pub(crate) refusal: Option<BridgeError>,
+    /// No motions: the client is still there ([`crate::Engine::keep_path_alive`]).
+    pub(crate) keepalive: bool,
     /// The answer.
     pub(crate) reply: oneshot::Sender<Result<AppendOutcome>>,
 }
@@ -120,6 +122,9 @@ pub(super) struct PathState {
     /// A MOVE batch sent as a closed path ([`BATCH_AS_PATH`]): clients
     /// cannot append to it and its job shows no path progress.
     pub(super) batch: bool,
+    /// A client asked to keep the path alive: the next APPEND goes even
+    /// without motions.
+    keepalive: bool,
 }
 
 impl PathState {
@@ -142,6 +147,7 @@ impl PathState {
             over: false,
             refused: None,
             batch: false,
+            keepalive: false,
         }
     }
 
@@ -167,6 +173,7 @@ impl PathState {
                 sent_at: Instant::now(),
             }),
             batch: true,
+            keepalive: false,
             ..PathState::new(job, cid, PathOptions::default(), end)
         }
     }
@@ -230,6 +237,7 @@ impl Actor {
         if req.motions.is_empty() {
             // A close (or nothing) needs no room: it does not wait behind
             // parked appends, which it ends.
+            p.keepalive |= req.keepalive;
             let outcome = self.accept_append(&req);
             if req.close {
                 self.refuse_parked("the path was closed while this append waited for room");
@@ -420,11 +428,15 @@ impl Actor {
         let max = p.pending.len().min(p.room as usize).min(APPEND_CHUNK);
         let count = kuka_protocol::whole_blocks(p.pending.make_contiguous(), max);
         let close = p.close_requested && count == p.pending.len();
-        if count == 0 && !close {
+        // (A keep-alive is an APPEND without motions, only when nothing
+        // else is coming.)
+        let keepalive = p.keepalive && p.pending.is_empty();
+        if count == 0 && !close && !keepalive {
             return;
         }
+        p.keepalive = false;
         let ahead = p.max_room.saturating_sub(p.room) as usize;
-        if p.stored > 0 && count < APPEND_MIN && !close && ahead >= APPEND_MIN {
+        if p.stored > 0 && count < APPEND_MIN && !close && !keepalive && ahead >= APPEND_MIN {
             // Enough to run on: wait until a fuller APPEND is worth it.
             return;
         }
