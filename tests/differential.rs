@@ -206,7 +206,7 @@ fn command(rng: &mut Rng, model: &RobotModel, axes: &[f64; 6], pose: &Pose) -> C
         f.z += rng.range(-r, r);
         f
     };
-    match rng.pick(15) {
+    match rng.pick(19) {
         0 => Command::GetPosition,
         1 => Command::Home,
         2 => Command::Move(vec![MotionRecord::PtpAxes {
@@ -293,6 +293,66 @@ fn command(rng: &mut Rng, model: &RobotModel, axes: &[f64; 6], pose: &Pose) -> C
         }),
         12 => Command::GetBase,
         13 => Command::Reset,
+        15 => {
+            // An SPTP, as case 3's PTP.
+            let target_axes = random_axes(rng, model);
+            let p = model.forward(&target_axes, &Pose::IDENTITY, &Pose::IDENTITY);
+            Command::Move(vec![MotionRecord::Sptp {
+                target: frame(&p),
+                s: Some(model.status(&target_axes)),
+                t: Some(RobotModel::turn(&target_axes)),
+                params: params(rng, false, false),
+            }])
+        }
+        16 => {
+            // Spline and conventional path motions mixed: they blend only
+            // within their family.
+            let f = frame(pose);
+            let end = offset(rng, pose, 30.0);
+            let aux = [
+                (f.x + end.x) / 2.0 + rng.range(-15.0, 15.0),
+                (f.y + end.y) / 2.0 + rng.range(-15.0, 15.0),
+                (f.z + end.z) / 2.0,
+            ];
+            Command::Move(vec![
+                MotionRecord::Slin {
+                    target: offset(rng, pose, 30.0),
+                    params: params(rng, true, true),
+                },
+                MotionRecord::Lin {
+                    target: offset(rng, pose, 30.0),
+                    params: params(rng, true, true),
+                },
+                MotionRecord::Scirc {
+                    aux,
+                    target: end,
+                    params: params(rng, true, true),
+                },
+                MotionRecord::Slin {
+                    target: offset(rng, pose, 30.0),
+                    params: params(rng, true, false),
+                },
+            ])
+        }
+        17 | 18 => {
+            // A spline block of 1..=8 points, then (17) an SLIN.
+            let n = 1 + rng.pick(8);
+            let p = params(rng, true, true);
+            let mut motions: Vec<MotionRecord> = (0..n)
+                .map(|i| MotionRecord::Spl {
+                    target: offset(rng, pose, 40.0),
+                    params: p,
+                    left: (n - i) as u8,
+                })
+                .collect();
+            if rng.pick(2) == 0 {
+                motions.push(MotionRecord::Slin {
+                    target: offset(rng, pose, 30.0),
+                    params: params(rng, true, false),
+                });
+            }
+            Command::Move(motions)
+        }
         _ => {
             let _ = axes;
             Command::GetTool

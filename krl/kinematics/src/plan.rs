@@ -53,7 +53,9 @@
 //! * **Look-ahead checks**: before a LIN/CIRC block starts, every target is
 //!   checked for reachability within the limits and every CIRC for its
 //!   geometry; a failing motion ends the block before it (exact stop), like
-//!   the KRC's advance run.
+//!   the KRC's advance run. A failing point of a spline block stops the
+//!   robot before the block's first point: a KRC plans a SPLINE block as a
+//!   whole.
 //! * **Errors**: parameters are validated for the whole batch first; the
 //!   motions before the first invalid one are still planned. On an error
 //!   `samples` ends where the robot stops, `end_axes` are the axes there,
@@ -98,9 +100,12 @@ pub enum MotionKind {
     /// One segment of a spline block (KRL `SPL`): the centripetal
     /// Catmull-Rom curve ([`catmull_rom`]) from the start to `target`.
     /// Its end tangents come from the block's neighbouring points: the
-    /// start of the previous segment (none when `first`) and `next` (none
-    /// at the block's end); a missing neighbour is the mirror image of the
+    /// start of the previous segment (none when `first`: `prev` if given,
+    /// else the previous segment's start as planned) and `next` (none at
+    /// the block's end); a missing neighbour is the mirror image of the
     /// segment's other end, so a block of one point is a straight line.
+    /// With `prev` a segment can be planned again from its own start (a
+    /// path that grows while the robot runs it) along the same curve.
     /// The orientation is slerped as in a LIN. Segments of one block are
     /// tangent-continuous: planned with `approx_mm > 0` they run through
     /// their points without slowing down.
@@ -109,6 +114,9 @@ pub enum MotionKind {
         target: Pose,
         /// The first point of its block.
         first: bool,
+        /// The start of the previous segment (the point before this
+        /// segment's start), when the caller knows it.
+        prev: Option<Pose>,
         /// The block's next point, if this is not its last.
         next: Option<Pose>,
     },
@@ -387,11 +395,16 @@ fn validate_motion(m: &Motion) -> Result<(), MotionError> {
                 return Err(MotionError::Parameter("target must be finite"));
             }
         }
-        MotionKind::Spl { target, next, .. } => {
+        MotionKind::Spl {
+            target, prev, next, ..
+        } => {
             if m.velocity > MAX_CP_VELOCITY {
                 return Err(MotionError::Parameter("SPL velocity must be <= 2 m/s"));
             }
-            if !target.is_finite() || next.is_some_and(|p| !p.is_finite()) {
+            if !target.is_finite()
+                || next.is_some_and(|p| !p.is_finite())
+                || prev.is_some_and(|p| !p.is_finite())
+            {
                 return Err(MotionError::Parameter("spline points must be finite"));
             }
         }
@@ -515,6 +528,20 @@ enum Geom {
 /// Intervals of a spline segment's arc-length table.
 const CURVE_STEPS: usize = 64;
 
+/// A planned motion that may only be planned again from the start of its
+/// spline block, not from its own start: a spline segment inside a block
+/// whose previous point is not known to it ([`MotionKind::Spl`]'s `prev`).
+pub fn needs_block_start(m: &Motion) -> bool {
+    matches!(
+        m.kind,
+        MotionKind::Spl {
+            first: false,
+            prev: None,
+            ..
+        }
+    )
+}
+
 impl Geom {
     fn at(&self, u: f64) -> DVec3 {
         match *self {
@@ -618,6 +645,7 @@ impl Segment {
             MotionKind::Spl {
                 target,
                 first,
+                prev,
                 next,
             } => {
                 let p1 = target.position();
@@ -631,7 +659,11 @@ impl Segment {
                         target.rotation(),
                     )
                 } else {
-                    let before = if *first { None } else { before };
+                    let before = if *first {
+                        None
+                    } else {
+                        prev.as_ref().map(Pose::position).or(before)
+                    };
                     let (geom, len, din, dout) =
                         curve(p0, p1, before, next.as_ref().map(Pose::position));
                     (geom, len, din, dout, target.rotation())
@@ -1005,6 +1037,18 @@ impl<'a> Planner<'a> {
             }
             before = Some(start.position());
             start = target;
+        }
+        // A spline block is planned as a whole (a KRC's SPLINE statement):
+        // when one of its points fails, none of it runs; the robot stops
+        // where the block would start.
+        if let Some((k, _)) = pending
+            && matches!(motions[k].kind, MotionKind::Spl { first: false, .. })
+        {
+            let block = (from..k)
+                .rev()
+                .find(|&i| !matches!(motions[i].kind, MotionKind::Spl { first: false, .. }))
+                .unwrap_or(from);
+            segs.retain(|seg| seg.motion < block);
         }
         // Only the first block of a continuation enters at speed.
         let v0 = std::mem::take(&mut self.entry_speed);

@@ -720,6 +720,7 @@ fn spline_circle(v: f64, points: usize) -> (Pose, Vec<Motion>) {
             kind: MotionKind::Spl {
                 target: at(k),
                 first: k == 1,
+                prev: None,
                 next: (k < points).then(|| at(k + 1)),
             },
             velocity: v,
@@ -805,6 +806,7 @@ fn a_spline_block_of_one_point_is_a_straight_line() {
         kind: MotionKind::Spl {
             target,
             first: true,
+            prev: None,
             next: None,
         },
         velocity: 0.25,

@@ -330,10 +330,19 @@ impl Executor {
                     return;
                 }
                 let (current, t) = (self.motion_index, chain.t);
+                // (Not inside a spline block where a segment does not
+                // know the point before it: such a block is replanned from
+                // its first point.)
+                let inner_spl = |motion: usize| {
+                    motion
+                        .checked_sub(chain.first)
+                        .and_then(|k| chain.motions.get(k))
+                        .is_some_and(plan::needs_block_start)
+                };
                 let Some(j) = chain
                     .junctions
                     .iter()
-                    .find(|j| j.motion > current && j.t > t + 1e-9)
+                    .find(|j| j.motion > current && j.t > t + 1e-9 && !inner_spl(j.motion))
                     .copied()
                 else {
                     return;

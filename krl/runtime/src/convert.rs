@@ -76,6 +76,13 @@ pub fn to_motions(records: &[MotionRecord]) -> Vec<Motion> {
                         i.checked_sub(1).map(|k| &records[k]),
                         Some(MotionRecord::Spl { left: l, .. }) if *l > 1
                     ),
+                    // The point before this segment's start: the record
+                    // two back, when it has a Cartesian target (else the
+                    // planner takes it from the segment before).
+                    prev: i
+                        .checked_sub(2)
+                        .and_then(|k| records[k].target())
+                        .map(frame_to_pose),
                     next: match next {
                         Some(MotionRecord::Spl { target, .. }) if *left > 1 => {
                             Some(frame_to_pose(target))

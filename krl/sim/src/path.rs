@@ -13,7 +13,7 @@
 use std::collections::VecDeque;
 
 use kuka_kinematics::plan::{self, Junction, Sample};
-use kuka_kinematics::{Axes, Motion, MotionError, MotionKind, PlanSettings, Pose, RobotModel};
+use kuka_kinematics::{Axes, Motion, MotionError, PlanSettings, Pose, RobotModel};
 use kuka_protocol::{Cid, MotionRecord};
 
 /// Motions the stream buffer holds (stored and not yet started), as the
@@ -127,13 +127,13 @@ impl PathRun {
         }
         self.queue.extend(motions);
         // The first junction ahead of the robot (a motion not yet started).
-        // (Not inside a spline block: its curve depends on the point
-        // before, so a block is replanned from its first point.)
+        // (Not inside a spline block where a segment does not know the
+        // point before it: such a block is replanned from its first point.)
         let inner_spl = |motion: usize| {
             motion
                 .checked_sub(self.queue_from)
                 .and_then(|k| self.queue.get(k))
-                .is_some_and(|m| matches!(m.kind, MotionKind::Spl { first: false, .. }))
+                .is_some_and(plan::needs_block_start)
         };
         let ahead = self
             .junctions
