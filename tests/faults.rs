@@ -273,6 +273,7 @@ fn scripted_controller(
             axes: [0.0, -90.0, 90.0, 0.0, 0.0, 0.0],
             tool: Frame::default(),
             base: Frame::default(),
+            io: None,
         };
         let text = state.encode().expect("state");
         kuka_protocol::files::atomic_write(dir, STATE_FILE, "fake", &text).expect("write state");

@@ -93,6 +93,12 @@ pub enum ErrorCode {
     PathClosed,
     /// The path's buffer stayed full for the request's wait; retry after `Retry-After`.
     PathFull,
+    /// The output is not on the site's list of outputs clients may write (`[io] outputs`).
+    OutputNotAllowed,
+    /// No digital input or output has this name in the site's `[io]` configuration.
+    UnknownSignal,
+    /// The signal lies outside the I/O the controller reports (its state file's window).
+    SignalNotReported,
 }
 
 impl ErrorCode {
@@ -132,6 +138,9 @@ impl ErrorCode {
             ErrorCode::Gone => 410,
             ErrorCode::PathClosed => 409,
             ErrorCode::PathFull => 503,
+            ErrorCode::OutputNotAllowed => 403,
+            ErrorCode::UnknownSignal => 404,
+            ErrorCode::SignalNotReported => 422,
         }
     }
 
@@ -179,6 +188,9 @@ impl ErrorCode {
             ErrorCode::ShuttingDown => "Shutting down",
             ErrorCode::PathClosed => "Path closed",
             ErrorCode::PathFull => "Path buffer full",
+            ErrorCode::OutputNotAllowed => "Output not allowed",
+            ErrorCode::UnknownSignal => "Unknown signal",
+            ErrorCode::SignalNotReported => "Signal not reported",
         }
     }
 
@@ -226,6 +238,9 @@ impl ErrorCode {
             ErrorCode::ShuttingDown => "shutting_down",
             ErrorCode::PathClosed => "path_closed",
             ErrorCode::PathFull => "path_full",
+            ErrorCode::OutputNotAllowed => "output_not_allowed",
+            ErrorCode::UnknownSignal => "unknown_signal",
+            ErrorCode::SignalNotReported => "signal_not_reported",
         }
     }
 }

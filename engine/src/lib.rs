@@ -22,6 +22,7 @@ pub mod clock;
 pub mod engine;
 pub mod error;
 pub mod event_ids;
+pub mod io;
 pub mod motion;
 pub mod programs;
 pub mod safety;

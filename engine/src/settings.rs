@@ -23,6 +23,8 @@ pub struct EngineSettings {
     pub program_dir: Option<PathBuf>,
     /// Generated program modules kept in it.
     pub keep_modules: usize,
+    /// Named digital I/O and the outputs clients may write.
+    pub io: crate::io::IoConfig,
 }
 
 /// File channel settings.

@@ -83,6 +83,8 @@ pub struct Config {
     pub log: LogConfig,
     /// Tokens, roles, control lease.
     pub auth: AuthConfig,
+    /// Named digital inputs and outputs; the outputs clients may write.
+    pub io: kuka_engine::io::IoConfig,
     /// Where the service keeps its own state (command id counter).
     pub data_dir: PathBuf,
     /// Where the config was loaded from (for messages); not a key.
@@ -460,6 +462,7 @@ impl Default for Config {
             plugins: PluginsConfig::default(),
             log: LogConfig::default(),
             auth: AuthConfig::default(),
+            io: kuka_engine::io::IoConfig::default(),
             data_dir: default_data_dir(),
             source_name: "defaults".into(),
         }
@@ -543,6 +546,7 @@ impl Config {
             data_dir: self.data_dir.clone(),
             program_dir: self.program_dir(),
             keep_modules: self.programs.keep_modules,
+            io: self.io.clone(),
         }
     }
 
@@ -674,6 +678,9 @@ impl Config {
                     ));
                 }
             }
+        }
+        if let Err(why) = self.io.validate() {
+            bad.push(self.invalid("io", why));
         }
         if self.simulator.enabled
             && self.channel.offline_after_ms <= self.simulator.heartbeat_ms * 2

@@ -8,7 +8,7 @@
 #![deny(missing_docs)]
 
 // The engine's modules under their old paths (`crate::engine`, ...).
-pub use kuka_engine::{clock, engine, error, event_ids, motion, programs, safety};
+pub use kuka_engine::{clock, engine, error, event_ids, io, motion, programs, safety};
 
 pub mod access;
 pub mod api;

@@ -73,9 +73,16 @@ pub(crate) struct Shared {
     queued: AtomicU64,
     /// Set at shutdown: new jobs are refused.
     draining: std::sync::atomic::AtomicBool,
+    /// Named digital I/O and the outputs clients may write.
+    io: crate::io::IoConfig,
 }
 
 impl Shared {
+    /// The site's digital I/O configuration.
+    pub(crate) fn io(&self) -> &crate::io::IoConfig {
+        &self.io
+    }
+
     fn table(&self) -> MutexGuard<'_, JobTable> {
         self.jobs.lock().unwrap_or_else(|p| p.into_inner())
     }
@@ -183,6 +190,7 @@ impl Engine {
                 ErrorCode::ControllerOffline,
                 "no heartbeat from the controller yet",
             )],
+            io: None,
         };
         let (state, _) = watch::channel(initial);
         let job_ids = JobIdStore::open(&settings.data_dir);
@@ -205,6 +213,7 @@ impl Engine {
             max_queue: settings.motion.max_queue,
             queued: AtomicU64::new(0),
             draining: std::sync::atomic::AtomicBool::new(false),
+            io: settings.io.clone(),
         });
         let (tx, rx) = std::sync::mpsc::channel();
         let actor = actor::Actor::new(shared.clone(), channel, cids, settings, rx, speeds);
@@ -227,6 +236,11 @@ impl Engine {
     /// The safety gate (also used by plugins and handlers for early checks).
     pub fn safety(&self) -> &Safety {
         &self.shared.safety
+    }
+
+    /// The site's digital I/O configuration (names, writable outputs).
+    pub fn io_config(&self) -> &crate::io::IoConfig {
+        &self.shared.io
     }
 
     /// While a job runs on the online controller: the position of the
@@ -350,6 +364,17 @@ impl Engine {
         }
         if let Operation::SetSpeed(s) = &op {
             check_speeds(s, &self.shared.safety)?;
+        }
+        if let Operation::SetOutput(o) = &op {
+            // The allow-list: nothing reaches the channel for another output.
+            self.shared.io.writable(o.index)?;
+            if o.pulse_ms > kuka_protocol::MAX_PULSE_MS {
+                return Err(BridgeError::invalid(format!(
+                    "pulse_ms = {} is above {} ms",
+                    o.pulse_ms,
+                    kuka_protocol::MAX_PULSE_MS
+                )));
+            }
         }
         if self.state().connection == Connection::Offline {
             return Err(BridgeError::new(

@@ -162,6 +162,8 @@ pub enum Operation {
     /// Open a path (a motion stream): motions are appended while it runs
     /// ([`crate::engine::Engine::append`]).
     Path(PathOptions),
+    /// Set a digital output (only one on the site's allow-list).
+    SetOutput(crate::io::OutputRequest),
 }
 
 /// How an open path treats the motions appended to it.
@@ -218,6 +220,7 @@ impl Operation {
             Operation::Reset => "reset",
             Operation::RunProgram(_) => "run_program",
             Operation::Path(_) => "path",
+            Operation::SetOutput(_) => "set_output",
         }
     }
 }
@@ -429,6 +432,9 @@ pub struct RobotState {
     /// `shutting_down`) and a sentence. `/health` says `degraded` while
     /// this is not empty.
     pub degraded: Vec<BridgeError>,
+    /// Digital I/O as the controller last reported it (31 inputs and
+    /// outputs from `base`); none from a controller program without it.
+    pub io: Option<crate::io::IoWindow>,
 }
 
 /// The robot's position as the controller last reported it while moving.
@@ -454,6 +460,9 @@ pub enum Event {
     Alarm(BridgeError),
     /// A move job's motions as written to the controller (the planned path).
     Plan(Box<JobPlan>),
+    /// A watched digital input or output changed (`[io]` entries with
+    /// `watch = true`), as the controller's state file reported it.
+    Io(crate::io::IoChange),
 }
 
 /// The motions of a move job as written to the controller, with omitted

@@ -257,6 +257,16 @@ impl KrcController {
         self.lock().vars.as_ref()?.bool(name, &[index])
     }
 
+    /// Sets an element of a global BOOL array of the program between two
+    /// cycles (a simulated input: `$IN`, 3 for `$IN[3]`); false when it
+    /// does not exist.
+    pub fn set_bool_element(&self, name: &str, index: i64, v: bool) -> bool {
+        self.lock()
+            .vars
+            .as_mut()
+            .is_some_and(|g| g.set_bool_element(name, index, v))
+    }
+
     /// The executed path since the start (or the last [`clear_trace`]),
     /// oldest first: a sample per cycle in motion, stops marked.
     ///

@@ -271,6 +271,48 @@ pub struct SpeedRecord {
     pub cp_acceleration_pct: f64,
 }
 
+/// Highest digital I/O index (`$IN`/`$OUT` of KSS 8.x have 4096).
+pub const MAX_IO_INDEX: u16 = 4096;
+
+/// Longest output pulse the protocol carries (ms).
+pub const MAX_PULSE_MS: u32 = 60_000;
+
+/// The body of a SETOUT (op 14): `OUT index value pulse_ms K`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OutputRecord {
+    /// `$OUT` index, 1..=[`MAX_IO_INDEX`].
+    pub index: u16,
+    /// The value to set.
+    pub value: bool,
+    /// 0: stay; else the output returns to `!value` after this many ms
+    /// (at most [`MAX_PULSE_MS`]).
+    pub pulse_ms: u32,
+}
+
+/// Digital I/O the controller reports in its state file (the `IOS` line):
+/// 31 inputs and 31 outputs from `base` on, bit `k` = signal `base + k`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct IoState {
+    /// Index of bit 0 (1..=[`MAX_IO_INDEX`] − 30).
+    pub base: u16,
+    /// `$IN[base..base+30]`.
+    pub inputs: u32,
+    /// `$OUT[base..base+30]`.
+    pub outputs: u32,
+}
+
+impl IoState {
+    /// Signals per direction in the state file.
+    pub const WIDTH: u16 = 31;
+
+    /// The value of `$IN[index]`/`$OUT[index]` if the window holds it.
+    pub fn get(&self, output: bool, index: u16) -> Option<bool> {
+        let k = index.checked_sub(self.base).filter(|k| *k < Self::WIDTH)?;
+        let bits = if output { self.outputs } else { self.inputs };
+        Some(bits & (1 << k) != 0)
+    }
+}
+
 /// What a command asks the controller to do.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
@@ -300,6 +342,9 @@ pub enum Command {
     GetBase,
     /// Op 13: set override and default speeds.
     SetSpeed(SpeedRecord),
+    /// Op 14: set a digital output (`$OUT[index]`), optionally as a pulse
+    /// of `pulse_ms` after which it returns to the other value.
+    SetOutput(OutputRecord),
     /// Op 20: brake, flush the motion buffer, cancel the running command.
     /// The only command accepted while another one is running.
     Stop,
@@ -322,6 +367,7 @@ impl Command {
             Command::SetBase(_) => 11,
             Command::GetBase => 12,
             Command::SetSpeed(_) => 13,
+            Command::SetOutput(_) => 14,
             Command::Stop => 20,
             Command::Reset => 21,
         }
@@ -341,6 +387,7 @@ impl Command {
             Command::SetBase(_) => "set_base",
             Command::GetBase => "get_base",
             Command::SetSpeed(_) => "set_speed",
+            Command::SetOutput(_) => "set_output",
             Command::Stop => "stop",
             Command::Reset => "reset",
         }
@@ -713,6 +760,24 @@ impl CommandFile {
                 write_line(&mut body, "PRG", &[Field::Int(*program)]);
                 n = 1;
             }
+            Command::SetOutput(o) => {
+                if o.index == 0 || o.index > MAX_IO_INDEX || o.pulse_ms > MAX_PULSE_MS {
+                    return Err(EncodeError::Shape(format!(
+                        "output {} (1..={MAX_IO_INDEX}) or pulse {} ms (0..={MAX_PULSE_MS}) out of range",
+                        o.index, o.pulse_ms
+                    )));
+                }
+                write_line(
+                    &mut body,
+                    "OUT",
+                    &[
+                        Field::Int(i32::from(o.index)),
+                        Field::Int(i32::from(o.value)),
+                        Field::Int(o.pulse_ms as i32),
+                    ],
+                );
+                n = 1;
+            }
             Command::SetSpeed(s) => {
                 f.push(real("override", s.override_pct)?);
                 f.push(real("ptp_velocity", s.ptp_velocity_pct)?);
@@ -855,6 +920,22 @@ impl CommandFile {
                     ptp_acceleration_pct: l.real(),
                     cp_velocity: l.real(),
                     cp_acceleration_pct: l.real(),
+                })
+            }
+            14 => {
+                expect_n(1)?;
+                let mut l = r.line("OUT", "iii")?;
+                let (index, value, pulse) = (l.int(), l.int(), l.int());
+                if !(1..=i32::from(MAX_IO_INDEX)).contains(&index)
+                    || !(0..=1).contains(&value)
+                    || !(0..=MAX_PULSE_MS as i32).contains(&pulse)
+                {
+                    return Err(l.invalid("output index, value or pulse out of range"));
+                }
+                Command::SetOutput(OutputRecord {
+                    index: index as u16,
+                    value: value == 1,
+                    pulse_ms: pulse as u32,
                 })
             }
             other => return Err(h.invalid(format!("unknown op {other}"))),
@@ -1153,6 +1234,9 @@ pub struct StateFile {
     pub tool: Frame,
     /// Base frame.
     pub base: Frame,
+    /// Digital I/O (the optional `IOS` line; a controller program without
+    /// I/O support writes none).
+    pub io: Option<IoState>,
 }
 
 impl StateFile {
@@ -1201,6 +1285,17 @@ impl StateFile {
         f.clear();
         self.base.fields(&mut f)?;
         write_line(&mut out, "BAS", &f);
+        if let Some(io) = &self.io {
+            write_line(
+                &mut out,
+                "IOS",
+                &[
+                    Field::Int(i32::from(io.base)),
+                    Field::Int((io.inputs & 0x7fff_ffff) as i32),
+                    Field::Int((io.outputs & 0x7fff_ffff) as i32),
+                ],
+            );
+        }
         write_line(&mut out, "END", &[Field::Int(self.seq)]);
         Ok(out)
     }
@@ -1248,6 +1343,21 @@ impl StateFile {
         let axes = [a.real(), a.real(), a.real(), a.real(), a.real(), a.real()];
         let tool = Frame::read(&mut r.line("TOL", "rrrrrr")?);
         let base = Frame::read(&mut r.line("BAS", "rrrrrr")?);
+        let io = if r.peek_tag() == Some("IOS") {
+            let mut l = r.line("IOS", "iii")?;
+            let (b, i, o) = (l.int(), l.int(), l.int());
+            let top = i32::from(MAX_IO_INDEX) - i32::from(IoState::WIDTH) + 1;
+            if !(1..=top).contains(&b) || i < 0 || o < 0 {
+                return Err(l.invalid("I/O base or bits out of range"));
+            }
+            Some(IoState {
+                base: b as u16,
+                inputs: i as u32,
+                outputs: o as u32,
+            })
+        } else {
+            None
+        };
         let mut e = r.line("END", "i")?;
         if e.int() != seq {
             return Err(e.invalid("END record does not match the header"));
@@ -1272,6 +1382,7 @@ impl StateFile {
             axes,
             tool,
             base,
+            io,
         })
     }
 }

@@ -95,6 +95,7 @@ fn state_file() -> impl Strategy<Value = StateFile> {
             [real(), real(), real(), real(), real(), real()],
             frame(),
             frame(),
+            prop::option::of((1u16..=4066, 0u32..=0x7fff_ffff, 0u32..=0x7fff_ffff)),
         ),
     )
         .prop_map(
@@ -102,7 +103,7 @@ fn state_file() -> impl Strategy<Value = StateFile> {
                 (seq, status, mode, busy_cid, busy_index),
                 (last_cid, err, error_axis, override_pct, simulated),
                 (position, s, t, room, stored),
-                (axes, tool, base),
+                (axes, tool, base, io),
             )| StateFile {
                 seq,
                 status: match status {
@@ -132,6 +133,11 @@ fn state_file() -> impl Strategy<Value = StateFile> {
                 axes,
                 tool,
                 base,
+                io: io.map(|(base, inputs, outputs)| IoState {
+                    base,
+                    inputs,
+                    outputs,
+                }),
             },
         )
 }

@@ -185,6 +185,11 @@ fn sample_state() -> StateFile {
             x: 1.0,
             ..Frame::default()
         },
+        io: Some(IoState {
+            base: 4066,
+            inputs: 0x7fff_ffff,
+            outputs: 5,
+        }),
     }
 }
 

@@ -107,6 +107,7 @@ fn check_thesis_spline(steps: &[Step], first_line: u32) {
         let MotionKind::Spl {
             target,
             first,
+            prev,
             next,
         } = &m.kind
         else {
@@ -115,11 +116,20 @@ fn check_thesis_spline(steps: &[Step], first_line: u32) {
         assert!(target.approx_eq(p, 0.01, 1e-6), "{target:?}");
         assert_eq!(*first, i == 0);
         assert_eq!(next.is_some(), i < 2);
+        // The point before each segment's start: home, then the points.
+        let want_prev = match i {
+            0 => None,
+            1 => Some(home),
+            _ => Some(points[i - 2]),
+        };
+        assert_eq!(prev.is_some(), want_prev.is_some());
+        if let (Some(a), Some(b)) = (prev, want_prev) {
+            assert!(a.approx_eq(&b, 0.01, 1e-6), "{a:?} vs {b:?}");
+        }
         if let Some(n) = next {
             assert!(n.approx_eq(&points[i + 1], 0.01, 1e-6));
         }
     }
-    let _ = home;
     let from = ms.len();
     assert_eq!(from, ms.len(), "the block ends at the last point");
     // Exact stop at the end (no C_SPL), blending inside.

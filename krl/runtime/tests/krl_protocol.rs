@@ -36,9 +36,9 @@ use kuka_kinematics::{Pose, RobotModel};
 use kuka_krl::{DatFile, Expr, Program, SrcFile, Stmt, StmtKind, parse_dat, parse_src};
 use kuka_krl_runtime::interp::{Globals, Start, run_with_files};
 use kuka_protocol::{
-    COMMAND_FILE, Command, CommandFile, ControllerStatus, Frame, MotionParams, MotionRecord,
-    OperatingMode, PathChunk, RESULT_FILE, ResultCode, ResultFile, ResultRecord, STATE_FILE,
-    SpeedRecord, StateFile, checksum,
+    COMMAND_FILE, Command, CommandFile, ControllerStatus, Frame, IoState, MotionParams,
+    MotionRecord, OperatingMode, OutputRecord, PathChunk, RESULT_FILE, ResultCode, ResultFile,
+    ResultRecord, STATE_FILE, SpeedRecord, StateFile, checksum,
 };
 
 // ---------------------------------------------------------------- the program
@@ -457,6 +457,22 @@ fn sample_commands() -> Vec<CommandFile> {
         ),
         c(30, Command::Run(30)),
         c(1_000_000, Command::Run(2_147_483_647)),
+        c(
+            32,
+            Command::SetOutput(OutputRecord {
+                index: 4096,
+                value: true,
+                pulse_ms: 60_000,
+            }),
+        ),
+        c(
+            33,
+            Command::SetOutput(OutputRecord {
+                index: 1,
+                value: false,
+                pulse_ms: 0,
+            }),
+        ),
         c(23, Command::Home),
         c(24, Command::GetTool),
         c(26, Command::GetBase),
@@ -619,6 +635,14 @@ fn command_records(cmd: &CommandFile) -> Vec<(&'static str, Vec<Val>)> {
             ],
         )),
         Command::Run(n) => body.push(("PRG", vec![Val::I(i64::from(*n))])),
+        Command::SetOutput(o) => body.push((
+            "OUT",
+            vec![
+                Val::I(i64::from(o.index)),
+                Val::I(i64::from(o.value)),
+                Val::I(i64::from(o.pulse_ms)),
+            ],
+        )),
         _ => {}
     }
     let n = body.len() as i64;
@@ -806,8 +830,8 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(
         tags,
         [
-            "APD", "CIR", "CMD", "END", "FRM", "LIN", "PRG", "PTA", "PTP", "SCI", "SLN", "SPD",
-            "SPL", "SPT"
+            "APD", "CIR", "CMD", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP", "SCI", "SLN",
+            "SPD", "SPL", "SPT"
         ],
         "the samples cover every command record"
     );
@@ -855,8 +879,8 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(
         tags,
         BTreeSet::from([
-            "APD", "CIR", "CMD", "END", "FRM", "LIN", "PRG", "PTA", "PTP", "RES", "RSL", "SCI",
-            "SLN", "SPD", "SPL", "SPT", "STA"
+            "APD", "CIR", "CMD", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP", "RES", "RSL",
+            "SCI", "SLN", "SPD", "SPL", "SPT", "STA"
         ]),
         "kb_submit.src parses exactly the protocol's records"
     );
@@ -1112,6 +1136,12 @@ fn sample_state() -> StateFile {
         axes: AXES,
         tool: tool_frame(),
         base: Frame::default(),
+        // Nothing set: the KRL program's $IN/$OUT start FALSE.
+        io: Some(IoState {
+            base: 1,
+            inputs: 0,
+            outputs: 0,
+        }),
     }
 }
 

@@ -11,8 +11,8 @@ use kuka_krl_runtime::interp::{self, RunError};
 use kuka_krl_runtime::program::{Phase, PrepareError, phases};
 use kuka_krl_runtime::{frame_to_pose, pose_to_frame, to_motions};
 use kuka_protocol::{
-    Cid, Command, ControllerStatus, Frame, OperatingMode, RESULT_HISTORY, ResultCode, ResultRecord,
-    SpeedRecord, StateFile, whole_blocks,
+    Cid, Command, ControllerStatus, Frame, IoState, OperatingMode, RESULT_HISTORY, ResultCode,
+    ResultRecord, SpeedRecord, StateFile, whole_blocks,
 };
 use serde::Serialize;
 
@@ -150,7 +150,18 @@ pub(crate) struct Controller {
     /// The open motion stream (protocol version 2), with the wall time of
     /// its path time 0 and of its last APPEND.
     path: Option<(PathRun, Instant, Instant)>,
+    /// Digital inputs `$IN[1..=4096]` (index 0 unused): set from outside
+    /// ([`crate::SimController::set_input`]), as a plant would.
+    pub(crate) inputs: Vec<bool>,
+    /// Digital outputs `$OUT[1..=4096]` (index 0 unused).
+    pub(crate) outputs: Vec<bool>,
+    /// The running output pulse: output, the value it returns to, when.
+    pulse: Option<(u16, bool, Instant)>,
 }
+
+/// First I/O index of the state file's window (the KRL program's
+/// `kb_io_base`).
+pub(crate) const IO_BASE: u16 = 1;
 
 /// An open path whose robot has stood at the end of its motions this long
 /// without an APPEND ends (its service is gone); as `kb_path_idle_ms` in
@@ -216,6 +227,37 @@ impl Controller {
             active: None,
             preparing: None,
             path: None,
+            inputs: vec![false; usize::from(kuka_protocol::MAX_IO_INDEX) + 1],
+            outputs: vec![false; usize::from(kuka_protocol::MAX_IO_INDEX) + 1],
+            pulse: None,
+        }
+    }
+
+    /// The state file's I/O window.
+    pub(crate) fn io_state(&self) -> IoState {
+        let bits = |v: &[bool]| {
+            (0..IoState::WIDTH).fold(0u32, |acc, k| {
+                if v[usize::from(IO_BASE + k)] {
+                    acc | (1 << k)
+                } else {
+                    acc
+                }
+            })
+        };
+        IoState {
+            base: IO_BASE,
+            inputs: bits(&self.inputs),
+            outputs: bits(&self.outputs),
+        }
+    }
+
+    /// Ends an output pulse that is due.
+    fn end_pulse(&mut self, now: Instant) {
+        if let Some((index, back, at)) = self.pulse
+            && now >= at
+        {
+            self.outputs[usize::from(index)] = back;
+            self.pulse = None;
         }
     }
 
@@ -361,6 +403,18 @@ impl Controller {
                 self.push_result(cid, ResultCode::Ok, 0, 0, None);
             }
             Command::GetPosition => self.push_result(cid, ResultCode::Ok, 0, 0, None),
+            Command::SetOutput(o) => {
+                // (The decoder checked the ranges.)
+                if let Some((index, back, _)) = self.pulse.take() {
+                    self.outputs[usize::from(index)] = back;
+                }
+                self.outputs[usize::from(o.index)] = o.value;
+                if o.pulse_ms > 0 {
+                    let at = now + std::time::Duration::from_millis(u64::from(o.pulse_ms));
+                    self.pulse = Some((o.index, !o.value, at));
+                }
+                self.push_result(cid, ResultCode::Ok, 0, 0, None);
+            }
             Command::SetTool(f) => {
                 self.tool = frame_to_pose(&f);
                 self.push_result(cid, ResultCode::Ok, 0, 0, Some(f));
@@ -675,6 +729,7 @@ impl Controller {
     /// Plays the active batch (and, for a program, the phases after it)
     /// up to `now`; returns what changed.
     pub(crate) fn advance(&mut self, now: Instant, time_scale: f64) -> Changes {
+        self.end_pulse(now);
         if self.path.is_some() {
             return self.advance_path(now, time_scale);
         }
@@ -779,14 +834,14 @@ impl Controller {
 
     /// What the service must learn at once rather than at the next
     /// heartbeat: idle/busy/error and the command being executed.
-    pub(crate) fn status_key(&self) -> (Cid, bool) {
+    pub(crate) fn status_key(&self) -> (Cid, bool, IoState) {
         let cid = match (&self.active, &self.preparing, &self.path) {
             (Some(a), _, _) => a.cid,
             (None, Some(p), _) => p.cid,
             (None, None, Some((r, _, _))) => r.cid,
             (None, None, None) => 0,
         };
-        (cid, self.error.is_some())
+        (cid, self.error.is_some(), self.io_state())
     }
 
     /// The heartbeat record (increments the sequence number).
@@ -825,6 +880,7 @@ impl Controller {
             axes: self.axes,
             tool: pose_to_frame(&self.tool),
             base: pose_to_frame(&self.base),
+            io: Some(self.io_state()),
         }
     }
 }

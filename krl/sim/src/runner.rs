@@ -273,6 +273,28 @@ impl SimController {
         let _ = self.shared.wake.send(());
     }
 
+    /// Sets a digital input `$IN[index]` (1..=4096), as the plant would;
+    /// false for an index out of range.
+    pub fn set_input(&self, index: u16, value: bool) -> bool {
+        let mut c = self.lock();
+        match c.inputs.get_mut(usize::from(index)).filter(|_| index > 0) {
+            Some(slot) => {
+                *slot = value;
+                drop(c);
+                let _ = self.shared.wake.send(());
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// `$IN[index]` or `$OUT[index]` (1..=4096).
+    pub fn io(&self, output: bool, index: u16) -> Option<bool> {
+        let c = self.lock();
+        let v = if output { &c.outputs } else { &c.inputs };
+        v.get(usize::from(index)).filter(|_| index > 0).copied()
+    }
+
     /// Puts the controller into an error state (as an acknowledgeable KRC
     /// message would) until a RESET command.
     pub fn inject_error(&self, code: ResultCode, axis: u8) {
@@ -368,7 +390,7 @@ struct Runner {
     pending_results: bool,
     pending_state: bool,
     next_heartbeat: Instant,
-    status_key: (kuka_protocol::Cid, bool),
+    status_key: (kuka_protocol::Cid, bool, kuka_protocol::IoState),
 }
 
 impl Runner {
@@ -383,7 +405,7 @@ impl Runner {
             pending_results: false,
             pending_state: true,
             next_heartbeat: Instant::now(),
-            status_key: (0, false),
+            status_key: (0, false, kuka_protocol::IoState::default()),
         }
     }
 

@@ -114,6 +114,10 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("PUT", "/api/v1/tool", OPERATE),
     ("GET", "/api/v1/base", READ),
     ("PUT", "/api/v1/base", OPERATE),
+    ("GET", "/api/v1/io", READ),
+    ("GET", "/api/v1/io/inputs/{signal}", READ),
+    ("GET", "/api/v1/io/outputs/{signal}", READ),
+    ("PUT", "/api/v1/io/outputs/{signal}", OPERATE),
     ("GET", "/api/v1/speed", READ),
     ("PUT", "/api/v1/speed", OPERATE),
     ("POST", "/api/v1/reset", OPERATE),
@@ -156,6 +160,7 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("GET", "/api/v1/sim/trace", READ),
     ("DELETE", "/api/v1/sim/trace", OPERATE),
     ("POST", "/api/v1/sim/acknowledge", OPERATE),
+    ("PUT", "/api/v1/sim/inputs/{index}", OPERATE),
     // Documentation.
     ("GET", "/openapi.json", PUBLIC),
     ("GET", "/errors", PUBLIC),

@@ -27,7 +27,7 @@ const MARKDOWN: &str = include_str!("../../../docs/errors.md");
 
 /// Every code, in the order of the enum (a test compares this list with
 /// the codes utoipa derives from the enum, so a new code cannot be missed).
-pub(crate) const ALL: [ErrorCode; 41] = [
+pub(crate) const ALL: [ErrorCode; 44] = [
     ErrorCode::InvalidInput,
     ErrorCode::WorkspaceViolation,
     ErrorCode::SpeedLimit,
@@ -69,6 +69,9 @@ pub(crate) const ALL: [ErrorCode; 41] = [
     ErrorCode::ShuttingDown,
     ErrorCode::PathClosed,
     ErrorCode::PathFull,
+    ErrorCode::OutputNotAllowed,
+    ErrorCode::UnknownSignal,
+    ErrorCode::SignalNotReported,
 ];
 
 /// One code of the catalogue.

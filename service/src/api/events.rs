@@ -38,9 +38,9 @@ pub struct EventsQuery {
 }
 
 /// The types a stream may ask for.
-const STREAM_TYPES: [&str; 4] = ["job", "state", "alarm", "plan"];
+const STREAM_TYPES: [&str; 5] = ["job", "state", "alarm", "plan", "io"];
 /// The types the history holds (state events are snapshots: read `/api/v1/state`).
-const HISTORY_TYPES: [&str; 3] = ["job", "plan", "alarm"];
+const HISTORY_TYPES: [&str; 4] = ["job", "plan", "alarm", "io"];
 
 /// The `types` filter: `None` for all; an unknown name is refused.
 fn wanted(types: Option<&str>, known: &[&str]) -> Result<Option<Vec<String>>, Problem> {
@@ -70,6 +70,7 @@ fn name(event: &Event) -> &'static str {
         Event::State(_) => "state",
         Event::Alarm(_) => "alarm",
         Event::Plan(_) => "plan",
+        Event::Io(_) => "io",
     }
 }
 
@@ -80,6 +81,7 @@ fn data(event: &Event) -> serde_json::Result<String> {
         Event::State(s) => serde_json::to_string(s),
         Event::Alarm(e) => serde_json::to_string(e),
         Event::Plan(p) => serde_json::to_string(p),
+        Event::Io(c) => serde_json::to_string(c),
     }
 }
 

@@ -11,6 +11,7 @@ mod dashboard;
 mod edge;
 mod errors;
 mod events;
+mod io;
 mod openapi;
 mod paths;
 mod plugins;
@@ -99,6 +100,7 @@ impl AppState {
     tags(
         (name = "thesis", description = "Compatible with the thesis bridge's clients."),
         (name = "robot", description = "State, position, frames and speeds."),
+        (name = "io", description = "Digital inputs and outputs: read live, write the outputs the site allows."),
         (name = "motion", description = "Motions, jobs and stop."),
         (name = "programs", description = "Upload and run KRL programs."),
         (name = "plugins", description = "Install, list and remove WASM plugins; each plugin's own routes follow under `plugin: <name>`."),
@@ -209,6 +211,7 @@ fn documented() -> OpenApiRouter<AppState> {
         .merge(thesis::router())
         .merge(v1::router())
         .merge(paths::router())
+        .merge(io::router())
         .merge(programs::router())
         .merge(plugins::router())
         .merge(access::router())

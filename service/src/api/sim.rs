@@ -8,7 +8,7 @@ use utoipa::IntoParams;
 use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
-use super::problem::{PROBLEM_JSON, Problem, ProblemDetails, QueryParams};
+use super::problem::{JsonBody, PROBLEM_JSON, Problem, ProblemDetails, QueryParams};
 use super::{AppState, ok_json};
 use crate::error::{BridgeError, ErrorCode};
 
@@ -142,9 +142,57 @@ async fn acknowledge(State(app): State<AppState>) -> Result<axum::http::StatusCo
     }
 }
 
+/// The value of a simulated digital input.
+#[derive(Debug, Clone, serde::Deserialize, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"value": true}))]
+pub struct InputValue {
+    /// `$IN[index]`.
+    pub value: bool,
+}
+
+/// Set a digital input of the simulated controller (`$IN[index]`, 1..=4096),
+/// as the plant would: a part-present sensor, a button. The controller
+/// reports it in its next state file (`GET /api/v1/io`).
+#[utoipa::path(put, path = "/api/v1/sim/inputs/{index}", tag = "simulator",
+    params(("index" = u16, Path, description = "1..=4096")),
+    request_body = InputValue,
+    responses((status = 204, description = "Set"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON), (status = 422, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn put_input(
+    State(app): State<AppState>,
+    axum::extract::Path(index): axum::extract::Path<String>,
+    JsonBody(v): JsonBody<InputValue>,
+) -> Result<axum::http::StatusCode, Problem> {
+    let index: u16 = index
+        .parse()
+        .ok()
+        .filter(|i| (1..=kuka_protocol::MAX_IO_INDEX).contains(i))
+        .ok_or_else(|| {
+            BridgeError::invalid(format!(
+                "$IN[{}] does not exist: indices are 1..={}",
+                index.chars().take(12).collect::<String>(),
+                kuka_protocol::MAX_IO_INDEX
+            ))
+        })?;
+    let set = match sim(&app)? {
+        Simulated::Native(sim) => sim.set_input(index, v.value),
+        Simulated::Krc(krc) => krc.set_bool_element("$IN", i64::from(index), v.value),
+    };
+    if set {
+        Ok(axum::http::StatusCode::NO_CONTENT)
+    } else {
+        Err(BridgeError::new(
+            ErrorCode::NotFound,
+            format!("the simulated controller has no $IN[{index}]"),
+        )
+        .into())
+    }
+}
+
 pub(super) fn router() -> OpenApiRouter<AppState> {
     OpenApiRouter::new()
         .routes(routes!(snapshot))
         .routes(routes!(trace, clear_trace))
         .routes(routes!(acknowledge))
+        .routes(routes!(put_input))
 }

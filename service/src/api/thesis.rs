@@ -206,6 +206,9 @@ pub fn statuscode(code: ErrorCode) -> i32 {
         ErrorCode::ShuttingDown => 78,
         ErrorCode::PathClosed => 79,
         ErrorCode::PathFull => 80,
+        ErrorCode::OutputNotAllowed => 81,
+        ErrorCode::UnknownSignal => 82,
+        ErrorCode::SignalNotReported => 83,
         ErrorCode::Internal => 99,
     }
 }

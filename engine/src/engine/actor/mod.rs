@@ -790,6 +790,11 @@ impl Actor {
             Operation::GetBase => Command::GetBase,
             Operation::SetSpeed(s) => Command::SetSpeed((*s).into()),
             Operation::Reset => Command::Reset,
+            Operation::SetOutput(o) => Command::SetOutput(kuka_protocol::OutputRecord {
+                index: o.index,
+                value: o.value,
+                pulse_ms: o.pulse_ms,
+            }),
             Operation::RunProgram(_) | Operation::Path(_) => {
                 return Err(BridgeError::new(
                     ErrorCode::Internal,
@@ -915,6 +920,7 @@ impl Actor {
             speed: self.speeds,
             model: self.shared.safety.model().map(|m| m.name.clone()),
             degraded: self.degraded(),
+            io: s.and_then(|s| s.io.as_ref()).map(Into::into),
         };
         let changed = self.shared.state.send_if_modified(|cur| {
             // The heartbeat age changes every call; publish only real changes.

@@ -3,6 +3,8 @@
 //! folders' health.
 
 use super::*;
+use crate::io::{IoChange, IoKind};
+use kuka_protocol::IoState;
 
 impl Actor {
     /// Reads the state and result files and reacts to what changed.
@@ -146,7 +148,40 @@ impl Actor {
             }
         }
         self.path_state(&s);
+        self.io_changes(&s);
         self.ctl.state = Some(s);
+    }
+
+    /// `io` events for the watched signals that changed since the last
+    /// state file (none for the first one: nothing changed yet).
+    fn io_changes(&self, s: &StateFile) {
+        let (Some(new), Some(old)) = (
+            s.io.as_ref(),
+            self.ctl.state.as_ref().and_then(|p| p.io.as_ref()),
+        ) else {
+            return;
+        };
+        if new.base != old.base {
+            return;
+        }
+        let io = self.shared.io();
+        for (kind, a, b) in [
+            (IoKind::Input, old.inputs, new.inputs),
+            (IoKind::Output, old.outputs, new.outputs),
+        ] {
+            let changed = a ^ b;
+            for k in 0..IoState::WIDTH {
+                let index = new.base + k;
+                if changed & (1 << k) != 0 && io.watched(kind, index) {
+                    self.shared.publish(Event::Io(IoChange {
+                        kind,
+                        index,
+                        name: io.name_of(kind, index).map(str::to_string),
+                        value: b & (1 << k) != 0,
+                    }));
+                }
+            }
+        }
     }
 
     /// The job is executing with `index` motions completed: a job event

@@ -184,6 +184,24 @@ impl Globals {
         );
     }
 
+    /// Sets an element of a BOOL array (1-based, as `$IN[3]`); false when
+    /// the array or the element does not exist.
+    pub fn set_bool_element(&mut self, name: &str, index: i64, v: bool) -> bool {
+        match self.vars.get_mut(&name.to_ascii_uppercase()) {
+            Some(Value::Array(dims, items)) => match flat_index(dims, &[index])
+                .ok()
+                .and_then(|k| items.get_mut(k))
+            {
+                Some(slot @ Value::Bool(_)) => {
+                    *slot = Value::Bool(v);
+                    true
+                }
+                _ => false,
+            },
+            _ => false,
+        }
+    }
+
     /// Sets a BOOL array of `len` elements, all `v`, unless it exists.
     pub fn ensure_bools(&mut self, name: &str, len: usize, v: bool) {
         self.vars
@@ -329,6 +347,12 @@ impl<'a> Interp<'a> {
         g.insert("$PERI_RDY".into(), Value::Bool(true));
         g.insert("$ROB_TIMER".into(), Value::Int(0));
         g.insert("$ERR".into(), err_value(0, 0));
+        for io in ["$IN", "$OUT"] {
+            g.insert(
+                io.into(),
+                Value::Array(vec![4096], vec![Value::Bool(false); 4096]),
+            );
+        }
     }
 
     fn harness_mut(&mut self) -> Result<&mut Harness, RunError> {

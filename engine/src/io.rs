@@ -1,0 +1,228 @@
+//! Digital I/O: the site's named signals (configuration `[io]`), the
+//! outputs clients may write (the allow-list), and the controller's I/O as
+//! its state file reports it (a window of 31 inputs and outputs).
+
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+use crate::error::{BridgeError, ErrorCode, Result};
+use kuka_protocol::{IoState, MAX_IO_INDEX, MAX_PULSE_MS};
+
+/// Inputs or outputs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum IoKind {
+    /// `$IN`.
+    Input,
+    /// `$OUT`.
+    Output,
+}
+
+impl IoKind {
+    /// `$IN` or `$OUT`.
+    pub fn krl(self) -> &'static str {
+        match self {
+            IoKind::Input => "$IN",
+            IoKind::Output => "$OUT",
+        }
+    }
+}
+
+/// One named signal of the site.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SignalConfig {
+    /// The name clients may use instead of the number (`gripper_close`):
+    /// a lower-case letter, then lower-case letters, digits and `_`, at
+    /// most 32 characters.
+    pub name: String,
+    /// `$IN`/`$OUT` index, 1..=4096.
+    pub index: u16,
+    /// Outputs: a write without its own `pulse_ms` pulses this long (ms,
+    /// up to 60000); 0 = the output stays.
+    #[serde(default)]
+    pub pulse_ms: u32,
+    /// Changes of this signal are pushed as `io` events.
+    #[serde(default)]
+    pub watch: bool,
+}
+
+/// The site's digital I/O: names for inputs, and the outputs clients may
+/// write (every other output is refused with `output_not_allowed`).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IoConfig {
+    /// Named inputs (reading needs no entry: any input in the window can be
+    /// read by number).
+    pub inputs: Vec<SignalConfig>,
+    /// The outputs clients may write, by name and number (reading needs
+    /// no entry).
+    pub outputs: Vec<SignalConfig>,
+}
+
+impl IoConfig {
+    /// Checks names, numbers and pulses; the sentence names the entry.
+    pub fn validate(&self) -> std::result::Result<(), String> {
+        let mut names = std::collections::HashSet::new();
+        for (kind, list) in [("inputs", &self.inputs), ("outputs", &self.outputs)] {
+            let mut indices = std::collections::HashSet::new();
+            for s in list {
+                let ok_name = s.name.len() <= 32
+                    && s.name.starts_with(|c: char| c.is_ascii_lowercase())
+                    && s.name
+                        .chars()
+                        .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+                if !ok_name {
+                    return Err(format!(
+                        "io.{kind}: name {:?} must be a lower-case letter, then lower-case letters, digits or _, at most 32 characters",
+                        s.name
+                    ));
+                }
+                if !names.insert(s.name.clone()) {
+                    return Err(format!("io.{kind}: the name {:?} is used twice", s.name));
+                }
+                if s.index == 0 || s.index > MAX_IO_INDEX {
+                    return Err(format!(
+                        "io.{kind}: {:?} has index {}, not in 1..={MAX_IO_INDEX}",
+                        s.name, s.index
+                    ));
+                }
+                if !indices.insert(s.index) {
+                    return Err(format!("io.{kind}: index {} is named twice", s.index));
+                }
+                if s.pulse_ms > MAX_PULSE_MS || (kind == "inputs" && s.pulse_ms > 0) {
+                    return Err(format!(
+                        "io.{kind}: {:?} has pulse_ms {} (outputs only, at most {MAX_PULSE_MS})",
+                        s.name, s.pulse_ms
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn list(&self, kind: IoKind) -> &[SignalConfig] {
+        match kind {
+            IoKind::Input => &self.inputs,
+            IoKind::Output => &self.outputs,
+        }
+    }
+
+    /// The index a client's `signal` (a number or a configured name)
+    /// stands for, with its configuration if it has one.
+    pub fn resolve(&self, kind: IoKind, signal: &str) -> Result<(u16, Option<&SignalConfig>)> {
+        let list = self.list(kind);
+        if let Some(s) = list.iter().find(|s| s.name == signal) {
+            return Ok((s.index, Some(s)));
+        }
+        if signal.bytes().all(|b| b.is_ascii_digit()) && !signal.is_empty() && signal.len() <= 5 {
+            let index: u16 = signal
+                .parse()
+                .ok()
+                .filter(|i| (1..=MAX_IO_INDEX).contains(i))
+                .ok_or_else(|| {
+                    BridgeError::invalid(format!(
+                        "{}[{signal}] does not exist: indices are 1..={MAX_IO_INDEX}",
+                        kind.krl()
+                    ))
+                })?;
+            return Ok((index, list.iter().find(|s| s.index == index)));
+        }
+        let shown: String = signal.chars().take(40).collect();
+        Err(BridgeError::new(
+            ErrorCode::UnknownSignal,
+            format!(
+                "no {} is named {shown:?}: use a number (1..={MAX_IO_INDEX}) or a name from the site's [io] configuration",
+                match kind {
+                    IoKind::Input => "input",
+                    IoKind::Output => "output",
+                }
+            ),
+        ))
+    }
+
+    /// The output's entry if clients may write it.
+    pub fn writable(&self, index: u16) -> Result<&SignalConfig> {
+        self.outputs
+            .iter()
+            .find(|s| s.index == index)
+            .ok_or_else(|| {
+                BridgeError::new(
+                    ErrorCode::OutputNotAllowed,
+                    format!(
+                        "$OUT[{index}] is not on the site's list of outputs clients may write ([io] outputs in the configuration)"
+                    ),
+                )
+            })
+    }
+
+    /// The configured name of a signal, if any.
+    pub fn name_of(&self, kind: IoKind, index: u16) -> Option<&str> {
+        self.list(kind)
+            .iter()
+            .find(|s| s.index == index)
+            .map(|s| s.name.as_str())
+    }
+
+    /// Whether changes of the signal are pushed as events.
+    pub fn watched(&self, kind: IoKind, index: u16) -> bool {
+        self.list(kind).iter().any(|s| s.index == index && s.watch)
+    }
+}
+
+/// A digital output to set (`PUT /api/v1/io/outputs/{signal}`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OutputRequest {
+    /// `$OUT` index.
+    pub index: u16,
+    /// The value.
+    pub value: bool,
+    /// 0: stays; else returns to `!value` after this many ms.
+    pub pulse_ms: u32,
+}
+
+/// The I/O the controller reported in its last state file.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, ToSchema)]
+pub struct IoWindow {
+    /// Index of the first signal (`inputs[0]` is `$IN[base]`).
+    pub base: u16,
+    /// `$IN[base..base+30]`.
+    pub inputs: Vec<bool>,
+    /// `$OUT[base..base+30]`.
+    pub outputs: Vec<bool>,
+}
+
+impl From<&IoState> for IoWindow {
+    fn from(s: &IoState) -> Self {
+        let bits = |v: u32| (0..IoState::WIDTH).map(|k| v & (1 << k) != 0).collect();
+        IoWindow {
+            base: s.base,
+            inputs: bits(s.inputs),
+            outputs: bits(s.outputs),
+        }
+    }
+}
+
+impl IoWindow {
+    /// The value of a signal, if the window holds it.
+    pub fn get(&self, kind: IoKind, index: u16) -> Option<bool> {
+        let k = usize::from(index.checked_sub(self.base)?);
+        match kind {
+            IoKind::Input => self.inputs.get(k).copied(),
+            IoKind::Output => self.outputs.get(k).copied(),
+        }
+    }
+}
+
+/// A watched signal changed (the `io` event).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, ToSchema)]
+pub struct IoChange {
+    /// Input or output.
+    pub kind: IoKind,
+    /// Its index.
+    pub index: u16,
+    /// Its configured name.
+    pub name: Option<String>,
+    /// The new value.
+    pub value: bool,
+}

@@ -1,0 +1,215 @@
+//! Digital I/O (`/api/v1/io`): `$IN`/`$OUT` as the controller's state file
+//! reports them (live, no round trip), and writes of the outputs the site
+//! allows (`[io] outputs`), by number or by name.
+
+use axum::extract::{Path, State};
+use axum::response::Response;
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
+
+use super::auth::Who;
+use super::problem::{JsonBody, PROBLEM_JSON, Problem, ProblemDetails};
+use super::{AppState, ok_json};
+use crate::engine::{Connection, Operation};
+use crate::error::{BridgeError, ErrorCode};
+use crate::io::{IoKind, IoWindow, OutputRequest};
+
+/// One digital signal and its value.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+#[schema(example = json!({"kind": "output", "index": 1, "name": "gripper_close", "value": true, "writable": true}))]
+pub struct Signal {
+    /// Input or output.
+    pub kind: IoKind,
+    /// `$IN`/`$OUT` index.
+    pub index: u16,
+    /// Its name in the site's `[io]` configuration.
+    pub name: Option<String>,
+    /// Its value as the controller last reported it.
+    pub value: bool,
+    /// Clients may write it (an output on the site's list).
+    pub writable: bool,
+}
+
+/// The digital I/O the controller reports.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct IoView {
+    /// Index of the first signal reported (the KRL program's `kb_io_base`).
+    pub base: u16,
+    /// Milliseconds since the service read the state file they come from.
+    pub age_ms: Option<u64>,
+    /// `$IN[base..base+30]`.
+    pub inputs: Vec<Signal>,
+    /// `$OUT[base..base+30]`.
+    pub outputs: Vec<Signal>,
+}
+
+/// The body of an output write.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"value": true}))]
+pub struct OutputWrite {
+    /// The value to set.
+    pub value: bool,
+    /// Return to the other value after this many ms (0..=60000); default:
+    /// the output's `pulse_ms` in the configuration (0: it stays).
+    pub pulse_ms: Option<u32>,
+}
+
+/// The I/O window of the controller's last state file.
+fn window(app: &AppState) -> Result<(IoWindow, Option<u64>), BridgeError> {
+    let state = app.engine.state();
+    if state.connection == Connection::Offline {
+        return Err(BridgeError::new(
+            ErrorCode::ControllerOffline,
+            "the controller is offline (no heartbeat): its I/O is not known",
+        ));
+    }
+    let age = state
+        .position_read_at
+        .map(|t| t.elapsed().as_millis() as u64);
+    state.io.map(|w| (w, age)).ok_or_else(|| {
+        BridgeError::new(
+            ErrorCode::SignalNotReported,
+            "the controller program reports no I/O (its state file has no IOS line: update the KRL program)",
+        )
+    })
+}
+
+fn signal(app: &AppState, w: &IoWindow, kind: IoKind, index: u16) -> Option<Signal> {
+    let io = app.engine.io_config();
+    Some(Signal {
+        kind,
+        index,
+        name: io.name_of(kind, index).map(str::to_string),
+        value: w.get(kind, index)?,
+        writable: kind == IoKind::Output && io.writable(index).is_ok(),
+    })
+}
+
+/// The digital inputs and outputs the controller reports.
+///
+/// Live from the controller's state file (its heartbeat, every 100 ms on the
+/// shipped KRL program): 31 inputs and 31 outputs from `base` (the KRL
+/// program's `kb_io_base`), with the names of the site's `[io]` configuration
+/// and which outputs clients may write.
+#[utoipa::path(get, path = "/api/v1/io", tag = "io",
+    responses((status = 200, body = IoView),
+        (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_io(State(app): State<AppState>) -> Result<Response, Problem> {
+    let (w, age_ms) = window(&app)?;
+    let list = |kind| -> Vec<Signal> {
+        (0..w.inputs.len() as u16)
+            .filter_map(|k| signal(&app, &w, kind, w.base + k))
+            .collect()
+    };
+    Ok(ok_json(&IoView {
+        base: w.base,
+        age_ms,
+        inputs: list(IoKind::Input),
+        outputs: list(IoKind::Output),
+    }))
+}
+
+/// One signal, by number or configured name.
+fn one(app: &AppState, kind: IoKind, name: &str) -> Result<Response, Problem> {
+    let (index, _) = app.engine.io_config().resolve(kind, name)?;
+    let (w, _) = window(app)?;
+    let s = signal(app, &w, kind, index).ok_or_else(|| {
+        BridgeError::new(
+            ErrorCode::SignalNotReported,
+            format!(
+                "the controller reports {io}[{}..{}] only, not {io}[{index}] (the KRL program's kb_io_base)",
+                w.base,
+                w.base + w.inputs.len() as u16 - 1,
+                io = kind.krl()
+            ),
+        )
+    })?;
+    Ok(ok_json(&s))
+}
+
+/// One digital input, by number or configured name.
+///
+/// `signal` is a number (1..=4096) or a name from the site's `[io]
+/// inputs`. A signal outside what the controller reports (31 from its
+/// `base`) is `signal_not_reported`.
+#[utoipa::path(get, path = "/api/v1/io/inputs/{signal}", tag = "io",
+    params(("signal" = String, Path, description = "A number (1..=4096) or a configured name")),
+    responses((status = 200, body = Signal),
+        (status = 404, description = "`unknown_signal`: no input has that name", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = 422, description = "`signal_not_reported`, or a number out of range", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_input(
+    State(app): State<AppState>,
+    Path(name): Path<String>,
+) -> Result<Response, Problem> {
+    one(&app, IoKind::Input, &name)
+}
+
+/// One digital output, by number or configured name.
+///
+/// As for inputs; `writable` says whether clients may set it.
+#[utoipa::path(get, path = "/api/v1/io/outputs/{signal}", tag = "io",
+    params(("signal" = String, Path, description = "A number (1..=4096) or a configured name")),
+    responses((status = 200, body = Signal),
+        (status = 404, description = "`unknown_signal`: no output has that name", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = 422, description = "`signal_not_reported`, or a number out of range", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_output(
+    State(app): State<AppState>,
+    Path(name): Path<String>,
+) -> Result<Response, Problem> {
+    one(&app, IoKind::Output, &name)
+}
+
+/// Set a digital output the site allows clients to write.
+///
+/// Only outputs listed in the site's `[io] outputs` may be written (by number
+/// or name); any other is refused with 403 `output_not_allowed` and nothing
+/// reaches the controller. Queued like every command: it runs after the
+/// motions sent before it. `pulse_ms` returns the output to the other value
+/// after that time. Answers the signal as set.
+#[utoipa::path(put, path = "/api/v1/io/outputs/{signal}", tag = "io",
+    params(("signal" = String, Path, description = "A number (1..=4096) or a configured name")),
+    request_body = OutputWrite,
+    responses((status = 200, body = Signal),
+        (status = 403, description = "`output_not_allowed`: not on the site's list", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = 404, description = "`unknown_signal`", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn put_output(
+    State(app): State<AppState>,
+    who: Who,
+    Path(name): Path<String>,
+    JsonBody(body): JsonBody<OutputWrite>,
+) -> Result<Response, Problem> {
+    let io = app.engine.io_config();
+    let (index, _) = io.resolve(IoKind::Output, &name)?;
+    let entry = io.writable(index)?;
+    let pulse_ms = body.pulse_ms.unwrap_or(entry.pulse_ms);
+    let op = Operation::SetOutput(OutputRequest {
+        index,
+        value: body.value,
+        pulse_ms,
+    });
+    app.engine
+        .execute(op, None, app.request_timeout, who.caller())
+        .await?;
+    Ok(ok_json(&Signal {
+        kind: IoKind::Output,
+        index,
+        name: Some(entry.name.clone()),
+        value: body.value,
+        writable: true,
+    }))
+}
+
+pub(super) fn router() -> OpenApiRouter<AppState> {
+    OpenApiRouter::new()
+        .routes(routes!(get_io))
+        .routes(routes!(get_input))
+        .routes(routes!(get_output, put_output))
+}

@@ -1,0 +1,449 @@
+//! Digital I/O through HTTP against the simulated controller (issue 23;
+//! `KB_TEST_SIMULATOR=krc`: the shipped KRL program in the KRC-like
+//! runtime): outputs set and read back by name and number, the allow-list
+//! (nothing reaches the channel for another output), pulses, simulated
+//! inputs pushed as `io` events, and hostile signal names and bodies.
+
+use kuka_bridge::io::{IoConfig, SignalConfig};
+use kuka_bridge_tests::{Options, TestService, WAIT, wait_for};
+use serde_json::{Value, json};
+
+fn signal(name: &str, index: u16, pulse_ms: u32, watch: bool) -> SignalConfig {
+    SignalConfig {
+        name: name.into(),
+        index,
+        pulse_ms,
+        watch,
+    }
+}
+
+/// A site with a gripper on `$OUT[1]`, a blow-off pulse on `$OUT[2]` and a
+/// part-present sensor on `$IN[3]`; only those two outputs are writable.
+async fn plant() -> TestService {
+    TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(|c| {
+            c.io = IoConfig {
+                inputs: vec![signal("part_present", 3, 0, true)],
+                outputs: vec![
+                    signal("gripper_close", 1, 0, true),
+                    signal("blow_off", 2, 300, true),
+                ],
+            };
+        }),
+        ..Options::default()
+    })
+    .await
+}
+
+async fn put(t: &TestService, path: &str, body: &Value) -> (u16, Value) {
+    t.put_json(path, body).await
+}
+
+/// Waits until `GET path` answers a signal whose value is `want`.
+async fn wait_value(t: &TestService, path: &str, want: bool) -> Value {
+    wait_for(WAIT, &format!("{path} to read {want}"), async || {
+        let (s, v) = t.get(path).await;
+        if s == 200 && v["value"] == want {
+            Ok(v)
+        } else {
+            Err(format!("{s} {v}"))
+        }
+    })
+    .await
+}
+
+/// The controller's newest accepted command id.
+async fn last_cid(t: &TestService) -> i64 {
+    let (_, s) = t.get("/api/v1/state").await;
+    s["controller"]["last_cid"].as_i64().unwrap_or(0)
+}
+
+/// `io` events held by the service, oldest first.
+async fn io_events(t: &TestService) -> Vec<Value> {
+    let (s, v) = t.get("/api/v1/events/recent?types=io&limit=1000").await;
+    assert_eq!(s, 200, "{v}");
+    v.as_array()
+        .expect("events")
+        .iter()
+        .map(|e| e["data"].clone())
+        .collect()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn outputs_are_set_and_read_back_by_name_and_number() {
+    let t = plant().await;
+    let (s, v) = t.get("/api/v1/io").await;
+    assert_eq!(s, 200, "{v}");
+    assert_eq!(v["base"], 1, "{v}");
+    assert_eq!(v["outputs"].as_array().map(Vec::len), Some(31), "{v}");
+    assert_eq!(v["outputs"][0]["name"], "gripper_close", "{v}");
+    assert_eq!(v["outputs"][0]["writable"], true, "{v}");
+    assert_eq!(v["outputs"][4]["writable"], false, "{v}");
+    assert_eq!(v["inputs"][2]["name"], "part_present", "{v}");
+
+    let (s, v) = put(
+        &t,
+        "/api/v1/io/outputs/gripper_close",
+        &json!({"value": true}),
+    )
+    .await;
+    assert_eq!(s, 200, "{v}");
+    assert_eq!(
+        (v["index"].as_u64(), v["value"].as_bool()),
+        (Some(1), Some(true)),
+        "{v}"
+    );
+    wait_value(&t, "/api/v1/io/outputs/1", true).await;
+    let v = wait_value(&t, "/api/v1/io/outputs/gripper_close", true).await;
+    assert_eq!(v["name"], "gripper_close", "{v}");
+    // By number, back to false.
+    let (s, v) = put(&t, "/api/v1/io/outputs/1", &json!({"value": false})).await;
+    assert_eq!(s, 200, "{v}");
+    wait_value(&t, "/api/v1/io/outputs/gripper_close", false).await;
+    // The watched output's changes were pushed, in order.
+    let events = wait_for(WAIT, "two io events of the gripper", async || {
+        let e: Vec<Value> = io_events(&t)
+            .await
+            .into_iter()
+            .filter(|e| e["name"] == "gripper_close")
+            .collect();
+        if e.len() >= 2 {
+            Ok(e)
+        } else {
+            Err(format!("{e:?}"))
+        }
+    })
+    .await;
+    let values: Vec<bool> = events.iter().filter_map(|e| e["value"].as_bool()).collect();
+    assert_eq!(values, [true, false], "{events:?}");
+    assert_eq!(events[0]["kind"], "output");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_pulse_returns_the_output_to_its_other_value() {
+    let t = plant().await;
+    // The configured pulse (300 ms).
+    let (s, v) = put(&t, "/api/v1/io/outputs/blow_off", &json!({"value": true})).await;
+    assert_eq!(s, 200, "{v}");
+    let events = wait_for(WAIT, "the pulse to end", async || {
+        let e: Vec<Value> = io_events(&t)
+            .await
+            .into_iter()
+            .filter(|e| e["name"] == "blow_off")
+            .collect();
+        if e.len() >= 2 {
+            Ok(e)
+        } else {
+            Err(format!("{e:?}"))
+        }
+    })
+    .await;
+    let values: Vec<bool> = events.iter().filter_map(|e| e["value"].as_bool()).collect();
+    assert_eq!(values, [true, false], "{events:?}");
+    let (_, v) = t.get("/api/v1/io/outputs/2").await;
+    assert_eq!(v["value"], false, "{v}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_simulated_input_is_read_by_name_and_pushed() {
+    let t = plant().await;
+    let (s, v) = t.get("/api/v1/io/inputs/part_present").await;
+    assert_eq!((s, v["value"].as_bool()), (200, Some(false)), "{v}");
+    let (s, v) = put(&t, "/api/v1/sim/inputs/3", &json!({"value": true})).await;
+    assert_eq!(s, 204, "{v}");
+    wait_value(&t, "/api/v1/io/inputs/part_present", true).await;
+    let e = wait_for(WAIT, "the io event of the input", async || {
+        let e: Vec<Value> = io_events(&t)
+            .await
+            .into_iter()
+            .filter(|e| e["name"] == "part_present")
+            .collect();
+        if e.is_empty() {
+            Err("none".to_string())
+        } else {
+            Ok(e)
+        }
+    })
+    .await;
+    assert_eq!(
+        (
+            e[0]["kind"].as_str(),
+            e[0]["index"].as_u64(),
+            e[0]["value"].as_bool()
+        ),
+        (Some("input"), Some(3), Some(true)),
+        "{e:?}"
+    );
+    // An input nobody watches changes without an event.
+    let (s, _) = put(&t, "/api/v1/sim/inputs/4", &json!({"value": true})).await;
+    assert_eq!(s, 204);
+    wait_value(&t, "/api/v1/io/inputs/4", true).await;
+    assert!(io_events(&t).await.iter().all(|e| e["index"] != 4));
+}
+
+/// Hostile signal names, numbers and bodies: each refused with a code and
+/// a sentence, and none reaches the controller (its newest command id
+/// stays where it was, no output changes).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn hostile_io_requests_are_refused_before_the_channel() {
+    let t = plant().await;
+    let before = last_cid(&t).await;
+    let long = "x".repeat(5000);
+    let cases: Vec<(String, Value, u16, &str)> = vec![
+        // Not on the allow-list.
+        (
+            "/api/v1/io/outputs/5".into(),
+            json!({"value": true}),
+            403,
+            "output_not_allowed",
+        ),
+        (
+            "/api/v1/io/outputs/4096".into(),
+            json!({"value": true}),
+            403,
+            "output_not_allowed",
+        ),
+        (
+            "/api/v1/io/outputs/3".into(),
+            json!({"value": false}),
+            403,
+            "output_not_allowed",
+        ),
+        // An input's name is not an output.
+        (
+            "/api/v1/io/outputs/part_present".into(),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        // Numbers out of range, and things that are not numbers or names.
+        (
+            "/api/v1/io/outputs/0".into(),
+            json!({"value": true}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/4097".into(),
+            json!({"value": true}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/99999".into(),
+            json!({"value": true}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/-1".into(),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            "/api/v1/io/outputs/1.0".into(),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            "/api/v1/io/outputs/1e3".into(),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            "/api/v1/io/outputs/0x01".into(),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            "/api/v1/io/outputs/1%3B".into(),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            "/api/v1/io/outputs/%24OUT%5B1%5D%3DTRUE%3B".into(),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            "/api/v1/io/outputs/gripper_close%3B%24OUT%5B5%5D%3DTRUE".into(),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            "/api/v1/io/outputs/GRIPPER_CLOSE".into(),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            "/api/v1/io/outputs/gripper_close%20".into(),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            "/api/v1/io/outputs/gr%C3%BCn".into(),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            format!("/api/v1/io/outputs/{long}"),
+            json!({"value": true}),
+            404,
+            "unknown_signal",
+        ),
+        // Bodies of the wrong shape.
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!({"value": "yes"}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!({"value": 1}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!({"value": null}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!({}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!([true]),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!(true),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!({"value": true, "index": 5}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!({"value": true, "pulse_ms": -1}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!({"value": true, "pulse_ms": 60001}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!({"value": true, "pulse_ms": 1e10}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!({"value": true, "pulse_ms": "300"}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/outputs/1".into(),
+            json!({"value": "$OUT[5]=TRUE;"}),
+            422,
+            "invalid_input",
+        ),
+        // Inputs cannot be written through the API (only the simulator's plant).
+        (
+            "/api/v1/io/inputs/3".into(),
+            json!({"value": true}),
+            405,
+            "method_not_allowed",
+        ),
+        (
+            "/api/v1/io/bogus/1".into(),
+            json!({"value": true}),
+            404,
+            "not_found",
+        ),
+    ];
+    assert!(cases.len() >= 30);
+    for (path, body, status, code) in &cases {
+        let (s, v) = put(&t, path, body).await;
+        let shown: String = path.chars().take(60).collect();
+        assert_eq!(
+            (s, v["code"].as_str()),
+            (*status, Some(*code)),
+            "PUT {shown} {body} → {v}"
+        );
+        let detail = v["detail"].as_str().unwrap_or("");
+        assert!(
+            !detail.is_empty() && detail.len() < 400,
+            "PUT {shown} → {v}"
+        );
+    }
+    // Reads of what does not exist or is not reported.
+    for (path, status, code) in [
+        ("/api/v1/io/inputs/0", 422, "invalid_input"),
+        ("/api/v1/io/inputs/100", 422, "signal_not_reported"),
+        ("/api/v1/io/inputs/gripper_close", 404, "unknown_signal"),
+        ("/api/v1/io/outputs/%24OUT%5B1%5D", 404, "unknown_signal"),
+    ] {
+        let (s, v) = t.get(path).await;
+        assert_eq!(
+            (s, v["code"].as_str()),
+            (status, Some(code)),
+            "GET {path} → {v}"
+        );
+    }
+    // Nothing reached the controller: a write that is allowed still goes
+    // through afterwards, with the next command id.
+    assert_eq!(
+        last_cid(&t).await,
+        before,
+        "a refused write reached the channel"
+    );
+    let (_, io) = t.get("/api/v1/io").await;
+    assert!(
+        io["outputs"]
+            .as_array()
+            .expect("outputs")
+            .iter()
+            .all(|o| o["value"] == false),
+        "{io}"
+    );
+    let (s, v) = put(
+        &t,
+        "/api/v1/io/outputs/gripper_close",
+        &json!({"value": true}),
+    )
+    .await;
+    assert_eq!(s, 200, "{v}");
+    wait_for(WAIT, "the allowed write's command id in the state", async || {
+        let now = last_cid(&t).await;
+        if now > before { Ok(()) } else { Err(now.to_string()) }
+    })
+    .await;
+}
