@@ -441,9 +441,17 @@ async fn hostile_io_requests_are_refused_before_the_channel() {
     )
     .await;
     assert_eq!(s, 200, "{v}");
-    wait_for(WAIT, "the allowed write's command id in the state", async || {
-        let now = last_cid(&t).await;
-        if now > before { Ok(()) } else { Err(now.to_string()) }
-    })
+    wait_for(
+        WAIT,
+        "the allowed write's command id in the state",
+        async || {
+            let now = last_cid(&t).await;
+            if now > before {
+                Ok(())
+            } else {
+                Err(now.to_string())
+            }
+        },
+    )
     .await;
 }

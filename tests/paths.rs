@@ -1301,3 +1301,85 @@ async fn a_paused_stream_keeps_its_path() {
     let j = wait_path_end(&t, id).await;
     assert_eq!(end_of(&j), (Some("done"), Some(6), None), "{j}");
 }
+
+/// A JSON-lines stream that pauses after spline points sends the block it
+/// held back for more points: the robot runs every point it was sent.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_paused_stream_sends_its_held_back_spline_points() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    let pts = circle(40, 40.0);
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let (tx, rx) = tokio::sync::mpsc::unbounded_channel::<Result<String, std::io::Error>>();
+    let body = reqwest::Body::wrap_stream(futures_util::stream::unfold(rx, async |mut rx| {
+        rx.recv().await.map(|item| (item, rx))
+    }));
+    let request = t
+        .http
+        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
+        .header("content-type", "application/x-ndjson")
+        .body(body)
+        .send();
+    let answer = tokio::spawn(request);
+    // 20 points: two blocks of 8 and 4 held back for more.
+    for p in &pts[1..21] {
+        tx.send(Ok(format!("{}\n", spl(p, 0.2))))
+            .expect("stream open");
+    }
+    let j = wait_for(
+        WAIT,
+        "all 20 points appended during the pause",
+        async || {
+            let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
+            if j["path"]["appended"] == 20 {
+                Ok(j)
+            } else {
+                Err(j.to_string())
+            }
+        },
+    )
+    .await;
+    assert_eq!(j["path"]["closed"], false, "{j}");
+    drop(tx);
+    let r = answer.await.expect("request task").expect("answer");
+    assert_eq!(r.status().as_u16(), 200);
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(end_of(&j), (Some("done"), Some(20), None), "{j}");
+    assert_close(
+        j["position"]["x"].as_f64().expect("x"),
+        pts[20][0],
+        0.01,
+        "x",
+    );
+}
+
+/// A bad line for a path still queued behind another job: the path ends
+/// failed with the reason once it reaches the controller, instead of
+/// holding it open.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_bad_line_for_a_queued_path_fails_the_path() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    // A job of about a second ahead of the path.
+    let slow = json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 30}, "velocity_pct": 30}], "wait": false});
+    let (s, job) = t.post_json("/api/v1/motions", &slow).await;
+    assert_eq!(s, 202, "{job}");
+    let id = open_path(&t).await;
+    let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
+    assert_eq!(j["state"], "queued", "{j}");
+    let (s, e) = post_lines(&t, id, "{\"target\": {\"x\": 230}}\n".into()).await;
+    assert_eq!(s, 422, "{e}");
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(
+        (j["state"].as_str(), j["error"]["code"].as_str()),
+        (Some("failed"), Some("invalid_input")),
+        "{j}"
+    );
+}

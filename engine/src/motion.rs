@@ -76,9 +76,13 @@ pub struct AxesSpec {
     pub a6: Option<f64>,
 }
 
-/// One motion. PTP speeds are % of the maximum axis speed, LIN/CIRC speeds
-/// m/s; `approx_mm` > 0 blends into the next motion of a batch (C_DIS).
-/// `relative: true` adds the given components to the start of the motion.
+/// One motion. PTP/SPTP speeds are % of the maximum axis speed, the path
+/// motions' (LIN, CIRC, SLIN, SCIRC, SPL) m/s; `approx_mm` > 0 blends into
+/// the next motion of a batch (C_DIS for LIN/CIRC, C_SPL for the spline
+/// motions; the two families never blend into each other, and a PTP/SPTP
+/// always stops exactly). `relative: true` adds the given components to the
+/// start of the motion. An omitted speed is the default speed, not the
+/// previous motion's.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize, ToSchema)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum MotionRequest {
@@ -384,6 +388,12 @@ impl From<SpeedSettings> for kuka_protocol::SpeedRecord {
     }
 }
 
+/// A pose as the controller gets it: the file protocol carries thousandths
+/// (so relative motions and appends do not gather floating-point noise).
+fn thousandths(pose: [f64; 6]) -> Frame {
+    Frame::from_array(pose.map(|v| (v * 1000.0).round() / 1000.0))
+}
+
 fn pick(given: Option<f64>, relative: bool, previous: f64) -> f64 {
     match (given, relative) {
         (Some(v), true) => previous + v,
@@ -457,7 +467,7 @@ pub fn resolve(
                     *p = pick(c, *relative, *p);
                 }
                 MotionRecord::Ptp {
-                    target: Frame::from_array(pose),
+                    target: thousandths(pose),
                     s: st(target.s),
                     t: st(target.t),
                     params,
@@ -470,7 +480,7 @@ pub fn resolve(
                     *p = pick(c, *relative, *p);
                 }
                 MotionRecord::Sptp {
-                    target: Frame::from_array(pose),
+                    target: thousandths(pose),
                     s: st(target.s),
                     t: st(target.t),
                     params,
@@ -488,7 +498,7 @@ pub fn resolve(
                 for (p, c) in pose.iter_mut().zip(target.components()) {
                     *p = pick(c, *relative, *p);
                 }
-                let target = Frame::from_array(pose);
+                let target = thousandths(pose);
                 match req {
                     MotionRequest::Slin { .. } => MotionRecord::Slin { target, params },
                     // (Its block: `form_spline_blocks` below.)
@@ -520,7 +530,7 @@ pub fn resolve(
                 for (p, c) in pose.iter_mut().zip(target.components()) {
                     *p = pick(c, *relative, *p);
                 }
-                let target = Frame::from_array(pose);
+                let target = thousandths(pose);
                 if matches!(req, MotionRequest::Scirc { .. }) {
                     MotionRecord::Scirc {
                         aux,

@@ -627,27 +627,7 @@ impl Engine {
         // A path queued behind other jobs takes appends once it is on the
         // controller: wait for that (within the append's own wait).
         let started = Instant::now();
-        if job.state == JobState::Queued {
-            let mut rx = {
-                let table = self.shared.table();
-                table
-                    .jobs
-                    .get(&path)
-                    .map(|tx| tx.subscribe())
-                    .ok_or_else(|| self.unknown_job(path))?
-            };
-            let left =
-                tokio::time::timeout(wait, rx.wait_for(|j| j.state != JobState::Queued)).await;
-            if left.is_err() {
-                return Err(BridgeError::new(
-                    ErrorCode::PathFull,
-                    format!(
-                        "path {path} is still queued behind other jobs after {} ms",
-                        wait.as_millis()
-                    ),
-                ));
-            }
-        }
+        self.wait_path_started(path, job.state, wait).await?;
         let wait = wait.saturating_sub(started.elapsed());
         let (tx, rx) = oneshot::channel();
         self.tx
@@ -665,11 +645,47 @@ impl Engine {
         rx.await.map_err(|_| stopped())?
     }
 
+    /// Waits (up to `wait`) until a queued path is on the controller.
+    async fn wait_path_started(&self, path: JobId, state: JobState, wait: Duration) -> Result<()> {
+        if state != JobState::Queued {
+            return Ok(());
+        }
+        let mut rx = {
+            let table = self.shared.table();
+            table
+                .jobs
+                .get(&path)
+                .map(|tx| tx.subscribe())
+                .ok_or_else(|| self.unknown_job(path))?
+        };
+        let left = tokio::time::timeout(wait, rx.wait_for(|j| j.state != JobState::Queued)).await;
+        if left.is_err() {
+            return Err(BridgeError::new(
+                ErrorCode::PathFull,
+                format!(
+                    "path {path} is still queued behind other jobs after {} ms",
+                    wait.as_millis()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// Closes the path because the client's input was refused before it
     /// became motions (e.g. a bad line of a JSON-lines stream): the robot
     /// stops at the last motion appended and the path's job fails with
-    /// `error`, as when a motion is refused.
+    /// `error`, as when a motion is refused. A path still queued behind
+    /// other jobs is refused once it is on the controller (it then ends at
+    /// once), or cancelled if it is not within 30 s.
     pub async fn refuse_path(&self, path: JobId, error: BridgeError) -> Result<AppendOutcome> {
+        let job = self.job(path)?;
+        if let Err(e) = self
+            .wait_path_started(path, job.state, Duration::from_secs(30))
+            .await
+        {
+            let _ = self.cancel(path).await;
+            return Err(e);
+        }
         let (tx, rx) = oneshot::channel();
         self.tx
             .send(Msg::Append(actor::AppendRequest {

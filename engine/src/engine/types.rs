@@ -488,7 +488,7 @@ pub struct JobPlan {
 /// One motion of a [`JobPlan`].
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
 pub struct PlannedMotion {
-    /// `ptp`, `ptp_axes`, `lin` or `circ`.
+    /// `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp` or `spl`.
     #[serde(rename = "type")]
     pub kind: String,
     /// Target TCP pose in the base frame `[x, y, z, a, b, c]` (not for `ptp_axes`).

@@ -37,7 +37,8 @@ pub fn to_motion(r: &MotionRecord) -> Motion {
 /// Converts a command's motion records (in order) to planner motions, one
 /// per record, with the blending rules of the KRL program:
 ///
-/// * SLIN/SCIRC/SPTP are planned as LIN/CIRC/PTP;
+/// * SLIN/SCIRC/SPTP are planned as LIN/CIRC/PTP; a PTP/SPTP/axis PTP
+///   never blends (its approximation is 0 here);
 /// * an `SPL` is a segment of its block's curve (its neighbours from the
 ///   block), and a block's inner points never stop;
 /// * the conventional (PTP/LIN/CIRC) and the spline family (SLIN/SCIRC/
@@ -92,7 +93,15 @@ pub fn to_motions(records: &[MotionRecord]) -> Vec<Motion> {
                 },
             };
             let inner = matches!(r, MotionRecord::Spl { left, .. } if *left > 1);
-            let approx_mm = if inner {
+            let ptp = matches!(
+                r,
+                MotionRecord::Ptp { .. } | MotionRecord::PtpAxes { .. } | MotionRecord::Sptp { .. }
+            );
+            // (A PTP/SPTP always stops exactly: its approximation would
+            // only widen the swept path the checks allow.)
+            let approx_mm = if ptp {
+                0.0
+            } else if inner {
                 SPL_INNER_APPROX_MM
             } else if next.is_some_and(|n| n.is_spline_family() != r.is_spline_family()) {
                 0.0

@@ -288,6 +288,17 @@ async fn append_lines(
             match tokio::time::timeout(STREAM_KEEPALIVE, body.next()).await {
                 Ok(next) => break next,
                 Err(_) => {
+                    // The stream pauses: a spline block held back for more
+                    // points goes as it is (the robot would otherwise stop
+                    // before points it was sent).
+                    while !done.batch.is_empty() {
+                        if let Err(e) = done.flush(engine, id, wait, true).await {
+                            if e.code != ErrorCode::PathClosed {
+                                close().await;
+                            }
+                            return Err(e.into());
+                        }
+                    }
                     if let Err(e) = engine.keep_path_alive(id).await {
                         tracing::debug!(
                             path = id,
@@ -305,7 +316,13 @@ async fn append_lines(
                 false
             }
             Some(Err(e)) => {
-                // The client went away: the path ends at the last motion appended.
+                // The client went away: the path ends at the last motion
+                // received whole (a held-back spline block goes too).
+                while !done.batch.is_empty() {
+                    if done.flush(engine, id, wait, true).await.is_err() {
+                        break;
+                    }
+                }
                 tracing::info!(path = id, appended = done.appended, error = %e, "path stream broke off; closing the path");
                 close().await;
                 return Err(BridgeError::invalid(format!(

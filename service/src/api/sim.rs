@@ -91,7 +91,7 @@ async fn snapshot(State(app): State<AppState>) -> Result<Response, Problem> {
     }
 }
 
-/// The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
+/// The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO step of 12 ms; krc: interpreter cycle, which may record one pose twice and then move two steps, so take speeds over several samples); `stop` marks where the robot stands still.
 #[utoipa::path(get, path = "/api/v1/sim/trace", tag = "simulator", params(TraceQuery),
     responses((status = 200, description = "Trace samples, oldest first", body = [kuka_sim::TraceSample]), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn trace(
