@@ -161,6 +161,87 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/io": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The digital inputs and outputs the controller reports.
+         * @description Live from the controller's state file (its heartbeat, every 100 ms on the
+         *     shipped KRL program): 31 inputs and 31 outputs from `base` (the KRL
+         *     program's `kb_io_base`), with the names of the site's `[io]` configuration
+         *     and which outputs clients may write.
+         *
+         *     **Access:** role `viewer` or higher.
+         */
+        get: operations["getIo"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/io/inputs/{signal}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * One digital input, by number or configured name.
+         * @description `signal` is a number (1..=4096) or a name from the site's `[io]
+         *     inputs`. A signal outside what the controller reports (31 from its
+         *     `base`) is `signal_not_reported`.
+         *
+         *     **Access:** role `viewer` or higher.
+         */
+        get: operations["getInput"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/io/outputs/{signal}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * One digital output, by number or configured name.
+         * @description As for inputs; `writable` says whether clients may set it.
+         *
+         *     **Access:** role `viewer` or higher.
+         */
+        get: operations["getOutput"];
+        /**
+         * Set a digital output the site allows clients to write.
+         * @description Only outputs listed in the site's `[io] outputs` may be written (by number
+         *     or name); any other is refused with 403 `output_not_allowed` and nothing
+         *     reaches the controller. Queued like every command: it runs after the
+         *     motions sent before it. `pulse_ms` returns the output to the other value
+         *     after that time. Answers the signal as set.
+         *
+         *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        put: operations["putOutput"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/jobs": {
         parameters: {
             query?: never;
@@ -569,6 +650,28 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/sim/inputs/{index}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        /**
+         * Set a digital input of the simulated controller (`$IN[index]`, 1..=4096),
+         *     as the plant would: a part-present sensor, a button. The controller
+         *     reports it in its next state file (`GET /api/v1/io`).
+         * @description **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        put: operations["putInput"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/sim/trace": {
         parameters: {
             query?: never;
@@ -577,7 +680,7 @@ export interface paths {
             cookie?: never;
         };
         /**
-         * The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
+         * The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO step of 12 ms; krc: interpreter cycle, which may record one pose twice and then move two steps, so take speeds over several samples); `stop` marks where the robot stands still.
          * @description **Access:** role `viewer` or higher.
          */
         get: operations["getSimTrace"];
@@ -1389,7 +1492,7 @@ export interface components {
             detail: string;
         };
         /**
-         * @description A stable, machine-readable error code (never renamed; see /errors). The bridge's codes: invalid_input, workspace_violation, speed_limit, unreachable, software_limit, singularity, controller_offline, channel_locked, timeout, controller_error, controller_busy, cancelled, not_found, method_not_allowed, payload_too_large, unsupported_media_type, queue_full, invalid_program, program_unsupported, program_failed, programs_unavailable, plugin_invalid, plugin_timeout, plugin_memory, plugin_trap, plugin_bad_response, plugins_unavailable, unauthenticated, forbidden, control_held, too_many_attempts, overloaded, request_timeout, protocol_error, internal, storage_unavailable, command_lost, gone, shutting_down, path_closed, path_full. A plugin's answer may carry a code of its own.
+         * @description A stable, machine-readable error code (never renamed; see /errors). The bridge's codes: invalid_input, workspace_violation, speed_limit, unreachable, software_limit, singularity, controller_offline, channel_locked, timeout, controller_error, controller_busy, cancelled, not_found, method_not_allowed, payload_too_large, unsupported_media_type, queue_full, invalid_program, program_unsupported, program_failed, programs_unavailable, plugin_invalid, plugin_timeout, plugin_memory, plugin_trap, plugin_bad_response, plugins_unavailable, unauthenticated, forbidden, control_held, too_many_attempts, overloaded, request_timeout, protocol_error, internal, storage_unavailable, command_lost, gone, shutting_down, path_closed, path_full, output_not_allowed, unknown_signal, signal_not_reported. A plugin's answer may carry a code of its own.
          * @example invalid_input
          * @example workspace_violation
          * @example speed_limit
@@ -1431,6 +1534,9 @@ export interface components {
          * @example shutting_down
          * @example path_closed
          * @example path_full
+         * @example output_not_allowed
+         * @example unknown_signal
+         * @example signal_not_reported
          */
         ErrorCode: string;
         /**
@@ -1462,7 +1568,7 @@ export interface components {
             type: string;
         };
         /** @description A push event (Server-Sent Events on `/api/v1/events`). */
-        Event: components["schemas"]["JobEvent"] | components["schemas"]["StateEvent"] | components["schemas"]["AlarmEvent"] | components["schemas"]["PlanEvent"];
+        Event: components["schemas"]["JobEvent"] | components["schemas"]["StateEvent"] | components["schemas"]["AlarmEvent"] | components["schemas"]["PlanEvent"] | components["schemas"]["IoEvent"];
         /**
          * @description Service health.
          * @example {
@@ -1491,6 +1597,64 @@ export interface components {
             status: string;
             /** @description Service version. */
             version: string;
+        };
+        /**
+         * @description The value of a simulated digital input.
+         * @example {
+         *       "value": true
+         *     }
+         */
+        InputValue: {
+            /** @description `$IN[index]`. */
+            value: boolean;
+        };
+        /** @description A watched signal changed (the `io` event). */
+        IoChange: {
+            /**
+             * Format: int32
+             * @description Its index.
+             */
+            index: number;
+            /** @description Input or output. */
+            kind: components["schemas"]["IoKind"];
+            /** @description Its configured name. */
+            name?: string | null;
+            /** @description The new value. */
+            value: boolean;
+        };
+        /**
+         * @description Inputs or outputs.
+         * @enum {string}
+         */
+        IoKind: "input" | "output";
+        /** @description The digital I/O the controller reports. */
+        IoView: {
+            /**
+             * Format: int64
+             * @description Milliseconds since the service read the state file they come from.
+             */
+            age_ms?: number | null;
+            /**
+             * Format: int32
+             * @description Index of the first signal reported (the KRL program's `kb_io_base`).
+             */
+            base: number;
+            /** @description `$IN[base..base+30]`. */
+            inputs: components["schemas"]["Signal"][];
+            /** @description `$OUT[base..base+30]`. */
+            outputs: components["schemas"]["Signal"][];
+        };
+        /** @description The I/O the controller reported in its last state file. */
+        IoWindow: {
+            /**
+             * Format: int32
+             * @description Index of the first signal (`inputs[0]` is `$IN[base]`).
+             */
+            base: number;
+            /** @description `$IN[base..base+30]`. */
+            inputs: boolean[];
+            /** @description `$OUT[base..base+30]`. */
+            outputs: boolean[];
         };
         /**
          * @description A job as clients see it.
@@ -1856,9 +2020,13 @@ export interface components {
             wait?: boolean | null;
         };
         /**
-         * @description One motion. PTP speeds are % of the maximum axis speed, LIN/CIRC speeds
-         *     m/s; `approx_mm` > 0 blends into the next motion of a batch (C_DIS).
-         *     `relative: true` adds the given components to the start of the motion.
+         * @description One motion. PTP/SPTP speeds are % of the maximum axis speed, the path
+         *     motions' (LIN, CIRC, SLIN, SCIRC, SPL) m/s; `approx_mm` > 0 blends into
+         *     the next motion of a batch (C_DIS for LIN/CIRC, C_SPL for the spline
+         *     motions; the two families never blend into each other, and a PTP/SPTP
+         *     always stops exactly). `relative: true` adds the given components to the
+         *     start of the motion. An omitted speed is the default speed, not the
+         *     previous motion's.
          */
         MotionRequest: components["schemas"]["PtpMotion"] | components["schemas"]["AxisMotion"] | components["schemas"]["LinMotion"] | components["schemas"]["CircMotion"] | components["schemas"]["SlinMotionRequest"] | components["schemas"]["ScircMotionRequest"] | components["schemas"]["SptpMotionRequest"] | components["schemas"]["SplMotionRequest"];
         /**
@@ -1913,6 +2081,22 @@ export interface components {
             c4: number;
         };
         /**
+         * @description The body of an output write.
+         * @example {
+         *       "value": true
+         *     }
+         */
+        OutputWrite: {
+            /**
+             * Format: int32
+             * @description Return to the other value after this many ms (0..=60000); default:
+             *     the output's `pulse_ms` in the configuration (0: it stays).
+             */
+            pulse_ms?: number | null;
+            /** @description The value to set. */
+            value: boolean;
+        };
+        /**
          * @description Opening a path.
          * @example {
          *       "config": "auto"
@@ -1951,7 +2135,7 @@ export interface components {
             left?: number | null;
             /** @description Target TCP pose in the base frame `[x, y, z, a, b, c]` (not for `ptp_axes`). */
             target?: number[] | null;
-            /** @description `ptp`, `ptp_axes`, `lin` or `circ`. */
+            /** @description `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp` or `spl`. */
             type: string;
         };
         /**
@@ -2383,6 +2567,7 @@ export interface components {
              *     this is not empty.
              */
             degraded: components["schemas"]["BridgeError"][];
+            io?: components["schemas"]["IoWindow"] | null;
             /** @description Robot model used for checks (None: checks off). */
             model?: string | null;
             position?: components["schemas"]["Position"] | null;
@@ -2415,6 +2600,31 @@ export interface components {
             message: string;
             /** @description JSON Pointer to the offending value (`/x`; empty for the whole body). */
             pointer: string;
+        };
+        /**
+         * @description One digital signal and its value.
+         * @example {
+         *       "kind": "output",
+         *       "index": 1,
+         *       "name": "gripper_close",
+         *       "value": true,
+         *       "writable": true
+         *     }
+         */
+        Signal: {
+            /**
+             * Format: int32
+             * @description `$IN`/`$OUT` index.
+             */
+            index: number;
+            /** @description Input or output. */
+            kind: components["schemas"]["IoKind"];
+            /** @description Its name in the site's `[io]` configuration. */
+            name?: string | null;
+            /** @description Its value as the controller last reported it. */
+            value: boolean;
+            /** @description Clients may write it (an output on the site's list). */
+            writable: boolean;
         };
         /** @description A snapshot of the simulated controller for tests and the API. */
         SimSnapshot: {
@@ -2785,6 +2995,22 @@ export interface components {
              * @enum {string}
              */
             type: "plan";
+        };
+        /**
+         * @description A watched digital input or output changed (`[io]` entries with
+         *     `watch = true`), as the controller's state file reported it.
+         */
+        IoEvent: {
+            /**
+             * @description A watched digital input or output changed (`[io]` entries with
+             *     `watch = true`), as the controller's state file reported it.
+             */
+            data: components["schemas"]["IoChange"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "io";
         };
         /**
          * @description Point-to-point (synchronous axes) to a Cartesian target.
@@ -3728,6 +3954,333 @@ export interface operations {
             };
             /** @description The token's role is too low (`forbidden`) */
             403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getIo: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["IoView"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getInput: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description A number (1..=4096) or a configured name */
+                signal: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Signal"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `unknown_signal`: no input has that name */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `signal_not_reported`, or a number out of range */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getOutput: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description A number (1..=4096) or a configured name */
+                signal: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Signal"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `unknown_signal`: no output has that name */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `signal_not_reported`, or a number out of range */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    putOutput: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description A number (1..=4096) or a configured name */
+                signal: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["OutputWrite"];
+            };
+        };
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Signal"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `unknown_signal` */
+            404: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5502,6 +6055,103 @@ export interface operations {
             };
             /** @description Another client holds control (`control_held`), or the controller refused */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, … */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    putInput: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description 1..=4096 */
+                index: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["InputValue"];
+            };
+        };
+        responses: {
+            /** @description Set */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };

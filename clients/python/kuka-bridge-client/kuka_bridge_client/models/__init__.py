@@ -24,6 +24,13 @@ from .created_token import CreatedToken
 from .error_body import ErrorBody
 from .error_code_info import ErrorCodeInfo
 from .health import Health
+from .input_value import InputValue
+from .io_change import IoChange
+from .io_event import IoEvent
+from .io_event_type import IoEventType
+from .io_kind import IoKind
+from .io_view import IoView
+from .io_window import IoWindow
 from .job import Job
 from .job_event import JobEvent
 from .job_event_type import JobEventType
@@ -38,6 +45,7 @@ from .model_info import ModelInfo
 from .motion_batch import MotionBatch
 from .new_token import NewToken
 from .opw_lengths import OpwLengths
+from .output_write import OutputWrite
 from .path_create import PathCreate
 from .path_progress import PathProgress
 from .plan_event import PlanEvent
@@ -63,6 +71,7 @@ from .run_request import RunRequest
 from .schema_violation import SchemaViolation
 from .scirc_motion_request import ScircMotionRequest
 from .scirc_motion_request_type import ScircMotionRequestType
+from .signal import Signal
 from .sim_snapshot import SimSnapshot
 from .slin_motion_request import SlinMotionRequest
 from .slin_motion_request_type import SlinMotionRequestType
@@ -110,6 +119,13 @@ __all__ = (
     "ErrorBody",
     "ErrorCodeInfo",
     "Health",
+    "InputValue",
+    "IoChange",
+    "IoEvent",
+    "IoEventType",
+    "IoKind",
+    "IoView",
+    "IoWindow",
     "Job",
     "JobEvent",
     "JobEventType",
@@ -124,6 +140,7 @@ __all__ = (
     "MotionBatch",
     "NewToken",
     "OpwLengths",
+    "OutputWrite",
     "PathCreate",
     "PathProgress",
     "PlanEvent",
@@ -149,6 +166,7 @@ __all__ = (
     "SchemaViolation",
     "ScircMotionRequest",
     "ScircMotionRequestType",
+    "Signal",
     "SimSnapshot",
     "SlinMotionRequest",
     "SlinMotionRequestType",

@@ -17,6 +17,7 @@ if TYPE_CHECKING:
   from ..models.bridge_error import BridgeError
   from ..models.cartesian_frame import CartesianFrame
   from ..models.controller_info import ControllerInfo
+  from ..models.io_window import IoWindow
   from ..models.position import Position
   from ..models.speed_settings import SpeedSettings
 
@@ -56,6 +57,7 @@ class RobotState:
             axes (AxisAngles | None | Unset):
             base (CartesianFrame | None | Unset):
             current_job (int | None | Unset):
+            io (IoWindow | None | Unset):
             model (None | str | Unset): Robot model used for checks (None: checks off).
             position (None | Position | Unset):
             tool (CartesianFrame | None | Unset):
@@ -70,6 +72,7 @@ class RobotState:
     axes: AxisAngles | None | Unset = UNSET
     base: CartesianFrame | None | Unset = UNSET
     current_job: int | None | Unset = UNSET
+    io: IoWindow | None | Unset = UNSET
     model: None | str | Unset = UNSET
     position: None | Position | Unset = UNSET
     tool: CartesianFrame | None | Unset = UNSET
@@ -84,6 +87,7 @@ class RobotState:
         from ..models.bridge_error import BridgeError # noqa: PLC0415
         from ..models.cartesian_frame import CartesianFrame # noqa: PLC0415
         from ..models.controller_info import ControllerInfo # noqa: PLC0415
+        from ..models.io_window import IoWindow # noqa: PLC0415
         from ..models.position import Position # noqa: PLC0415
         from ..models.speed_settings import SpeedSettings # noqa: PLC0415
         busy = self.busy
@@ -125,6 +129,14 @@ class RobotState:
         else:
             current_job = self.current_job
 
+        io: dict[str, Any] | None | Unset
+        if isinstance(self.io, Unset):
+            io = UNSET
+        elif isinstance(self.io, IoWindow):
+            io = self.io.to_dict()
+        else:
+            io = self.io
+
         model: None | str | Unset
         if isinstance(self.model, Unset):
             model = UNSET
@@ -164,6 +176,8 @@ class RobotState:
             field_dict["base"] = base
         if current_job is not UNSET:
             field_dict["current_job"] = current_job
+        if io is not UNSET:
+            field_dict["io"] = io
         if model is not UNSET:
             field_dict["model"] = model
         if position is not UNSET:
@@ -181,6 +195,7 @@ class RobotState:
         from ..models.bridge_error import BridgeError # noqa: PLC0415
         from ..models.cartesian_frame import CartesianFrame # noqa: PLC0415
         from ..models.controller_info import ControllerInfo # noqa: PLC0415
+        from ..models.io_window import IoWindow # noqa: PLC0415
         from ..models.position import Position # noqa: PLC0415
         from ..models.speed_settings import SpeedSettings # noqa: PLC0415
         d = dict(src_dict)
@@ -263,6 +278,26 @@ class RobotState:
         current_job = _parse_current_job(d.pop("current_job", UNSET))
 
 
+        def _parse_io(data: object) -> IoWindow | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            try:
+                if not isinstance(data, dict):
+                    raise TypeError()
+                io_type_0 = IoWindow.from_dict(data)
+
+
+
+                return io_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(IoWindow | None | Unset, data)
+
+        io = _parse_io(d.pop("io", UNSET))
+
+
         def _parse_model(data: object) -> None | str | Unset:
             if data is None:
                 return data
@@ -323,6 +358,7 @@ class RobotState:
             axes=axes,
             base=base,
             current_job=current_job,
+            io=io,
             model=model,
             position=position,
             tool=tool,

@@ -120,7 +120,8 @@ def sync_detailed(
 
 ) -> Response[ProblemDetails | list[TraceSample]]:
     """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO
-    step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
+    step of 12 ms; krc: interpreter cycle, which may record one pose twice and then move two steps, so
+    take speeds over several samples); `stop` marks where the robot stands still.
 
      
 
@@ -156,7 +157,8 @@ def sync(
 
 ) -> ProblemDetails | list[TraceSample] | None:
     """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO
-    step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
+    step of 12 ms; krc: interpreter cycle, which may record one pose twice and then move two steps, so
+    take speeds over several samples); `stop` marks where the robot stands still.
 
      
 
@@ -187,7 +189,8 @@ async def asyncio_detailed(
 
 ) -> Response[ProblemDetails | list[TraceSample]]:
     """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO
-    step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
+    step of 12 ms; krc: interpreter cycle, which may record one pose twice and then move two steps, so
+    take speeds over several samples); `stop` marks where the robot stands still.
 
      
 
@@ -223,7 +226,8 @@ async def asyncio(
 
 ) -> ProblemDetails | list[TraceSample] | None:
     """ The executed TCP trace: `{t, cid, motion, pose: [x,y,z,a,b,c], axes, stop}` per sample (native: IPO
-    step of 12 ms; krc: interpreter cycle); `stop` marks where the robot stands still.
+    step of 12 ms; krc: interpreter cycle, which may record one pose twice and then move two steps, so
+    take speeds over several samples); `stop` marks where the robot stands still.
 
      
 

@@ -1,0 +1,98 @@
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, TypeVar, BinaryIO, TextIO, TYPE_CHECKING, Generator
+
+from attrs import define as _attrs_define
+from attrs import field as _attrs_field
+
+from ..types import UNSET, Unset
+
+from ..models.io_event_type import IoEventType
+from typing import cast
+
+if TYPE_CHECKING:
+  from ..models.io_change import IoChange
+
+
+
+
+
+T = TypeVar("T", bound="IoEvent")
+
+
+
+@_attrs_define
+class IoEvent:
+    """ A watched digital input or output changed (`[io]` entries with
+    `watch = true`), as the controller's state file reported it.
+
+        Attributes:
+            data (IoChange): A watched signal changed (the `io` event).
+            type_ (IoEventType):
+     """
+
+    data: IoChange
+    type_: IoEventType
+    additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
+
+
+
+
+
+    def to_dict(self) -> dict[str, Any]:
+        from ..models.io_change import IoChange # noqa: PLC0415
+        data = self.data.to_dict()
+
+        type_ = self.type_.value
+
+
+        field_dict: dict[str, Any] = {}
+        field_dict.update(self.additional_properties)
+        field_dict.update({
+            "data": data,
+            "type": type_,
+        })
+
+        return field_dict
+
+
+
+    @classmethod
+    def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        from ..models.io_change import IoChange # noqa: PLC0415
+        d = dict(src_dict)
+        data = IoChange.from_dict(d.pop("data"))
+
+
+
+
+        type_ = IoEventType(d.pop("type"))
+
+
+
+
+        io_event = cls(
+            data=data,
+            type_=type_,
+        )
+
+
+        io_event.additional_properties = d
+        return io_event
+
+    @property
+    def additional_keys(self) -> list[str]:
+        return list(self.additional_properties.keys())
+
+    def __getitem__(self, key: str) -> Any:
+        return self.additional_properties[key]
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        self.additional_properties[key] = value
+
+    def __delitem__(self, key: str) -> None:
+        del self.additional_properties[key]
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.additional_properties
