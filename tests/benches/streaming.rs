@@ -19,7 +19,10 @@
 //!    operations per motion over the 10,000-point path;
 //! 6. batches of 1, 100 and 1000 LINs: real time from the request to the
 //!    robot moving (batches over 40 motions stream as a path), and on the
-//!    KRL program the file operations per motion.
+//!    KRL program the file operations per motion;
+//! 7. splines: a 50 mm circle as 8 blended LINs, 8 and 24 SPL points in one
+//!    batch, and 200 SPL points appended one per request: time against the
+//!    circle at 0.2 m/s, stops, and how far the TCP leaves the circle.
 //!
 //! Run: `cargo bench -p kuka-bridge-tests --bench streaming -- [--sim native|krc]
 //! [--long 100000] [--sections 2,6]` (`--sections`: only the numbered sections; 5 comes
@@ -427,6 +430,82 @@ fn main() {
                     _ => String::new(),
                 };
                 println!("batch of {n:>4}: reported executing after {:.0} ms{ops}", ms(started));
+            }
+            t.service.shutdown().await.expect("shutdown");
+        }
+
+        if want(7) {
+            // 7. Splines (issue 22 point 3): a 50 mm circle at 0.2 m/s, real time.
+            let t = service(kind, 1.0).await;
+            let v = 0.2;
+            for (name, n, how) in [
+                ("8 LIN (approx 2 mm), one batch", 8, "lin"),
+                ("8 SPL (one block), one batch", 8, "spl"),
+                ("24 SPL (3 blocks), one batch", 24, "spl"),
+                ("200 SPL, one per append to a path", 200, "path"),
+            ] {
+                let pts = circle(n, 50.0);
+                let ideal = std::f64::consts::TAU * 50.0 / 1000.0 / v;
+                to_start(&t, &pts[0]).await;
+                let motion = |p: &[f64; 2]| {
+                    if how == "lin" {
+                        lin(p, v)
+                    } else {
+                        json!({"type": "spl", "target": {"x": p[0], "y": p[1]}, "velocity_m_s": v})
+                    }
+                };
+                let cid = if how == "path" {
+                    let id = open_path(&t).await;
+                    for p in &pts[1..] {
+                        let (s, o) = t
+                            .post_json(&format!("/api/v1/paths/{id}/motions"), &json!({"motions": [motion(p)]}))
+                            .await;
+                        assert_eq!(s, 200, "{o}");
+                    }
+                    let (s, _) = t.delete(&format!("/api/v1/paths/{id}")).await;
+                    assert_eq!(s, 200);
+                    let j = wait_end(&t, id).await;
+                    assert_eq!(j["state"], "done", "{j}");
+                    j["cid"].as_i64().expect("cid")
+                } else {
+                    let batch: Vec<Value> = pts[1..].iter().map(motion).collect();
+                    let (s, b) = t.post_json("/api/v1/motions", &json!({"motions": batch})).await;
+                    assert_eq!(s, 200, "{b}");
+                    b["cid"].as_i64().expect("cid")
+                };
+                let trace: Vec<_> = t.trace().into_iter().filter(|x| x.cid == cid).collect();
+                let span = trace.last().map_or(0.0, |l| l.t) - trace.first().map_or(0.0, |f| f.t);
+                // Slow stretches (below a quarter of the speed over 48 ms)
+                // between the first and the last sample at speed.
+                let speeds: Vec<f64> = trace
+                    .windows(5)
+                    .map(|w| {
+                        let d = ((w[4].pose[0] - w[0].pose[0]).powi(2) + (w[4].pose[1] - w[0].pose[1]).powi(2)).sqrt();
+                        d / (w[4].t - w[0].t).max(1e-9)
+                    })
+                    .collect();
+                let fast = |x: &f64| *x >= 0.25 * v * 1000.0;
+                let stops = match (speeds.iter().position(fast), speeds.iter().rposition(fast)) {
+                    (Some(a), Some(b)) => speeds[a..=b]
+                        .windows(2)
+                        .filter(|w| fast(&w[0]) && !fast(&w[1]))
+                        .count(),
+                    _ => 0,
+                };
+                // Off the circle, away from the first and last 45° (a
+                // block's outer tangents are mirrored).
+                let off = trace
+                    .iter()
+                    .filter(|x| {
+                        let a = x.pose[1].atan2(x.pose[0] - 190.0).rem_euclid(std::f64::consts::TAU).to_degrees();
+                        (45.0..=315.0).contains(&a)
+                    })
+                    .map(|x| ((x.pose[0] - 190.0).hypot(x.pose[1]) - 50.0).abs())
+                    .fold(0.0, f64::max);
+                println!(
+                    "{name}: {span:.3} s ({:.3}× the circle at 0.2 m/s), {stops} stops, up to {off:.2} mm off the circle",
+                    span / ideal
+                );
             }
             t.service.shutdown().await.expect("shutdown");
         }
