@@ -2126,3 +2126,100 @@ async fn the_page_draws_a_spline_block_as_its_curve() {
         );
     }
 }
+
+/// The I/O panel: a lamp per reported signal; a click on an output the site
+/// allows switches it on the controller, and a simulated input lights its
+/// lamp; the changes of watched signals appear in the event log.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_io_panel_switches_an_allowed_output_and_shows_inputs() {
+    let Some(browser) = Browser::start().await else {
+        return;
+    };
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(|c| {
+            let signal = |name: &str, index: u16| kuka_bridge::io::SignalConfig {
+                name: name.into(),
+                index,
+                pulse_ms: 0,
+                watch: true,
+            };
+            c.io.inputs = vec![signal("part_present", 3)];
+            c.io.outputs = vec![signal("gripper_close", 1)];
+        }),
+        ..Options::default()
+    })
+    .await;
+    open(&browser, &t).await;
+    browser
+        .wait_js(
+            "document.querySelectorAll('#io-outputs .lamp').length === 31 && document.querySelectorAll('#io-inputs .lamp').length === 31",
+            WAIT,
+            "31 output and 31 input lamps",
+        )
+        .await;
+    // Only the allowed output is a button; the others are lamps.
+    let kinds = browser
+        .eval("return [...document.querySelectorAll('#io-outputs .lamp')].slice(0, 3).map((l) => [l.tagName, l.textContent, l.disabled === true]);")
+        .await;
+    assert_eq!(
+        kinds,
+        json!([
+            ["BUTTON", "1 gripper_close", false],
+            ["SPAN", "2", false],
+            ["SPAN", "3", false]
+        ]),
+        "{kinds}"
+    );
+    browser.click("#io-outputs button[data-index='1']").await;
+    wait_for_value(&t, "/api/v1/io/outputs/1", true).await;
+    browser
+        .wait_js(
+            "document.querySelector(\"#io-outputs [data-index='1']\").classList.contains('on')",
+            WAIT,
+            "the gripper's lamp on",
+        )
+        .await;
+    let (s, v) = t
+        .put_json("/api/v1/sim/inputs/3", &json!({"value": true}))
+        .await;
+    assert_eq!(s, 204, "{v}");
+    browser
+        .wait_js(
+            "document.querySelector(\"#io-inputs [data-index='3']\").classList.contains('on')",
+            WAIT,
+            "the part-present lamp on",
+        )
+        .await;
+    browser
+        .wait_js(
+            "window.dashboard.events.some((e) => e.type === 'io' && e.text === '$OUT[1] gripper_close on') && window.dashboard.events.some((e) => e.type === 'io' && e.text === '$IN[3] part_present on')",
+            WAIT,
+            "both changes in the event log",
+        )
+        .await;
+    // The controller's safety state in the header.
+    browser
+        .wait_js(
+            "!document.getElementById('safety').hidden && document.getElementById('safety').textContent === 'drives on · program active'",
+            WAIT,
+            "the safety pill",
+        )
+        .await;
+    // A second click switches it off again.
+    browser.click("#io-outputs button[data-index='1']").await;
+    wait_for_value(&t, "/api/v1/io/outputs/1", false).await;
+    assert!(browser.page_errors().await.is_empty());
+}
+
+async fn wait_for_value(t: &TestService, path: &str, want: bool) {
+    kuka_bridge_tests::wait_for(WAIT, &format!("{path} to read {want}"), async || {
+        let (s, v) = t.get(path).await;
+        if s == 200 && v["value"] == want {
+            Ok(())
+        } else {
+            Err(format!("{s} {v}"))
+        }
+    })
+    .await;
+}

@@ -274,6 +274,7 @@ fn scripted_controller(
             tool: Frame::default(),
             base: Frame::default(),
             io: None,
+            safety: None,
         };
         let text = state.encode().expect("state");
         kuka_protocol::files::atomic_write(dir, STATE_FILE, "fake", &text).expect("write state");

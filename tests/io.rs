@@ -455,3 +455,33 @@ async fn hostile_io_requests_are_refused_before_the_channel() {
     )
     .await;
 }
+
+/// What a teach pendant shows: drives, operator safety, emergency stop,
+/// stop message and the robot program's state, in `GET /api/v1/state`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_state_reports_the_controllers_safety_and_program() {
+    let t = plant().await;
+    let s = t
+        .wait_state("the controller's safety state", |s| {
+            !s["controller"]["safety"].is_null()
+        })
+        .await;
+    let saf = &s["controller"]["safety"];
+    assert_eq!(
+        (
+            saf["drives_ready"].as_bool(),
+            saf["user_safety"].as_bool(),
+            saf["emergency_stop"].as_bool(),
+            saf["stop_message"].as_bool(),
+            saf["program"].as_str()
+        ),
+        (
+            Some(true),
+            Some(true),
+            Some(false),
+            Some(false),
+            Some("active")
+        ),
+        "{s}"
+    );
+}

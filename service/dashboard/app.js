@@ -120,6 +120,13 @@ function renderState(s) {
   st.textContent = s.busy ? "busy" : s.controller.status;
   st.className = `pill ${s.controller.error ? "error" : s.busy ? "busy" : ""}`;
   $("mode").textContent = s.controller.mode;
+  const saf = s.controller.safety;
+  $("safety").hidden = !saf;
+  if (saf) {
+    const problems = [saf.emergency_stop && "EMERGENCY STOP", !saf.drives_ready && "drives off", !saf.user_safety && "operator safety open", saf.stop_message && "stop message"].filter(Boolean);
+    $("safety").textContent = problems.length ? problems.join(" · ") : `drives on · program ${saf.program}`;
+    $("safety").className = `pill ${problems.length ? "error" : ""}`;
+  }
   $("override").textContent = `${fmt(s.speed.override_pct, 0)} %`;
   if (document.activeElement !== $("override-input")) {
     $("override-input").value = s.speed.override_pct;
@@ -157,6 +164,7 @@ function renderState(s) {
   showAxes(s.axes);
   showConfigWords();
   showRunning();
+  renderIo(s.io);
   // The 3D view and the projections only when the arm or its frames moved.
   const pose = JSON.stringify([s.axes, s.tool, s.base]);
   if (state.model && s.axes && pose !== state.drawnPose) {
@@ -501,6 +509,7 @@ function showEvents() {
 function eventText(type, d) {
   if (type === "job") return `#${d.id} ${d.operation} ${d.state}${d.motions ? ` ${d.completed}/${d.motions}` : ""}${d.error ? ` — ${d.error.code}: ${d.error.detail}` : ""}`;
   if (type === "plan") return `#${d.job} cid ${d.cid}: ${d.motions.map((m) => m.type).join(" ")}`;
+  if (type === "io") return `${d.kind === "input" ? "$IN" : "$OUT"}[${d.index}]${d.name ? ` ${d.name}` : ""} ${d.value ? "on" : "off"}`;
   return `${d.code}: ${d.detail}`;
 }
 
@@ -540,6 +549,10 @@ function listen() {
   if (state.lastEventId !== null) q.set("last_event_id", state.lastEventId);
   const events = new EventSource(`/api/v1/events${q.size ? `?${q}` : ""}`);
   events.addEventListener("state", (e) => showState(JSON.parse(e.data)));
+  events.addEventListener("io", (e) => {
+    if (!firstSeen(e.lastEventId)) return;
+    logEvent("io", eventText("io", JSON.parse(e.data)));
+  });
   events.addEventListener("job", (e) => {
     if (!firstSeen(e.lastEventId)) return;
     const j = JSON.parse(e.data);
@@ -873,9 +886,60 @@ async function loadState() {
   // The last two minutes of simulated motion, then everything new.
   if (sim.ok) state.traceSince = Math.max(0, sim.body.sim_time_s - 120);
   await loadDoc();
-  await Promise.all([loadPlugins(), loadControl(), loadPrograms()]);
+  await Promise.all([loadPlugins(), loadControl(), loadPrograms(), loadIo()]);
   showState(s);
   return true;
+}
+
+// ---------------------------------------------------------------- digital I/O
+
+/** The site's names and writable outputs (GET /api/v1/io; they change only with the configuration). */
+async function loadIo() {
+  const r = await api("GET", "/api/v1/io");
+  state.ioNames = { input: new Map(), output: new Map(), writable: new Set() };
+  if (!r.ok) return;
+  for (const s of r.body.inputs) if (s.name) state.ioNames.input.set(s.index, s.name);
+  for (const s of r.body.outputs) {
+    if (s.name) state.ioNames.output.set(s.index, s.name);
+    if (s.writable) state.ioNames.writable.add(s.index);
+  }
+}
+
+/** Lamps for the 31 inputs and outputs the controller reports; allowed outputs switch on click. */
+function renderIo(io) {
+  $("io-note").hidden = !!io;
+  if (!io) return;
+  $("io-window").textContent = `$IN / $OUT ${io.base}…${io.base + io.inputs.length - 1}`;
+  const names = state.ioNames || { input: new Map(), output: new Map(), writable: new Set() };
+  const row = (box, kind, values) => {
+    const key = JSON.stringify([io.base, values, box.childElementCount]);
+    if (box.dataset.shown === key) return;
+    box.dataset.shown = key;
+    if (box.childElementCount !== values.length) {
+      box.replaceChildren(
+        ...values.map((_, k) => {
+          const index = io.base + k;
+          const name = names[kind].get(index);
+          const writable = kind === "output" && names.writable.has(index);
+          const lamp = el(writable ? "button" : "span", { class: "lamp", dataset: { index: String(index) } }, name ? `${index} ${name}` : `${index}`);
+          lamp.title = `${kind === "input" ? "$IN" : "$OUT"}[${index}]${name ? ` ${name}` : ""}${writable ? " — click to switch (PUT /api/v1/io/outputs/{signal})" : ""}`;
+          if (writable) {
+            lamp.dataset.op = "PUT /api/v1/io/outputs/{signal}";
+            lamp.addEventListener("click", async (e) => {
+              e.preventDefault();
+              const on = lamp.classList.contains("on");
+              await api("PUT", `/api/v1/io/outputs/${index}`, { value: !on });
+            });
+          }
+          return lamp;
+        }),
+      );
+      applyRole();
+    }
+    values.forEach((v, k) => box.children[k].classList.toggle("on", v));
+  };
+  row($("io-outputs"), "output", io.outputs);
+  row($("io-inputs"), "input", io.inputs);
 }
 
 /** After the stream was down (service restarted, network lost): start from the service's state again. */

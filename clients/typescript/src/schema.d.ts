@@ -1471,10 +1471,30 @@ export interface components {
              * @description Program override in %.
              */
             override_pct: number;
+            safety?: components["schemas"]["ControllerSafety"] | null;
             /** @description True when the controller is the simulator. */
             simulated: boolean;
             /** @description `idle`, `busy`, `error` or `unknown`. */
             status: string;
+        };
+        /**
+         * @description The controller's safety and program state (the KRL system variables
+         *     `$PERI_RDY`, `$USER_SAF`, `$ALARM_STOP`, `$STOPMESS`, `$PRO_STATE1`).
+         */
+        ControllerSafety: {
+            /** @description `$PERI_RDY`: the drives are switched on. */
+            drives_ready: boolean;
+            /** @description An emergency stop is pressed (`$ALARM_STOP` FALSE). */
+            emergency_stop: boolean;
+            /**
+             * @description The robot program (`$PRO_STATE1`): `free`, `reset`, `active`,
+             *     `stopped` or `ended`.
+             */
+            program: string;
+            /** @description `$STOPMESS`: a stop message waits for acknowledgement. */
+            stop_message: boolean;
+            /** @description `$USER_SAF`: the operator safety (fence, enabling device) is closed. */
+            user_safety: boolean;
         };
         /** @description A token just created: its secret is shown this once. */
         CreatedToken: components["schemas"]["TokenInfo"] & {

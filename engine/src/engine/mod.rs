@@ -175,6 +175,7 @@ impl Engine {
                 heartbeat_seq: None,
                 heartbeat_age_ms: None,
                 last_cid: None,
+                safety: None,
             },
             busy: false,
             current_job: None,

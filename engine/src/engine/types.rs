@@ -382,6 +382,40 @@ pub struct ControllerInfo {
     pub heartbeat_age_ms: Option<u64>,
     /// Highest command id the controller has accepted.
     pub last_cid: Option<i32>,
+    /// What a teach pendant shows of safety and program state, as the
+    /// controller program reports it (none from a program without it).
+    pub safety: Option<ControllerSafety>,
+}
+
+/// The controller's safety and program state (the KRL system variables
+/// `$PERI_RDY`, `$USER_SAF`, `$ALARM_STOP`, `$STOPMESS`, `$PRO_STATE1`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, ToSchema)]
+pub struct ControllerSafety {
+    /// `$PERI_RDY`: the drives are switched on.
+    pub drives_ready: bool,
+    /// `$USER_SAF`: the operator safety (fence, enabling device) is closed.
+    pub user_safety: bool,
+    /// An emergency stop is pressed (`$ALARM_STOP` FALSE).
+    pub emergency_stop: bool,
+    /// `$STOPMESS`: a stop message waits for acknowledgement.
+    pub stop_message: bool,
+    /// The robot program (`$PRO_STATE1`): `free`, `reset`, `active`,
+    /// `stopped` or `ended`.
+    pub program: String,
+}
+
+impl From<&kuka_protocol::SafetyState> for ControllerSafety {
+    fn from(s: &kuka_protocol::SafetyState) -> Self {
+        ControllerSafety {
+            drives_ready: s.drives_ready,
+            user_safety: s.user_safety,
+            emergency_stop: !s.alarm_stop,
+            stop_message: s.stop_message,
+            program: ["free", "reset", "active", "stopped", "ended"]
+                [usize::from(s.program_state.min(4))]
+            .into(),
+        }
+    }
 }
 
 /// The robot's state as the service knows it.

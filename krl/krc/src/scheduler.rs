@@ -566,6 +566,13 @@ impl Scheduler {
         v.set_enum("$MODE_OP", &mode);
         v.set_bool("$POWER_FAIL", false);
         v.set_bool("$STOPMESS", self.stopmess);
+        // Drives on, fence closed, no emergency stop, unless a test or the
+        // operator changed them.
+        for ready in ["$PERI_RDY", "$USER_SAF", "$ALARM_STOP"] {
+            if !v.has(ready) {
+                v.set_bool(ready, true);
+            }
+        }
         // No real robot moves here: the state file says so (kb_main.dat).
         v.set_bool("kb_simulated", true);
         if !v.has("$IPO_MODE") {

@@ -313,6 +313,25 @@ impl IoState {
     }
 }
 
+/// What a teach pendant shows of the controller's safety and program
+/// state (the state file's optional `SAF` line): the KRL system variables
+/// `sps.sub` programs read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SafetyState {
+    /// `$PERI_RDY`: the drives are switched on (peripherals ready).
+    pub drives_ready: bool,
+    /// `$USER_SAF`: the operator safety (fence, enabling) is closed.
+    pub user_safety: bool,
+    /// `$ALARM_STOP`: the emergency-stop chain is closed (FALSE = an
+    /// emergency stop is pressed).
+    pub alarm_stop: bool,
+    /// `$STOPMESS`: a stop message waits for acknowledgement.
+    pub stop_message: bool,
+    /// `$PRO_STATE1` of the robot interpreter: 0 free, 1 reset, 2 active,
+    /// 3 stopped, 4 ended.
+    pub program_state: u8,
+}
+
 /// What a command asks the controller to do.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
@@ -1237,6 +1256,8 @@ pub struct StateFile {
     /// Digital I/O (the optional `IOS` line; a controller program without
     /// I/O support writes none).
     pub io: Option<IoState>,
+    /// Safety and program state (the optional `SAF` line).
+    pub safety: Option<SafetyState>,
 }
 
 impl StateFile {
@@ -1293,6 +1314,19 @@ impl StateFile {
                     Field::Int(i32::from(io.base)),
                     Field::Int((io.inputs & 0x7fff_ffff) as i32),
                     Field::Int((io.outputs & 0x7fff_ffff) as i32),
+                ],
+            );
+        }
+        if let Some(s) = &self.safety {
+            write_line(
+                &mut out,
+                "SAF",
+                &[
+                    Field::Int(i32::from(s.drives_ready)),
+                    Field::Int(i32::from(s.user_safety)),
+                    Field::Int(i32::from(s.alarm_stop)),
+                    Field::Int(i32::from(s.stop_message)),
+                    Field::Int(i32::from(s.program_state.min(4))),
                 ],
             );
         }
@@ -1358,6 +1392,22 @@ impl StateFile {
         } else {
             None
         };
+        let safety = if r.peek_tag() == Some("SAF") {
+            let mut l = r.line("SAF", "iiiii")?;
+            let v = [l.int(), l.int(), l.int(), l.int(), l.int()];
+            if v[..4].iter().any(|b| !(0..=1).contains(b)) || !(0..=4).contains(&v[4]) {
+                return Err(l.invalid("safety flags must be 0/1 and the program state 0..4"));
+            }
+            Some(SafetyState {
+                drives_ready: v[0] == 1,
+                user_safety: v[1] == 1,
+                alarm_stop: v[2] == 1,
+                stop_message: v[3] == 1,
+                program_state: v[4] as u8,
+            })
+        } else {
+            None
+        };
         let mut e = r.line("END", "i")?;
         if e.int() != seq {
             return Err(e.invalid("END record does not match the header"));
@@ -1383,6 +1433,7 @@ impl StateFile {
             tool,
             base,
             io,
+            safety,
         })
     }
 }

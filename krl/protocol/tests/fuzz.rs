@@ -96,6 +96,7 @@ fn state_file() -> impl Strategy<Value = StateFile> {
             frame(),
             frame(),
             prop::option::of((1u16..=4066, 0u32..=0x7fff_ffff, 0u32..=0x7fff_ffff)),
+            prop::option::of((any::<[bool; 4]>(), 0u8..=4)),
         ),
     )
         .prop_map(
@@ -103,7 +104,7 @@ fn state_file() -> impl Strategy<Value = StateFile> {
                 (seq, status, mode, busy_cid, busy_index),
                 (last_cid, err, error_axis, override_pct, simulated),
                 (position, s, t, room, stored),
-                (axes, tool, base, io),
+                (axes, tool, base, io, safety),
             )| StateFile {
                 seq,
                 status: match status {
@@ -137,6 +138,13 @@ fn state_file() -> impl Strategy<Value = StateFile> {
                     base,
                     inputs,
                     outputs,
+                }),
+                safety: safety.map(|(b, program_state)| SafetyState {
+                    drives_ready: b[0],
+                    user_safety: b[1],
+                    alarm_stop: b[2],
+                    stop_message: b[3],
+                    program_state,
                 }),
             },
         )

@@ -190,6 +190,13 @@ fn sample_state() -> StateFile {
             inputs: 0x7fff_ffff,
             outputs: 5,
         }),
+        safety: Some(SafetyState {
+            drives_ready: true,
+            user_safety: false,
+            alarm_stop: true,
+            stop_message: true,
+            program_state: 3,
+        }),
     }
 }
 

@@ -38,7 +38,7 @@ use kuka_krl_runtime::interp::{Globals, Start, run_with_files};
 use kuka_protocol::{
     COMMAND_FILE, Command, CommandFile, ControllerStatus, Frame, IoState, MotionParams,
     MotionRecord, OperatingMode, OutputRecord, PathChunk, RESULT_FILE, ResultCode, ResultFile,
-    ResultRecord, STATE_FILE, SpeedRecord, StateFile, checksum,
+    ResultRecord, STATE_FILE, SafetyState, SpeedRecord, StateFile, checksum,
 };
 
 // ---------------------------------------------------------------- the program
@@ -1141,6 +1141,15 @@ fn sample_state() -> StateFile {
             base: 1,
             inputs: 0,
             outputs: 0,
+        }),
+        // Drives on, fence closed, no emergency stop; the state driver
+        // leaves the robot program free ($PRO_STATE1 #P_FREE).
+        safety: Some(SafetyState {
+            drives_ready: true,
+            user_safety: true,
+            alarm_stop: true,
+            stop_message: false,
+            program_state: 0,
         }),
     }
 }

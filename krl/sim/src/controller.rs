@@ -881,6 +881,15 @@ impl Controller {
             tool: pose_to_frame(&self.tool),
             base: pose_to_frame(&self.base),
             io: Some(self.io_state()),
+            // Drives on, fence closed, no emergency stop; an error is a
+            // stop message, and the robot program stops meanwhile.
+            safety: Some(kuka_protocol::SafetyState {
+                drives_ready: true,
+                user_safety: true,
+                alarm_stop: true,
+                stop_message: self.error.is_some(),
+                program_state: if self.error.is_some() { 3 } else { 2 },
+            }),
         }
     }
 }

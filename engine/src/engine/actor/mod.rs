@@ -905,6 +905,7 @@ impl Actor {
                 .seq_changed_at
                 .map(|t| now.duration_since(t).as_millis() as u64),
             last_cid: s.map(|s| s.last_cid),
+            safety: s.and_then(|s| s.safety.as_ref()).map(Into::into),
         };
         let next = RobotState {
             connection,

@@ -345,6 +345,8 @@ impl<'a> Interp<'a> {
         );
         g.insert("$STOPMESS".into(), Value::Bool(false));
         g.insert("$PERI_RDY".into(), Value::Bool(true));
+        g.insert("$USER_SAF".into(), Value::Bool(true));
+        g.insert("$ALARM_STOP".into(), Value::Bool(true));
         g.insert("$ROB_TIMER".into(), Value::Int(0));
         g.insert("$ERR".into(), err_value(0, 0));
         for io in ["$IN", "$OUT"] {

@@ -20,6 +20,7 @@ from .connection import Connection
 from .control_request import ControlRequest
 from .control_state import ControlState
 from .controller_info import ControllerInfo
+from .controller_safety import ControllerSafety
 from .created_token import CreatedToken
 from .error_body import ErrorBody
 from .error_code_info import ErrorCodeInfo
@@ -113,6 +114,7 @@ __all__ = (
     "ConfigurationSource",
     "Connection",
     "ControllerInfo",
+    "ControllerSafety",
     "ControlRequest",
     "ControlState",
     "CreatedToken",

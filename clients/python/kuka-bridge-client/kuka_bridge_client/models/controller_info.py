@@ -13,6 +13,7 @@ from typing import cast
 
 if TYPE_CHECKING:
   from ..models.bridge_error import BridgeError
+  from ..models.controller_safety import ControllerSafety
 
 
 
@@ -35,6 +36,7 @@ class ControllerInfo:
             heartbeat_age_ms (int | None | Unset): Milliseconds since the heartbeat last changed.
             heartbeat_seq (int | None | Unset): Last heartbeat sequence number.
             last_cid (int | None | Unset): Highest command id the controller has accepted.
+            safety (ControllerSafety | None | Unset):
      """
 
     mode: str
@@ -45,6 +47,7 @@ class ControllerInfo:
     heartbeat_age_ms: int | None | Unset = UNSET
     heartbeat_seq: int | None | Unset = UNSET
     last_cid: int | None | Unset = UNSET
+    safety: ControllerSafety | None | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
 
@@ -53,6 +56,7 @@ class ControllerInfo:
 
     def to_dict(self) -> dict[str, Any]:
         from ..models.bridge_error import BridgeError # noqa: PLC0415
+        from ..models.controller_safety import ControllerSafety # noqa: PLC0415
         mode = self.mode
 
         override_pct = self.override_pct
@@ -87,6 +91,14 @@ class ControllerInfo:
         else:
             last_cid = self.last_cid
 
+        safety: dict[str, Any] | None | Unset
+        if isinstance(self.safety, Unset):
+            safety = UNSET
+        elif isinstance(self.safety, ControllerSafety):
+            safety = self.safety.to_dict()
+        else:
+            safety = self.safety
+
 
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
@@ -104,6 +116,8 @@ class ControllerInfo:
             field_dict["heartbeat_seq"] = heartbeat_seq
         if last_cid is not UNSET:
             field_dict["last_cid"] = last_cid
+        if safety is not UNSET:
+            field_dict["safety"] = safety
 
         return field_dict
 
@@ -112,6 +126,7 @@ class ControllerInfo:
     @classmethod
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
         from ..models.bridge_error import BridgeError # noqa: PLC0415
+        from ..models.controller_safety import ControllerSafety # noqa: PLC0415
         d = dict(src_dict)
         mode = d.pop("mode")
 
@@ -171,6 +186,26 @@ class ControllerInfo:
         last_cid = _parse_last_cid(d.pop("last_cid", UNSET))
 
 
+        def _parse_safety(data: object) -> ControllerSafety | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            try:
+                if not isinstance(data, dict):
+                    raise TypeError()
+                safety_type_0 = ControllerSafety.from_dict(data)
+
+
+
+                return safety_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(ControllerSafety | None | Unset, data)
+
+        safety = _parse_safety(d.pop("safety", UNSET))
+
+
         controller_info = cls(
             mode=mode,
             override_pct=override_pct,
@@ -180,6 +215,7 @@ class ControllerInfo:
             heartbeat_age_ms=heartbeat_age_ms,
             heartbeat_seq=heartbeat_seq,
             last_cid=last_cid,
+            safety=safety,
         )
 
 
