@@ -234,7 +234,7 @@ export interface paths {
          *
          *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
          */
-        put: operations["putOutput"];
+        put: operations["setOutput"];
         post?: never;
         delete?: never;
         options?: never;
@@ -664,7 +664,7 @@ export interface paths {
          *     reports it in its next state file (`GET /api/v1/io`).
          * @description **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
          */
-        put: operations["putInput"];
+        put: operations["setSimInput"];
         post?: never;
         delete?: never;
         options?: never;
@@ -2048,7 +2048,7 @@ export interface components {
          *     start of the motion. An omitted speed is the default speed, not the
          *     previous motion's.
          */
-        MotionRequest: components["schemas"]["PtpMotion"] | components["schemas"]["AxisMotion"] | components["schemas"]["LinMotion"] | components["schemas"]["CircMotion"] | components["schemas"]["SlinMotionRequest"] | components["schemas"]["ScircMotionRequest"] | components["schemas"]["SptpMotionRequest"] | components["schemas"]["SplMotionRequest"];
+        MotionRequest: components["schemas"]["PtpMotion"] | components["schemas"]["AxisMotion"] | components["schemas"]["LinMotion"] | components["schemas"]["CircMotion"] | components["schemas"]["SlinMotion"] | components["schemas"]["ScircMotion"] | components["schemas"]["SptpMotion"] | components["schemas"]["SplMotion"];
         /**
          * @description A new token.
          * @example {
@@ -3180,7 +3180,7 @@ export interface components {
          *       "approx_mm": 5
          *     }
          */
-        SlinMotionRequest: {
+        SlinMotion: {
             /**
              * Format: double
              * @description % of max acceleration.
@@ -3210,7 +3210,7 @@ export interface components {
          * @description SCIRC: a circular arc of the spline family through `aux` to
          *     `target` (KRL `SCIRC`).
          */
-        ScircMotionRequest: {
+        ScircMotion: {
             /**
              * Format: double
              * @description % of max acceleration.
@@ -3253,7 +3253,7 @@ export interface components {
          *       }
          *     }
          */
-        SptpMotionRequest: {
+        SptpMotion: {
             /**
              * Format: double
              * @description % of max acceleration.
@@ -3297,7 +3297,7 @@ export interface components {
          *       "velocity_m_s": 0.2
          *     }
          */
-        SplMotionRequest: {
+        SplMotion: {
             /**
              * Format: double
              * @description % of max acceleration.
@@ -4256,7 +4256,7 @@ export interface operations {
             };
         };
     };
-    putOutput: {
+    setOutput: {
         parameters: {
             query?: never;
             header?: never;
@@ -6111,7 +6111,7 @@ export interface operations {
             };
         };
     };
-    putInput: {
+    setSimInput: {
         parameters: {
             query?: never;
             header?: never;

@@ -9,8 +9,9 @@
 //!   `createMotions`), from [`OPERATION_IDS`] or the handler's name;
 //! - primitive component schemas utoipa makes of type aliases (`u64` for a
 //!   job id, `i32` for a command id) are inlined;
-//! - the four motion kinds are named schemas (`PtpMotion`, `AxisMotion`,
-//!   `LinMotion`, `CircMotion`) under a `oneOf` with a `type` discriminator,
+//! - the motion kinds are named schemas (`PtpMotion`, `AxisMotion`,
+//!   `LinMotion`, `CircMotion`, `SlinMotion`, `ScircMotion`, `SptpMotion`,
+//!   `SplMotion`) under a `oneOf` with a `type` discriminator,
 //!   and so are the variants of other tagged unions (`JobEvent`, …);
 //! - a problem's `code` is an open string: the bridge's codes are listed,
 //!   and plugins may answer their own;
@@ -78,6 +79,11 @@ pub(crate) const OPERATION_IDS: &[(&str, &str, &str)] = &[
     ("get", "/api/v1/sim/trace", "getSimTrace"),
     ("delete", "/api/v1/sim/trace", "clearSimTrace"),
     ("post", "/api/v1/sim/acknowledge", "acknowledgeSimStop"),
+    ("put", "/api/v1/sim/inputs/{index}", "setSimInput"),
+    ("get", "/api/v1/io", "getIo"),
+    ("get", "/api/v1/io/inputs/{signal}", "getInput"),
+    ("get", "/api/v1/io/outputs/{signal}", "getOutput"),
+    ("put", "/api/v1/io/outputs/{signal}", "setOutput"),
 ];
 
 /// The motion kinds: the `type` tag and the schema name of each.
@@ -86,6 +92,10 @@ const MOTION_KINDS: &[(&str, &str)] = &[
     ("ptp_axes", "AxisMotion"),
     ("lin", "LinMotion"),
     ("circ", "CircMotion"),
+    ("slin", "SlinMotion"),
+    ("scirc", "ScircMotion"),
+    ("sptp", "SptpMotion"),
+    ("spl", "SplMotion"),
 ];
 
 const METHODS: &[&str] = &[

@@ -70,18 +70,18 @@ from .robot_state import RobotState
 from .role import Role
 from .run_request import RunRequest
 from .schema_violation import SchemaViolation
-from .scirc_motion_request import ScircMotionRequest
-from .scirc_motion_request_type import ScircMotionRequestType
+from .scirc_motion import ScircMotion
+from .scirc_motion_type import ScircMotionType
 from .signal import Signal
 from .sim_snapshot import SimSnapshot
-from .slin_motion_request import SlinMotionRequest
-from .slin_motion_request_type import SlinMotionRequestType
+from .slin_motion import SlinMotion
+from .slin_motion_type import SlinMotionType
 from .speed_settings import SpeedSettings
 from .speed_update import SpeedUpdate
-from .spl_motion_request import SplMotionRequest
-from .spl_motion_request_type import SplMotionRequestType
-from .sptp_motion_request import SptpMotionRequest
-from .sptp_motion_request_type import SptpMotionRequestType
+from .spl_motion import SplMotion
+from .spl_motion_type import SplMotionType
+from .sptp_motion import SptpMotion
+from .sptp_motion_type import SptpMotionType
 from .state_event import StateEvent
 from .state_event_type import StateEventType
 from .stopped import Stopped
@@ -166,18 +166,18 @@ __all__ = (
     "Role",
     "RunRequest",
     "SchemaViolation",
-    "ScircMotionRequest",
-    "ScircMotionRequestType",
+    "ScircMotion",
+    "ScircMotionType",
     "Signal",
     "SimSnapshot",
-    "SlinMotionRequest",
-    "SlinMotionRequestType",
+    "SlinMotion",
+    "SlinMotionType",
     "SpeedSettings",
     "SpeedUpdate",
-    "SplMotionRequest",
-    "SplMotionRequestType",
-    "SptpMotionRequest",
-    "SptpMotionRequestType",
+    "SplMotion",
+    "SplMotionType",
+    "SptpMotion",
+    "SptpMotionType",
     "StateEvent",
     "StateEventType",
     "Stopped",

@@ -16,10 +16,10 @@ if TYPE_CHECKING:
   from ..models.circ_motion import CircMotion
   from ..models.lin_motion import LinMotion
   from ..models.ptp_motion import PtpMotion
-  from ..models.scirc_motion_request import ScircMotionRequest
-  from ..models.slin_motion_request import SlinMotionRequest
-  from ..models.spl_motion_request import SplMotionRequest
-  from ..models.sptp_motion_request import SptpMotionRequest
+  from ..models.scirc_motion import ScircMotion
+  from ..models.slin_motion import SlinMotion
+  from ..models.spl_motion import SplMotion
+  from ..models.sptp_motion import SptpMotion
 
 
 
@@ -39,8 +39,8 @@ class AppendBody:
 
         Attributes:
             close (bool | Unset): Close the path after these motions: it ends when they have run.
-            motions (list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotionRequest | SlinMotionRequest |
-                SplMotionRequest | SptpMotionRequest] | Unset): The motions, in order; they are approximated into each other and
+            motions (list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion |
+                SptpMotion] | Unset): The motions, in order; they are approximated into each other and
                 into what follows (`approx_mm` default of the site) unless they set
                 `approx_mm`. May be empty (with `close`).
             wait_ms (int | None | Unset): How long to wait for room while the path's buffer is full (ms,
@@ -48,7 +48,7 @@ class AppendBody:
      """
 
     close: bool | Unset = UNSET
-    motions: list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotionRequest | SlinMotionRequest | SplMotionRequest | SptpMotionRequest] | Unset = UNSET
+    motions: list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion | SptpMotion] | Unset = UNSET
     wait_ms: int | None | Unset = UNSET
 
 
@@ -60,10 +60,10 @@ class AppendBody:
         from ..models.circ_motion import CircMotion # noqa: PLC0415
         from ..models.lin_motion import LinMotion # noqa: PLC0415
         from ..models.ptp_motion import PtpMotion # noqa: PLC0415
-        from ..models.scirc_motion_request import ScircMotionRequest # noqa: PLC0415
-        from ..models.slin_motion_request import SlinMotionRequest # noqa: PLC0415
-        from ..models.spl_motion_request import SplMotionRequest # noqa: PLC0415
-        from ..models.sptp_motion_request import SptpMotionRequest # noqa: PLC0415
+        from ..models.scirc_motion import ScircMotion # noqa: PLC0415
+        from ..models.slin_motion import SlinMotion # noqa: PLC0415
+        from ..models.spl_motion import SplMotion # noqa: PLC0415
+        from ..models.sptp_motion import SptpMotion # noqa: PLC0415
         close = self.close
 
         motions: list[dict[str, Any]] | Unset = UNSET
@@ -79,11 +79,11 @@ class AppendBody:
                     motions_item = motions_item_data.to_dict()
                 elif isinstance(motions_item_data, CircMotion):
                     motions_item = motions_item_data.to_dict()
-                elif isinstance(motions_item_data, SlinMotionRequest):
+                elif isinstance(motions_item_data, SlinMotion):
                     motions_item = motions_item_data.to_dict()
-                elif isinstance(motions_item_data, ScircMotionRequest):
+                elif isinstance(motions_item_data, ScircMotion):
                     motions_item = motions_item_data.to_dict()
-                elif isinstance(motions_item_data, SptpMotionRequest):
+                elif isinstance(motions_item_data, SptpMotion):
                     motions_item = motions_item_data.to_dict()
                 else:
                     motions_item = motions_item_data.to_dict()
@@ -120,19 +120,19 @@ class AppendBody:
         from ..models.circ_motion import CircMotion # noqa: PLC0415
         from ..models.lin_motion import LinMotion # noqa: PLC0415
         from ..models.ptp_motion import PtpMotion # noqa: PLC0415
-        from ..models.scirc_motion_request import ScircMotionRequest # noqa: PLC0415
-        from ..models.slin_motion_request import SlinMotionRequest # noqa: PLC0415
-        from ..models.spl_motion_request import SplMotionRequest # noqa: PLC0415
-        from ..models.sptp_motion_request import SptpMotionRequest # noqa: PLC0415
+        from ..models.scirc_motion import ScircMotion # noqa: PLC0415
+        from ..models.slin_motion import SlinMotion # noqa: PLC0415
+        from ..models.spl_motion import SplMotion # noqa: PLC0415
+        from ..models.sptp_motion import SptpMotion # noqa: PLC0415
         d = dict(src_dict)
         close = d.pop("close", UNSET)
 
         _motions = d.pop("motions", UNSET)
-        motions: list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotionRequest | SlinMotionRequest | SplMotionRequest | SptpMotionRequest] | Unset = UNSET
+        motions: list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion | SptpMotion] | Unset = UNSET
         if _motions is not UNSET:
             motions = []
             for motions_item_data in _motions:
-                def _parse_motions_item(data: object) -> AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotionRequest | SlinMotionRequest | SplMotionRequest | SptpMotionRequest:
+                def _parse_motions_item(data: object) -> AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion | SptpMotion:
                     try:
                         if not isinstance(data, dict):
                             raise TypeError()
@@ -176,7 +176,7 @@ class AppendBody:
                     try:
                         if not isinstance(data, dict):
                             raise TypeError()
-                        componentsschemas_motion_request_type_4 = SlinMotionRequest.from_dict(data)
+                        componentsschemas_motion_request_type_4 = SlinMotion.from_dict(data)
 
 
 
@@ -186,7 +186,7 @@ class AppendBody:
                     try:
                         if not isinstance(data, dict):
                             raise TypeError()
-                        componentsschemas_motion_request_type_5 = ScircMotionRequest.from_dict(data)
+                        componentsschemas_motion_request_type_5 = ScircMotion.from_dict(data)
 
 
 
@@ -196,7 +196,7 @@ class AppendBody:
                     try:
                         if not isinstance(data, dict):
                             raise TypeError()
-                        componentsschemas_motion_request_type_6 = SptpMotionRequest.from_dict(data)
+                        componentsschemas_motion_request_type_6 = SptpMotion.from_dict(data)
 
 
 
@@ -205,7 +205,7 @@ class AppendBody:
                         pass
                     if not isinstance(data, dict):
                         raise TypeError()
-                    componentsschemas_motion_request_type_7 = SplMotionRequest.from_dict(data)
+                    componentsschemas_motion_request_type_7 = SplMotion.from_dict(data)
 
 
 

@@ -17,10 +17,10 @@ if TYPE_CHECKING:
   from ..models.circ_motion import CircMotion
   from ..models.lin_motion import LinMotion
   from ..models.ptp_motion import PtpMotion
-  from ..models.scirc_motion_request import ScircMotionRequest
-  from ..models.slin_motion_request import SlinMotionRequest
-  from ..models.spl_motion_request import SplMotionRequest
-  from ..models.sptp_motion_request import SptpMotionRequest
+  from ..models.scirc_motion import ScircMotion
+  from ..models.slin_motion import SlinMotion
+  from ..models.spl_motion import SplMotion
+  from ..models.sptp_motion import SptpMotion
 
 
 
@@ -40,8 +40,8 @@ class MotionBatch:
                 'y': 100}, 'approx_mm': 2}, {'type': 'lin', 'target': {'z': 100}}], 'wait': True}
 
         Attributes:
-            motions (list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotionRequest | SlinMotionRequest |
-                SplMotionRequest | SptpMotionRequest]): The motions, executed in order as one continuous batch (approximated
+            motions (list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion |
+                SptpMotion]): The motions, executed in order as one continuous batch (approximated
                 between motions unless `approx_mm` is 0).
             config (Configuration | None | Unset):
             timeout_ms (int | None | Unset): Fail the job (and stop the robot) if it has not finished after this many ms.
@@ -49,7 +49,7 @@ class MotionBatch:
                 with the queued job; poll `/api/v1/jobs/{id}` or listen to events.
      """
 
-    motions: list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotionRequest | SlinMotionRequest | SplMotionRequest | SptpMotionRequest]
+    motions: list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion | SptpMotion]
     config: Configuration | None | Unset = UNSET
     timeout_ms: int | None | Unset = UNSET
     wait: bool | None | Unset = UNSET
@@ -63,10 +63,10 @@ class MotionBatch:
         from ..models.circ_motion import CircMotion # noqa: PLC0415
         from ..models.lin_motion import LinMotion # noqa: PLC0415
         from ..models.ptp_motion import PtpMotion # noqa: PLC0415
-        from ..models.scirc_motion_request import ScircMotionRequest # noqa: PLC0415
-        from ..models.slin_motion_request import SlinMotionRequest # noqa: PLC0415
-        from ..models.spl_motion_request import SplMotionRequest # noqa: PLC0415
-        from ..models.sptp_motion_request import SptpMotionRequest # noqa: PLC0415
+        from ..models.scirc_motion import ScircMotion # noqa: PLC0415
+        from ..models.slin_motion import SlinMotion # noqa: PLC0415
+        from ..models.spl_motion import SplMotion # noqa: PLC0415
+        from ..models.sptp_motion import SptpMotion # noqa: PLC0415
         motions = []
         for motions_item_data in self.motions:
             motions_item: dict[str, Any]
@@ -78,11 +78,11 @@ class MotionBatch:
                 motions_item = motions_item_data.to_dict()
             elif isinstance(motions_item_data, CircMotion):
                 motions_item = motions_item_data.to_dict()
-            elif isinstance(motions_item_data, SlinMotionRequest):
+            elif isinstance(motions_item_data, SlinMotion):
                 motions_item = motions_item_data.to_dict()
-            elif isinstance(motions_item_data, ScircMotionRequest):
+            elif isinstance(motions_item_data, ScircMotion):
                 motions_item = motions_item_data.to_dict()
-            elif isinstance(motions_item_data, SptpMotionRequest):
+            elif isinstance(motions_item_data, SptpMotion):
                 motions_item = motions_item_data.to_dict()
             else:
                 motions_item = motions_item_data.to_dict()
@@ -134,15 +134,15 @@ class MotionBatch:
         from ..models.circ_motion import CircMotion # noqa: PLC0415
         from ..models.lin_motion import LinMotion # noqa: PLC0415
         from ..models.ptp_motion import PtpMotion # noqa: PLC0415
-        from ..models.scirc_motion_request import ScircMotionRequest # noqa: PLC0415
-        from ..models.slin_motion_request import SlinMotionRequest # noqa: PLC0415
-        from ..models.spl_motion_request import SplMotionRequest # noqa: PLC0415
-        from ..models.sptp_motion_request import SptpMotionRequest # noqa: PLC0415
+        from ..models.scirc_motion import ScircMotion # noqa: PLC0415
+        from ..models.slin_motion import SlinMotion # noqa: PLC0415
+        from ..models.spl_motion import SplMotion # noqa: PLC0415
+        from ..models.sptp_motion import SptpMotion # noqa: PLC0415
         d = dict(src_dict)
         motions = []
         _motions = d.pop("motions")
         for motions_item_data in (_motions):
-            def _parse_motions_item(data: object) -> AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotionRequest | SlinMotionRequest | SplMotionRequest | SptpMotionRequest:
+            def _parse_motions_item(data: object) -> AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion | SptpMotion:
                 try:
                     if not isinstance(data, dict):
                         raise TypeError()
@@ -186,7 +186,7 @@ class MotionBatch:
                 try:
                     if not isinstance(data, dict):
                         raise TypeError()
-                    componentsschemas_motion_request_type_4 = SlinMotionRequest.from_dict(data)
+                    componentsschemas_motion_request_type_4 = SlinMotion.from_dict(data)
 
 
 
@@ -196,7 +196,7 @@ class MotionBatch:
                 try:
                     if not isinstance(data, dict):
                         raise TypeError()
-                    componentsschemas_motion_request_type_5 = ScircMotionRequest.from_dict(data)
+                    componentsschemas_motion_request_type_5 = ScircMotion.from_dict(data)
 
 
 
@@ -206,7 +206,7 @@ class MotionBatch:
                 try:
                     if not isinstance(data, dict):
                         raise TypeError()
-                    componentsschemas_motion_request_type_6 = SptpMotionRequest.from_dict(data)
+                    componentsschemas_motion_request_type_6 = SptpMotion.from_dict(data)
 
 
 
@@ -215,7 +215,7 @@ class MotionBatch:
                     pass
                 if not isinstance(data, dict):
                     raise TypeError()
-                componentsschemas_motion_request_type_7 = SplMotionRequest.from_dict(data)
+                componentsschemas_motion_request_type_7 = SplMotion.from_dict(data)
 
 
 

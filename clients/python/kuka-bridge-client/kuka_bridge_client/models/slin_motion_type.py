@@ -1,7 +1,7 @@
 from enum import StrEnum
 
-class ScircMotionRequestType(StrEnum):
-    SCIRC = "scirc"
+class SlinMotionType(StrEnum):
+    SLIN = "slin"
 
     def __str__(self) -> str:
         return str(self.value)

@@ -8,49 +8,46 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
-from ..models.configuration import Configuration
-from ..models.sptp_motion_request_type import SptpMotionRequestType
+from ..models.scirc_motion_type import ScircMotionType
 from ..types import UNSET, Unset
 from typing import cast
 
 if TYPE_CHECKING:
+  from ..models.aux_point import AuxPoint
   from ..models.target_spec import TargetSpec
 
 
 
 
 
-T = TypeVar("T", bound="SptpMotionRequest")
+T = TypeVar("T", bound="ScircMotion")
 
 
 
 @_attrs_define
-class SptpMotionRequest:
-    """ SPTP: point-to-point of the spline family (KRL `SPTP`) to a
-    Cartesian target; stops exactly at its end, like `ptp`.
-
-        Example:
-            {'type': 'sptp', 'target': {'x': 300, 'y': 0, 'z': 400, 'a': 0, 'b': 90, 'c': 0}}
+class ScircMotion:
+    """ SCIRC: a circular arc of the spline family through `aux` to
+    `target` (KRL `SCIRC`).
 
         Attributes:
+            aux (AuxPoint): Auxiliary point of a CIRC (position only, as in KRL). Example: {'x': 250.0, 'y': 0.0}.
             target (TargetSpec): A Cartesian target; omitted components keep their current value (the
                 previous motion's target inside a batch). Example: {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c':
                 0.0}.
-            type_ (SptpMotionRequestType):
+            type_ (ScircMotionType):
             acceleration_pct (float | None | Unset): % of max acceleration.
-            approx_mm (float | None | Unset): Approximation distance in mm (not used: an SPTP stops exactly).
-            config (Configuration | None | Unset):
-            relative (bool | Unset): Add to the start instead of replacing.
-            velocity_pct (float | None | Unset): % of max axis speed (default from config).
+            approx_mm (float | None | Unset): Approximation distance in mm (C_SPL).
+            relative (bool | Unset): Add both points to the start instead of replacing.
+            velocity_m_s (float | None | Unset): TCP speed in m/s.
      """
 
+    aux: AuxPoint
     target: TargetSpec
-    type_: SptpMotionRequestType
+    type_: ScircMotionType
     acceleration_pct: float | None | Unset = UNSET
     approx_mm: float | None | Unset = UNSET
-    config: Configuration | None | Unset = UNSET
     relative: bool | Unset = UNSET
-    velocity_pct: float | None | Unset = UNSET
+    velocity_m_s: float | None | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
 
@@ -58,7 +55,10 @@ class SptpMotionRequest:
 
 
     def to_dict(self) -> dict[str, Any]:
+        from ..models.aux_point import AuxPoint # noqa: PLC0415
         from ..models.target_spec import TargetSpec # noqa: PLC0415
+        aux = self.aux.to_dict()
+
         target = self.target.to_dict()
 
         type_ = self.type_.value
@@ -75,26 +75,19 @@ class SptpMotionRequest:
         else:
             approx_mm = self.approx_mm
 
-        config: None | str | Unset
-        if isinstance(self.config, Unset):
-            config = UNSET
-        elif isinstance(self.config, Configuration):
-            config = self.config.value
-        else:
-            config = self.config
-
         relative = self.relative
 
-        velocity_pct: float | None | Unset
-        if isinstance(self.velocity_pct, Unset):
-            velocity_pct = UNSET
+        velocity_m_s: float | None | Unset
+        if isinstance(self.velocity_m_s, Unset):
+            velocity_m_s = UNSET
         else:
-            velocity_pct = self.velocity_pct
+            velocity_m_s = self.velocity_m_s
 
 
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
         field_dict.update({
+            "aux": aux,
             "target": target,
             "type": type_,
         })
@@ -102,12 +95,10 @@ class SptpMotionRequest:
             field_dict["acceleration_pct"] = acceleration_pct
         if approx_mm is not UNSET:
             field_dict["approx_mm"] = approx_mm
-        if config is not UNSET:
-            field_dict["config"] = config
         if relative is not UNSET:
             field_dict["relative"] = relative
-        if velocity_pct is not UNSET:
-            field_dict["velocity_pct"] = velocity_pct
+        if velocity_m_s is not UNSET:
+            field_dict["velocity_m_s"] = velocity_m_s
 
         return field_dict
 
@@ -115,14 +106,20 @@ class SptpMotionRequest:
 
     @classmethod
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        from ..models.aux_point import AuxPoint # noqa: PLC0415
         from ..models.target_spec import TargetSpec # noqa: PLC0415
         d = dict(src_dict)
+        aux = AuxPoint.from_dict(d.pop("aux"))
+
+
+
+
         target = TargetSpec.from_dict(d.pop("target"))
 
 
 
 
-        type_ = SptpMotionRequestType(d.pop("type"))
+        type_ = ScircMotionType(d.pop("type"))
 
 
 
@@ -147,51 +144,31 @@ class SptpMotionRequest:
         approx_mm = _parse_approx_mm(d.pop("approx_mm", UNSET))
 
 
-        def _parse_config(data: object) -> Configuration | None | Unset:
-            if data is None:
-                return data
-            if isinstance(data, Unset):
-                return data
-            try:
-                if not isinstance(data, str):
-                    raise TypeError()
-                config_type_0 = Configuration(data)
-
-
-
-                return config_type_0
-            except (TypeError, ValueError, AttributeError, KeyError):
-                pass
-            return cast(Configuration | None | Unset, data)
-
-        config = _parse_config(d.pop("config", UNSET))
-
-
         relative = d.pop("relative", UNSET)
 
-        def _parse_velocity_pct(data: object) -> float | None | Unset:
+        def _parse_velocity_m_s(data: object) -> float | None | Unset:
             if data is None:
                 return data
             if isinstance(data, Unset):
                 return data
             return cast(float | None | Unset, data)
 
-        velocity_pct = _parse_velocity_pct(d.pop("velocity_pct", UNSET))
+        velocity_m_s = _parse_velocity_m_s(d.pop("velocity_m_s", UNSET))
 
 
-        sptp_motion_request = cls(
+        scirc_motion = cls(
+            aux=aux,
             target=target,
             type_=type_,
             acceleration_pct=acceleration_pct,
             approx_mm=approx_mm,
-            config=config,
             relative=relative,
-            velocity_pct=velocity_pct,
+            velocity_m_s=velocity_m_s,
         )
 
 
-        sptp_motion_request.additional_properties = d
-        return sptp_motion_request
+        scirc_motion.additional_properties = d
+        return scirc_motion
 
     @property
     def additional_keys(self) -> list[str]:

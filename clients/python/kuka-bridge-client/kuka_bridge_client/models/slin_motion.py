@@ -8,7 +8,7 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
-from ..models.spl_motion_request_type import SplMotionRequestType
+from ..models.slin_motion_type import SlinMotionType
 from ..types import UNSET, Unset
 from typing import cast
 
@@ -19,37 +19,32 @@ if TYPE_CHECKING:
 
 
 
-T = TypeVar("T", bound="SplMotionRequest")
+T = TypeVar("T", bound="SlinMotion")
 
 
 
 @_attrs_define
-class SplMotionRequest:
-    """ SPL: a point of a spline block (KRL `SPLINE … SPL … ENDSPLINE`).
-    Consecutive `spl` motions of one request form a block: the TCP
-    follows a smooth curve through their points without stopping. A
-    block ends after 8 points, at a point with `approx_mm: 0`, where
-    the speed or acceleration changes, and at the end of the request;
-    the next block follows with the last point's approximation
-    (`C_SPL`).
+class SlinMotion:
+    """ SLIN: a straight line of the spline family (KRL `SLIN`). Blends
+    (`C_SPL`) only into spline motions (`slin`, `scirc`, `spl`); before
+    a `ptp`/`lin`/`circ` the robot stops exactly, as on a KRC.
 
         Example:
-            {'type': 'spl', 'target': {'x': 300, 'y': 50}, 'velocity_m_s': 0.2}
+            {'type': 'slin', 'target': {'x': 250, 'y': 100}, 'velocity_m_s': 0.1, 'approx_mm': 5}
 
         Attributes:
             target (TargetSpec): A Cartesian target; omitted components keep their current value (the
                 previous motion's target inside a batch). Example: {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c':
                 0.0}.
-            type_ (SplMotionRequestType):
+            type_ (SlinMotionType):
             acceleration_pct (float | None | Unset): % of max acceleration.
-            approx_mm (float | None | Unset): Approximation distance in mm (C_SPL) where the block ends; 0
-                ends the block here with an exact stop.
-            relative (bool | Unset): Add to the previous point instead of replacing.
+            approx_mm (float | None | Unset): Approximation distance in mm (C_SPL).
+            relative (bool | Unset): Add to the start instead of replacing.
             velocity_m_s (float | None | Unset): TCP speed in m/s.
      """
 
     target: TargetSpec
-    type_: SplMotionRequestType
+    type_: SlinMotionType
     acceleration_pct: float | None | Unset = UNSET
     approx_mm: float | None | Unset = UNSET
     relative: bool | Unset = UNSET
@@ -115,7 +110,7 @@ class SplMotionRequest:
 
 
 
-        type_ = SplMotionRequestType(d.pop("type"))
+        type_ = SlinMotionType(d.pop("type"))
 
 
 
@@ -152,7 +147,7 @@ class SplMotionRequest:
         velocity_m_s = _parse_velocity_m_s(d.pop("velocity_m_s", UNSET))
 
 
-        spl_motion_request = cls(
+        slin_motion = cls(
             target=target,
             type_=type_,
             acceleration_pct=acceleration_pct,
@@ -162,8 +157,8 @@ class SplMotionRequest:
         )
 
 
-        spl_motion_request.additional_properties = d
-        return spl_motion_request
+        slin_motion.additional_properties = d
+        return slin_motion
 
     @property
     def additional_keys(self) -> list[str]:

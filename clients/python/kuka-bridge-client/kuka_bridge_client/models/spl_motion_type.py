@@ -1,7 +1,7 @@
 from enum import StrEnum
 
-class SlinMotionRequestType(StrEnum):
-    SLIN = "slin"
+class SplMotionType(StrEnum):
+    SPL = "spl"
 
     def __str__(self) -> str:
         return str(self.value)

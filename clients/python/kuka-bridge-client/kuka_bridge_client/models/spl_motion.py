@@ -8,42 +8,48 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
-from ..models.scirc_motion_request_type import ScircMotionRequestType
+from ..models.spl_motion_type import SplMotionType
 from ..types import UNSET, Unset
 from typing import cast
 
 if TYPE_CHECKING:
-  from ..models.aux_point import AuxPoint
   from ..models.target_spec import TargetSpec
 
 
 
 
 
-T = TypeVar("T", bound="ScircMotionRequest")
+T = TypeVar("T", bound="SplMotion")
 
 
 
 @_attrs_define
-class ScircMotionRequest:
-    """ SCIRC: a circular arc of the spline family through `aux` to
-    `target` (KRL `SCIRC`).
+class SplMotion:
+    """ SPL: a point of a spline block (KRL `SPLINE … SPL … ENDSPLINE`).
+    Consecutive `spl` motions of one request form a block: the TCP
+    follows a smooth curve through their points without stopping. A
+    block ends after 8 points, at a point with `approx_mm: 0`, where
+    the speed or acceleration changes, and at the end of the request;
+    the next block follows with the last point's approximation
+    (`C_SPL`).
+
+        Example:
+            {'type': 'spl', 'target': {'x': 300, 'y': 50}, 'velocity_m_s': 0.2}
 
         Attributes:
-            aux (AuxPoint): Auxiliary point of a CIRC (position only, as in KRL). Example: {'x': 250.0, 'y': 0.0}.
             target (TargetSpec): A Cartesian target; omitted components keep their current value (the
                 previous motion's target inside a batch). Example: {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c':
                 0.0}.
-            type_ (ScircMotionRequestType):
+            type_ (SplMotionType):
             acceleration_pct (float | None | Unset): % of max acceleration.
-            approx_mm (float | None | Unset): Approximation distance in mm (C_SPL).
-            relative (bool | Unset): Add both points to the start instead of replacing.
+            approx_mm (float | None | Unset): Approximation distance in mm (C_SPL) where the block ends; 0
+                ends the block here with an exact stop.
+            relative (bool | Unset): Add to the previous point instead of replacing.
             velocity_m_s (float | None | Unset): TCP speed in m/s.
      """
 
-    aux: AuxPoint
     target: TargetSpec
-    type_: ScircMotionRequestType
+    type_: SplMotionType
     acceleration_pct: float | None | Unset = UNSET
     approx_mm: float | None | Unset = UNSET
     relative: bool | Unset = UNSET
@@ -55,10 +61,7 @@ class ScircMotionRequest:
 
 
     def to_dict(self) -> dict[str, Any]:
-        from ..models.aux_point import AuxPoint # noqa: PLC0415
         from ..models.target_spec import TargetSpec # noqa: PLC0415
-        aux = self.aux.to_dict()
-
         target = self.target.to_dict()
 
         type_ = self.type_.value
@@ -87,7 +90,6 @@ class ScircMotionRequest:
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
         field_dict.update({
-            "aux": aux,
             "target": target,
             "type": type_,
         })
@@ -106,20 +108,14 @@ class ScircMotionRequest:
 
     @classmethod
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
-        from ..models.aux_point import AuxPoint # noqa: PLC0415
         from ..models.target_spec import TargetSpec # noqa: PLC0415
         d = dict(src_dict)
-        aux = AuxPoint.from_dict(d.pop("aux"))
-
-
-
-
         target = TargetSpec.from_dict(d.pop("target"))
 
 
 
 
-        type_ = ScircMotionRequestType(d.pop("type"))
+        type_ = SplMotionType(d.pop("type"))
 
 
 
@@ -156,8 +152,7 @@ class ScircMotionRequest:
         velocity_m_s = _parse_velocity_m_s(d.pop("velocity_m_s", UNSET))
 
 
-        scirc_motion_request = cls(
-            aux=aux,
+        spl_motion = cls(
             target=target,
             type_=type_,
             acceleration_pct=acceleration_pct,
@@ -167,8 +162,8 @@ class ScircMotionRequest:
         )
 
 
-        scirc_motion_request.additional_properties = d
-        return scirc_motion_request
+        spl_motion.additional_properties = d
+        return spl_motion
 
     @property
     def additional_keys(self) -> list[str]:

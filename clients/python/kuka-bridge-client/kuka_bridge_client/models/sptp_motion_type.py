@@ -1,6 +1,6 @@
 from enum import StrEnum
 
-class SptpMotionRequestType(StrEnum):
+class SptpMotionType(StrEnum):
     SPTP = "sptp"
 
     def __str__(self) -> str:

@@ -1,7 +1,7 @@
 from enum import StrEnum
 
-class SplMotionRequestType(StrEnum):
-    SPL = "spl"
+class ScircMotionType(StrEnum):
+    SCIRC = "scirc"
 
     def __str__(self) -> str:
         return str(self.value)

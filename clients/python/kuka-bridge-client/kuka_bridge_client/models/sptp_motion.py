@@ -8,7 +8,8 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
-from ..models.slin_motion_request_type import SlinMotionRequestType
+from ..models.configuration import Configuration
+from ..models.sptp_motion_type import SptpMotionType
 from ..types import UNSET, Unset
 from typing import cast
 
@@ -19,36 +20,37 @@ if TYPE_CHECKING:
 
 
 
-T = TypeVar("T", bound="SlinMotionRequest")
+T = TypeVar("T", bound="SptpMotion")
 
 
 
 @_attrs_define
-class SlinMotionRequest:
-    """ SLIN: a straight line of the spline family (KRL `SLIN`). Blends
-    (`C_SPL`) only into spline motions (`slin`, `scirc`, `spl`); before
-    a `ptp`/`lin`/`circ` the robot stops exactly, as on a KRC.
+class SptpMotion:
+    """ SPTP: point-to-point of the spline family (KRL `SPTP`) to a
+    Cartesian target; stops exactly at its end, like `ptp`.
 
         Example:
-            {'type': 'slin', 'target': {'x': 250, 'y': 100}, 'velocity_m_s': 0.1, 'approx_mm': 5}
+            {'type': 'sptp', 'target': {'x': 300, 'y': 0, 'z': 400, 'a': 0, 'b': 90, 'c': 0}}
 
         Attributes:
             target (TargetSpec): A Cartesian target; omitted components keep their current value (the
                 previous motion's target inside a batch). Example: {'x': 200.0, 'y': 0.0, 'z': 70.0, 'a': 0.0, 'b': 180.0, 'c':
                 0.0}.
-            type_ (SlinMotionRequestType):
+            type_ (SptpMotionType):
             acceleration_pct (float | None | Unset): % of max acceleration.
-            approx_mm (float | None | Unset): Approximation distance in mm (C_SPL).
+            approx_mm (float | None | Unset): Approximation distance in mm (not used: an SPTP stops exactly).
+            config (Configuration | None | Unset):
             relative (bool | Unset): Add to the start instead of replacing.
-            velocity_m_s (float | None | Unset): TCP speed in m/s.
+            velocity_pct (float | None | Unset): % of max axis speed (default from config).
      """
 
     target: TargetSpec
-    type_: SlinMotionRequestType
+    type_: SptpMotionType
     acceleration_pct: float | None | Unset = UNSET
     approx_mm: float | None | Unset = UNSET
+    config: Configuration | None | Unset = UNSET
     relative: bool | Unset = UNSET
-    velocity_m_s: float | None | Unset = UNSET
+    velocity_pct: float | None | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
 
@@ -73,13 +75,21 @@ class SlinMotionRequest:
         else:
             approx_mm = self.approx_mm
 
+        config: None | str | Unset
+        if isinstance(self.config, Unset):
+            config = UNSET
+        elif isinstance(self.config, Configuration):
+            config = self.config.value
+        else:
+            config = self.config
+
         relative = self.relative
 
-        velocity_m_s: float | None | Unset
-        if isinstance(self.velocity_m_s, Unset):
-            velocity_m_s = UNSET
+        velocity_pct: float | None | Unset
+        if isinstance(self.velocity_pct, Unset):
+            velocity_pct = UNSET
         else:
-            velocity_m_s = self.velocity_m_s
+            velocity_pct = self.velocity_pct
 
 
         field_dict: dict[str, Any] = {}
@@ -92,10 +102,12 @@ class SlinMotionRequest:
             field_dict["acceleration_pct"] = acceleration_pct
         if approx_mm is not UNSET:
             field_dict["approx_mm"] = approx_mm
+        if config is not UNSET:
+            field_dict["config"] = config
         if relative is not UNSET:
             field_dict["relative"] = relative
-        if velocity_m_s is not UNSET:
-            field_dict["velocity_m_s"] = velocity_m_s
+        if velocity_pct is not UNSET:
+            field_dict["velocity_pct"] = velocity_pct
 
         return field_dict
 
@@ -110,7 +122,7 @@ class SlinMotionRequest:
 
 
 
-        type_ = SlinMotionRequestType(d.pop("type"))
+        type_ = SptpMotionType(d.pop("type"))
 
 
 
@@ -135,30 +147,51 @@ class SlinMotionRequest:
         approx_mm = _parse_approx_mm(d.pop("approx_mm", UNSET))
 
 
+        def _parse_config(data: object) -> Configuration | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            try:
+                if not isinstance(data, str):
+                    raise TypeError()
+                config_type_0 = Configuration(data)
+
+
+
+                return config_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(Configuration | None | Unset, data)
+
+        config = _parse_config(d.pop("config", UNSET))
+
+
         relative = d.pop("relative", UNSET)
 
-        def _parse_velocity_m_s(data: object) -> float | None | Unset:
+        def _parse_velocity_pct(data: object) -> float | None | Unset:
             if data is None:
                 return data
             if isinstance(data, Unset):
                 return data
             return cast(float | None | Unset, data)
 
-        velocity_m_s = _parse_velocity_m_s(d.pop("velocity_m_s", UNSET))
+        velocity_pct = _parse_velocity_pct(d.pop("velocity_pct", UNSET))
 
 
-        slin_motion_request = cls(
+        sptp_motion = cls(
             target=target,
             type_=type_,
             acceleration_pct=acceleration_pct,
             approx_mm=approx_mm,
+            config=config,
             relative=relative,
-            velocity_m_s=velocity_m_s,
+            velocity_pct=velocity_pct,
         )
 
 
-        slin_motion_request.additional_properties = d
-        return slin_motion_request
+        sptp_motion.additional_properties = d
+        return sptp_motion
 
     @property
     def additional_keys(self) -> list[str]:
