@@ -79,7 +79,10 @@ impl IoConfig {
                     ));
                 }
                 if !names.insert(s.name.clone()) {
-                    return Err(format!("io.{kind}: the name {:?} is used twice", s.name));
+                    return Err(format!(
+                        "io.{kind}: the name {:?} is used twice (names are unique over inputs and outputs)",
+                        s.name
+                    ));
                 }
                 if s.index == 0 || s.index > MAX_IO_INDEX {
                     return Err(format!(

@@ -89,15 +89,16 @@ export interface paths {
         };
         /**
          * Live events (Server-Sent Events).
-         * @description Each SSE message has `event:` = `job`, `state`, `alarm` or `plan` and `data:` = the JSON
-         *     of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`) or the
+         * @description Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+         *     JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
          *     planned path of a move job (`JobPlan`, sent when its motions are written to the
-         *     controller, before they run). A state event follows each heartbeat
+         *     controller, before they run) or a watched digital signal that changed (`IoChange`,
+         *     docs/IO.md). A state event follows each heartbeat
          *     that changed something. A `lagged` event says the client was too slow and missed
          *     some (`data:` how many). The stream starts with the current state, and ends when the
          *     service shuts down or the caller's token is revoked.
          *
-         *     Job, plan and alarm events carry an `id:` that grows by one per event; the service
+         *     Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
          *     keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
          *     `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
          *     missed, then the current state, then live events; if some it missed are no longer
@@ -124,8 +125,8 @@ export interface paths {
             cookie?: never;
         };
         /**
-         * Recent job, plan and alarm events.
-         * @description The newest events the service still holds (it keeps the last 1000 job, plan and alarm
+         * Recent job, plan, alarm and io events.
+         * @description The newest events the service still holds (it keeps the last 1000 job, plan, alarm and io
          *     events of this run; state events are not kept), oldest first, with the ids and data of
          *     the event stream: a page that reloads shows what happened before, then opens
          *     `GET /api/v1/events?last_event_id=<the last id>` to continue without a gap.
@@ -2474,7 +2475,7 @@ export interface components {
             t: number;
         };
         /**
-         * @description A job, plan or alarm event as the service published it.
+         * @description A job, plan, alarm or io event as the service published it.
          * @example {
          *       "id": 1795629212950,
          *       "type": "job",
@@ -2495,16 +2496,16 @@ export interface components {
              */
             at_ms: number;
             /**
-             * @description What the SSE `data:` carries: the `Job`, the `JobPlan` or the error (`code`,
-             *     `detail`, `axis`, `motion`).
+             * @description What the SSE `data:` carries: the `Job`, the `JobPlan`, the error (`code`,
+             *     `detail`, `axis`, `motion`) or the `IoChange`.
              */
             data: Record<string, never>;
             /**
              * Format: int64
-             * @description The event id (the SSE `id:`; grows by one per job, plan or alarm event).
+             * @description The event id (the SSE `id:`; grows by one per job, plan, alarm or io event).
              */
             id: number;
-            /** @description `job`, `plan` or `alarm` (the SSE `event:`). */
+            /** @description `job`, `plan`, `alarm` or `io` (the SSE `event:`). */
             type: string;
         };
         /**
@@ -2641,7 +2642,11 @@ export interface components {
             kind: components["schemas"]["IoKind"];
             /** @description Its name in the site's `[io]` configuration. */
             name?: string | null;
-            /** @description Its value as the controller last reported it. */
+            /**
+             * @description Its value: as the controller last reported it (a read), or as
+             *     written (the answer to a write; the next state file, within a
+             *     heartbeat, reports it).
+             */
             value: boolean;
             /** @description Clients may write it (an output on the site's list). */
             writable: boolean;
@@ -3778,10 +3783,10 @@ export interface operations {
     streamEvents: {
         parameters: {
             query?: {
-                /** @description Comma-separated event types to receive: `job`, `state`, `alarm`, `plan` (default: all). */
+                /** @description Comma-separated event types to receive: `job`, `state`, `alarm`, `plan`, `io` (default: all). */
                 types?: string;
                 /**
-                 * @description Replay the held job, plan and alarm events after this event id before the live
+                 * @description Replay the held job, plan, alarm and io events after this event id before the live
                  *     ones (for clients that cannot send the `Last-Event-ID` header, such as a browser's
                  *     first `EventSource` connection); `0` replays every event held. The header wins
                  *     when both are given.
@@ -3869,7 +3874,7 @@ export interface operations {
             query?: {
                 /** @description How many of the newest events to list, 1 to 1000 (default 100). */
                 limit?: number;
-                /** @description Comma-separated types to list: `job`, `plan`, `alarm` (default: all three). */
+                /** @description Comma-separated types to list: `job`, `plan`, `alarm`, `io` (default: all four). */
                 types?: string;
                 /** @description Only events after this event id (for a client polling instead of streaming). */
                 after?: number;

@@ -1,7 +1,7 @@
 //! `GET /api/v1/events`: Server-Sent Events for job progress, state
 //! changes and alarms, optionally filtered by type, replaying what a
 //! reconnecting client missed (`Last-Event-ID`); `GET
-//! /api/v1/events/recent`: the recent job, plan and alarm events as JSON.
+//! /api/v1/events/recent`: the recent job, plan, alarm and io events as JSON.
 
 use std::convert::Infallible;
 use std::time::Duration;
@@ -28,9 +28,9 @@ use crate::error::BridgeError;
 #[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct EventsQuery {
-    /// Comma-separated event types to receive: `job`, `state`, `alarm`, `plan` (default: all).
+    /// Comma-separated event types to receive: `job`, `state`, `alarm`, `plan`, `io` (default: all).
     types: Option<String>,
-    /// Replay the held job, plan and alarm events after this event id before the live
+    /// Replay the held job, plan, alarm and io events after this event id before the live
     /// ones (for clients that cannot send the `Last-Event-ID` header, such as a browser's
     /// first `EventSource` connection); `0` replays every event held. The header wins
     /// when both are given.
@@ -110,15 +110,16 @@ fn replay_from(headers: &HeaderMap, query: Option<u64>) -> Result<Option<u64>, P
 
 /// Live events (Server-Sent Events).
 ///
-/// Each SSE message has `event:` = `job`, `state`, `alarm` or `plan` and `data:` = the JSON
-/// of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`) or the
+/// Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+/// JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
 /// planned path of a move job (`JobPlan`, sent when its motions are written to the
-/// controller, before they run). A state event follows each heartbeat
+/// controller, before they run) or a watched digital signal that changed (`IoChange`,
+/// docs/IO.md). A state event follows each heartbeat
 /// that changed something. A `lagged` event says the client was too slow and missed
 /// some (`data:` how many). The stream starts with the current state, and ends when the
 /// service shuts down or the caller's token is revoked.
 ///
-/// Job, plan and alarm events carry an `id:` that grows by one per event; the service
+/// Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
 /// keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
 /// `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
 /// missed, then the current state, then live events; if some it missed are no longer
@@ -202,33 +203,33 @@ async fn events(
 pub struct RecentQuery {
     /// How many of the newest events to list, 1 to 1000 (default 100).
     limit: Option<usize>,
-    /// Comma-separated types to list: `job`, `plan`, `alarm` (default: all three).
+    /// Comma-separated types to list: `job`, `plan`, `alarm`, `io` (default: all four).
     types: Option<String>,
     /// Only events after this event id (for a client polling instead of streaming).
     after: Option<u64>,
 }
 
-/// A job, plan or alarm event as the service published it.
+/// A job, plan, alarm or io event as the service published it.
 #[derive(Debug, Serialize, ToSchema)]
 #[schema(example = json!({"id": 1795629212950_u64, "type": "job", "at_ms": 1795629212958_u64,
     "data": {"id": 7, "operation": "move", "state": "done", "motions": 1, "completed": 1}}))]
 pub struct RecentEvent {
-    /// The event id (the SSE `id:`; grows by one per job, plan or alarm event).
+    /// The event id (the SSE `id:`; grows by one per job, plan, alarm or io event).
     id: u64,
-    /// `job`, `plan` or `alarm` (the SSE `event:`).
+    /// `job`, `plan`, `alarm` or `io` (the SSE `event:`).
     #[serde(rename = "type")]
     kind: &'static str,
     /// When the service published it (Unix ms).
     at_ms: u64,
-    /// What the SSE `data:` carries: the `Job`, the `JobPlan` or the error (`code`,
-    /// `detail`, `axis`, `motion`).
+    /// What the SSE `data:` carries: the `Job`, the `JobPlan`, the error (`code`,
+    /// `detail`, `axis`, `motion`) or the `IoChange`.
     #[schema(value_type = Object)]
     data: serde_json::Value,
 }
 
-/// Recent job, plan and alarm events.
+/// Recent job, plan, alarm and io events.
 ///
-/// The newest events the service still holds (it keeps the last 1000 job, plan and alarm
+/// The newest events the service still holds (it keeps the last 1000 job, plan, alarm and io
 /// events of this run; state events are not kept), oldest first, with the ids and data of
 /// the event stream: a page that reloads shows what happened before, then opens
 /// `GET /api/v1/events?last_event_id=<the last id>` to continue without a gap.

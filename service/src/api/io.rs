@@ -26,7 +26,9 @@ pub struct Signal {
     pub index: u16,
     /// Its name in the site's `[io]` configuration.
     pub name: Option<String>,
-    /// Its value as the controller last reported it.
+    /// Its value: as the controller last reported it (a read), or as
+    /// written (the answer to a write; the next state file, within a
+    /// heartbeat, reports it).
     pub value: bool,
     /// Clients may write it (an output on the site's list).
     pub writable: bool,

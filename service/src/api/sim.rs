@@ -169,7 +169,7 @@ async fn put_input(
         .filter(|i| (1..=kuka_protocol::MAX_IO_INDEX).contains(i))
         .ok_or_else(|| {
             BridgeError::invalid(format!(
-                "$IN[{}] does not exist: indices are 1..={}",
+                "$IN[{}] does not exist: a simulated input is given by its number, 1..={}",
                 index.chars().take(12).collect::<String>(),
                 kuka_protocol::MAX_IO_INDEX
             ))

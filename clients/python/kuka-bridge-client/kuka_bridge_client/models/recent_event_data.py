@@ -20,8 +20,8 @@ T = TypeVar("T", bound="RecentEventData")
 
 @_attrs_define
 class RecentEventData:
-    """ What the SSE `data:` carries: the `Job`, the `JobPlan` or the error (`code`,
-    `detail`, `axis`, `motion`).
+    """ What the SSE `data:` carries: the `Job`, the `JobPlan`, the error (`code`,
+    `detail`, `axis`, `motion`) or the `IoChange`.
 
      """
 

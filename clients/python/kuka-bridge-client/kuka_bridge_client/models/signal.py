@@ -31,7 +31,9 @@ class Signal:
         Attributes:
             index (int): `$IN`/`$OUT` index.
             kind (IoKind): Inputs or outputs.
-            value (bool): Its value as the controller last reported it.
+            value (bool): Its value: as the controller last reported it (a read), or as
+                written (the answer to a write; the next state file, within a
+                heartbeat, reports it).
             writable (bool): Clients may write it (an output on the site's list).
             name (None | str | Unset): Its name in the site's `[io]` configuration.
      """

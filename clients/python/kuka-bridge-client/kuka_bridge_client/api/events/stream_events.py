@@ -127,15 +127,16 @@ def sync_detailed(
 ) -> Response[ProblemDetails | str]:
     """ Live events (Server-Sent Events).
 
-     Each SSE message has `event:` = `job`, `state`, `alarm` or `plan` and `data:` = the JSON
-    of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`) or the
+     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+    JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
     planned path of a move job (`JobPlan`, sent when its motions are written to the
-    controller, before they run). A state event follows each heartbeat
+    controller, before they run) or a watched digital signal that changed (`IoChange`,
+    docs/IO.md). A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
     some (`data:` how many). The stream starts with the current state, and ends when the
     service shuts down or the caller's token is revoked.
 
-    Job, plan and alarm events carry an `id:` that grows by one per event; the service
+    Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
     keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
     `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
     missed, then the current state, then live events; if some it missed are no longer
@@ -185,15 +186,16 @@ def sync(
 ) -> ProblemDetails | str | None:
     """ Live events (Server-Sent Events).
 
-     Each SSE message has `event:` = `job`, `state`, `alarm` or `plan` and `data:` = the JSON
-    of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`) or the
+     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+    JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
     planned path of a move job (`JobPlan`, sent when its motions are written to the
-    controller, before they run). A state event follows each heartbeat
+    controller, before they run) or a watched digital signal that changed (`IoChange`,
+    docs/IO.md). A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
     some (`data:` how many). The stream starts with the current state, and ends when the
     service shuts down or the caller's token is revoked.
 
-    Job, plan and alarm events carry an `id:` that grows by one per event; the service
+    Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
     keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
     `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
     missed, then the current state, then live events; if some it missed are no longer
@@ -238,15 +240,16 @@ async def asyncio_detailed(
 ) -> Response[ProblemDetails | str]:
     """ Live events (Server-Sent Events).
 
-     Each SSE message has `event:` = `job`, `state`, `alarm` or `plan` and `data:` = the JSON
-    of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`) or the
+     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+    JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
     planned path of a move job (`JobPlan`, sent when its motions are written to the
-    controller, before they run). A state event follows each heartbeat
+    controller, before they run) or a watched digital signal that changed (`IoChange`,
+    docs/IO.md). A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
     some (`data:` how many). The stream starts with the current state, and ends when the
     service shuts down or the caller's token is revoked.
 
-    Job, plan and alarm events carry an `id:` that grows by one per event; the service
+    Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
     keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
     `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
     missed, then the current state, then live events; if some it missed are no longer
@@ -296,15 +299,16 @@ async def asyncio(
 ) -> ProblemDetails | str | None:
     """ Live events (Server-Sent Events).
 
-     Each SSE message has `event:` = `job`, `state`, `alarm` or `plan` and `data:` = the JSON
-    of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`) or the
+     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+    JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
     planned path of a move job (`JobPlan`, sent when its motions are written to the
-    controller, before they run). A state event follows each heartbeat
+    controller, before they run) or a watched digital signal that changed (`IoChange`,
+    docs/IO.md). A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
     some (`data:` how many). The stream starts with the current state, and ends when the
     service shuts down or the caller's token is revoked.
 
-    Job, plan and alarm events carry an `id:` that grows by one per event; the service
+    Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
     keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
     `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
     missed, then the current state, then live events; if some it missed are no longer
