@@ -190,15 +190,7 @@ async fn paused_embedded_controller_times_out_then_recovers() {
     // Recovered: a round trip through the program works again (on a
     // loaded machine the KRC-like runtime may need a heartbeat or two to
     // catch up after the pause).
-    wait_for(WAIT, "getpos to work again", async || {
-        let (s, v) = t.post("/krl/getpos").await;
-        if s == 200 {
-            Ok(())
-        } else {
-            Err(format!("{s} {v}"))
-        }
-    })
-    .await;
+    t.wait_getpos("getpos to work again").await;
     t.service.shutdown().await.expect("shutdown");
 }
 

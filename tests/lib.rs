@@ -369,6 +369,21 @@ impl TestService {
         decode(r).await
     }
 
+    /// Waits until a round trip through the controller program works
+    /// (`POST /krl/getpos` answers 200): after a pause or an operator
+    /// restart of the simulated controller.
+    pub async fn wait_getpos(&self, what: &str) {
+        wait_for(WAIT, what, async || {
+            let (s, v) = self.post("/krl/getpos").await;
+            if s == 200 {
+                Ok(())
+            } else {
+                Err(format!("{s} {v}"))
+            }
+        })
+        .await;
+    }
+
     /// POST a JSON body.
     pub async fn post_json(&self, path: &str, body: &Value) -> (u16, Value) {
         let r = self

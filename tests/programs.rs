@@ -360,15 +360,7 @@ async fn without_a_robot_model_the_controller_reports_the_failing_line() {
                 krc.snapshot()
             );
             krc.operator_restart();
-            kuka_bridge_tests::wait_for(kuka_bridge_tests::WAIT, "kb_main back", async || {
-                let (s, v) = t.post("/krl/getpos").await;
-                if s == 200 {
-                    Ok(())
-                } else {
-                    Err(format!("{s} {v}"))
-                }
-            })
-            .await;
+            t.wait_getpos("kb_main back").await;
         }
         let (status, v) = t.post("/krl/getpos").await;
         assert_eq!(status, 200, "{v}");
