@@ -37,6 +37,7 @@ pub struct SignalConfig {
     /// most 32 characters.
     pub name: String,
     /// `$IN`/`$OUT` index, 1..=4096.
+    #[schema(minimum = 1, maximum = 4096)]
     pub index: u16,
     /// Outputs: a write without its own `pulse_ms` pulses this long (ms,
     /// up to 60000); 0 = the output stays.
@@ -188,6 +189,7 @@ pub struct OutputRequest {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, ToSchema)]
 pub struct IoWindow {
     /// Index of the first signal (`inputs[0]` is `$IN[base]`).
+    #[schema(minimum = 1, maximum = 4066)]
     pub base: u16,
     /// `$IN[base..base+30]`.
     pub inputs: Vec<bool>,
@@ -223,6 +225,7 @@ pub struct IoChange {
     /// Input or output.
     pub kind: IoKind,
     /// Its index.
+    #[schema(minimum = 1, maximum = 4096)]
     pub index: u16,
     /// Its configured name.
     pub name: Option<String>,

@@ -23,6 +23,7 @@ pub struct Signal {
     /// Input or output.
     pub kind: IoKind,
     /// `$IN`/`$OUT` index.
+    #[schema(minimum = 1, maximum = 4096)]
     pub index: u16,
     /// Its name in the site's `[io]` configuration.
     pub name: Option<String>,
@@ -56,6 +57,7 @@ pub struct OutputWrite {
     pub value: bool,
     /// Return to the other value after this many ms (0..=60000); default:
     /// the output's `pulse_ms` in the configuration (0: it stays).
+    #[schema(maximum = 60000)]
     pub pulse_ms: Option<u32>,
 }
 

@@ -155,7 +155,7 @@ pub struct InputValue {
 /// as the plant would: a part-present sensor, a button. The controller
 /// reports it in its next state file (`GET /api/v1/io`).
 #[utoipa::path(put, path = "/api/v1/sim/inputs/{index}", tag = "simulator",
-    params(("index" = u16, Path, description = "1..=4096")),
+    params(("index" = u16, Path, minimum = 1, maximum = 4096, description = "1..=4096")),
     request_body = InputValue,
     responses((status = 204, description = "Set"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON), (status = 422, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn put_input(
