@@ -1245,6 +1245,29 @@ async fn path_requests_with_the_wrong_body_say_what_to_send() {
     assert!(d.contains("1e300") && d.len() < 200, "{d}");
 }
 
+/// Opens a JSON-lines stream to the path's motions whose lines the test
+/// sends when it wants (dropping the sender ends the stream); the answer
+/// comes when the stream ends.
+fn open_stream(
+    t: &TestService,
+    id: u64,
+) -> (
+    tokio::sync::mpsc::UnboundedSender<Result<String, std::io::Error>>,
+    tokio::task::JoinHandle<reqwest::Result<reqwest::Response>>,
+) {
+    let (tx, rx) = tokio::sync::mpsc::unbounded_channel::<Result<String, std::io::Error>>();
+    let body = reqwest::Body::wrap_stream(futures_util::stream::unfold(rx, async |mut rx| {
+        rx.recv().await.map(|item| (item, rx))
+    }));
+    let request = t
+        .http
+        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
+        .header("content-type", "application/x-ndjson")
+        .body(body)
+        .send();
+    (tx, tokio::spawn(request))
+}
+
 /// A JSON-lines stream that pauses longer than the controller's idle end
 /// of a path (5 s) keeps its path while its connection stays open: the
 /// lines after the pause run in the same path.
@@ -1258,17 +1281,7 @@ async fn a_paused_stream_keeps_its_path() {
     let pts = circle(40, 40.0);
     to_start(&t, &pts[0]).await;
     let id = open_path(&t).await;
-    let (tx, rx) = tokio::sync::mpsc::unbounded_channel::<Result<String, std::io::Error>>();
-    let body = reqwest::Body::wrap_stream(futures_util::stream::unfold(rx, async |mut rx| {
-        rx.recv().await.map(|item| (item, rx))
-    }));
-    let request = t
-        .http
-        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
-        .header("content-type", "application/x-ndjson")
-        .body(body)
-        .send();
-    let answer = tokio::spawn(request);
+    let (tx, answer) = open_stream(&t, id);
     for p in &pts[1..4] {
         tx.send(Ok(format!("{}\n", lin(p, 0.2))))
             .expect("stream open");
@@ -1278,8 +1291,22 @@ async fn a_paused_stream_keeps_its_path() {
         j["completed"].as_u64() >= Some(2)
     })
     .await;
-    // The pause under test: longer than the controller's kb_path_idle_ms.
-    tokio::time::sleep(Duration::from_millis(6500)).await;
+    // The pause under test, longer than the controller's kb_path_idle_ms
+    // (5 s): three keep-alives (one per 2 s of silence) have reached it.
+    let cid = async || {
+        let (_, st) = t.get("/api/v1/state").await;
+        st["controller"]["last_cid"].as_i64().unwrap_or(0)
+    };
+    let before = cid().await;
+    wait_for(Duration::from_secs(20), "three keep-alives", async || {
+        let now = cid().await;
+        if now >= before + 3 {
+            Ok(())
+        } else {
+            Err(format!("last_cid {now}, {before} before the pause"))
+        }
+    })
+    .await;
     let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
     assert_eq!(
         j["path"]["closed"], false,
@@ -1314,17 +1341,7 @@ async fn a_paused_stream_sends_its_held_back_spline_points() {
     let pts = circle(40, 40.0);
     to_start(&t, &pts[0]).await;
     let id = open_path(&t).await;
-    let (tx, rx) = tokio::sync::mpsc::unbounded_channel::<Result<String, std::io::Error>>();
-    let body = reqwest::Body::wrap_stream(futures_util::stream::unfold(rx, async |mut rx| {
-        rx.recv().await.map(|item| (item, rx))
-    }));
-    let request = t
-        .http
-        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
-        .header("content-type", "application/x-ndjson")
-        .body(body)
-        .send();
-    let answer = tokio::spawn(request);
+    let (tx, answer) = open_stream(&t, id);
     // 20 points: two blocks of 8 and 4 held back for more.
     for p in &pts[1..21] {
         tx.send(Ok(format!("{}\n", spl(p, 0.2))))

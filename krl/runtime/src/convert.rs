@@ -27,13 +27,6 @@ pub fn pose_to_frame(p: &Pose) -> Frame {
 /// any distance above 0 only tells the planner not to stop.
 const SPL_INNER_APPROX_MM: f64 = 1.0;
 
-/// Converts a protocol motion record to a planner motion on its own: a
-/// spline point as the only point of its block. Use [`to_motions`] for a
-/// command's records, which knows the blocks and the blending rules.
-pub fn to_motion(r: &MotionRecord) -> Motion {
-    to_motions(std::slice::from_ref(r)).remove(0)
-}
-
 /// Converts a command's motion records (in order) to planner motions, one
 /// per record, with the blending rules of the KRL program:
 ///

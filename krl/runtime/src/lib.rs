@@ -19,4 +19,4 @@ pub mod interp;
 pub mod names;
 pub mod program;
 
-pub use convert::{frame_to_pose, pose_to_frame, to_motion, to_motions};
+pub use convert::{frame_to_pose, pose_to_frame, to_motions};
