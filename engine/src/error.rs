@@ -99,6 +99,8 @@ pub enum ErrorCode {
     UnknownSignal,
     /// The signal lies outside the I/O the controller reports (its state file's window).
     SignalNotReported,
+    /// A `wait_input` action's input did not come within its timeout; the robot stands where it waited.
+    InputTimeout,
 }
 
 impl ErrorCode {
@@ -141,6 +143,7 @@ impl ErrorCode {
             ErrorCode::OutputNotAllowed => 403,
             ErrorCode::UnknownSignal => 404,
             ErrorCode::SignalNotReported => 422,
+            ErrorCode::InputTimeout => 422,
         }
     }
 
@@ -191,6 +194,7 @@ impl ErrorCode {
             ErrorCode::OutputNotAllowed => "Output not allowed",
             ErrorCode::UnknownSignal => "Unknown signal",
             ErrorCode::SignalNotReported => "Signal not reported",
+            ErrorCode::InputTimeout => "Input timeout",
         }
     }
 
@@ -241,6 +245,7 @@ impl ErrorCode {
             ErrorCode::OutputNotAllowed => "output_not_allowed",
             ErrorCode::UnknownSignal => "unknown_signal",
             ErrorCode::SignalNotReported => "signal_not_reported",
+            ErrorCode::InputTimeout => "input_timeout",
         }
     }
 }

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use crate::error::{BridgeError, Result};
+use crate::io::{IoConfig, IoKind};
 use crate::settings::MotionConfig;
 
 pub use crate::settings::Configuration;
@@ -227,6 +228,129 @@ pub enum MotionRequest {
         /// ends the block here with an exact stop.
         approx_mm: Option<f64>,
     },
+    /// An I/O action, not a motion: set a digital output when the robot
+    /// passes this point of the sequence, i.e. as the next motion starts
+    /// (KRL `TRIGGER WHEN DISTANCE=0`), without stopping the robot: the
+    /// motions on either side blend as if it were not there. Before a
+    /// `wait_input`/`dwell`, or at the end, it switches once the motions
+    /// before it have ended. Only outputs on the site's allow-list
+    /// (`[io] outputs`, docs/IO.md).
+    #[schema(example = json!({"type": "set_output", "signal": "gripper_close", "value": true}))]
+    SetOutput {
+        /// The output: its number (1..=4096) or its configured name.
+        signal: SignalRef,
+        /// The value to set.
+        value: bool,
+        /// Return to the other value after this many ms (default: the
+        /// signal's configured `pulse_ms`, else none).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        #[schema(minimum = 0, maximum = 60000)]
+        pulse_ms: Option<u32>,
+    },
+    /// An I/O action: the robot stops exactly at the end of the motion
+    /// before it and waits until the input has `value` (KRL `WAIT FOR`).
+    /// If it does not within `timeout_ms`, the job fails with
+    /// `input_timeout` and the robot stands there; nothing after it runs.
+    #[schema(example = json!({"type": "wait_input", "signal": "part_present", "value": true, "timeout_ms": 2000}))]
+    WaitInput {
+        /// The input: its number (1..=4096) or its configured name.
+        signal: SignalRef,
+        /// The value waited for (default true).
+        #[serde(default = "yes")]
+        value: bool,
+        /// Longest wait in ms, 1..=600000 (nothing waits for ever).
+        #[schema(minimum = 1, maximum = 600000)]
+        timeout_ms: u32,
+    },
+    /// The robot stops exactly at the end of the motion before it and
+    /// stands for `ms` (KRL `WAIT SEC`).
+    #[schema(example = json!({"type": "dwell", "ms": 500}))]
+    Dwell {
+        /// Standstill in ms, 0..=600000.
+        #[schema(minimum = 0, maximum = 600000)]
+        ms: u32,
+    },
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// A digital signal in a request: its number or its configured name.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize, ToSchema)]
+#[serde(untagged)]
+pub enum SignalRef {
+    /// `$IN`/`$OUT` index.
+    Index(i64),
+    /// A name from the site's `[io]` configuration.
+    Name(String),
+}
+
+/// Replaces the signal names of `requests`' I/O actions by their numbers
+/// and checks them: an output must be on the site's allow-list
+/// (`output_not_allowed`), a name must exist (`unknown_signal`), a number
+/// must be 1..=4096, a pulse at most 60000 ms, a timeout 1..=600000 ms. An
+/// output's omitted `pulse_ms` becomes its configured pulse. Nothing with
+/// an unchecked signal reaches the channel.
+pub fn resolve_signals(requests: &mut [MotionRequest], io: &IoConfig) -> Result<()> {
+    for (i, req) in requests.iter_mut().enumerate() {
+        let at = |e: BridgeError| {
+            let detail = format!("motion {i}: {}", e.detail);
+            BridgeError { detail, ..e }.at_motion(i)
+        };
+        let (kind, signal) = match req {
+            MotionRequest::SetOutput { signal, .. } => (IoKind::Output, signal),
+            MotionRequest::WaitInput { signal, .. } => (IoKind::Input, signal),
+            MotionRequest::Dwell { ms } => {
+                if *ms > kuka_protocol::MAX_WAIT_MS {
+                    return Err(at(BridgeError::invalid(format!(
+                        "a dwell of {ms} ms is longer than {} ms",
+                        kuka_protocol::MAX_WAIT_MS
+                    ))));
+                }
+                continue;
+            }
+            _ => continue,
+        };
+        let text = match signal {
+            SignalRef::Index(n) if (1..=i64::from(kuka_protocol::MAX_IO_INDEX)).contains(n) => {
+                n.to_string()
+            }
+            SignalRef::Index(n) => {
+                return Err(at(BridgeError::invalid(format!(
+                    "signal {n} does not exist: indices are 1..={}",
+                    kuka_protocol::MAX_IO_INDEX
+                ))));
+            }
+            SignalRef::Name(name) => name.clone(),
+        };
+        let (index, config) = io.resolve(kind, &text).map_err(at)?;
+        let configured_pulse = config.map(|c| c.pulse_ms).filter(|p| *p > 0);
+        *signal = SignalRef::Index(i64::from(index));
+        match req {
+            MotionRequest::SetOutput { pulse_ms, .. } => {
+                io.writable(index).map_err(at)?;
+                let p = pulse_ms.or(configured_pulse).unwrap_or(0);
+                if p > kuka_protocol::MAX_PULSE_MS {
+                    return Err(at(BridgeError::invalid(format!(
+                        "pulse_ms = {p} is above {} ms",
+                        kuka_protocol::MAX_PULSE_MS
+                    ))));
+                }
+                *pulse_ms = Some(p);
+            }
+            MotionRequest::WaitInput { timeout_ms, .. } => {
+                if !(1..=kuka_protocol::MAX_WAIT_MS).contains(timeout_ms) {
+                    return Err(at(BridgeError::invalid(format!(
+                        "timeout_ms = {timeout_ms} is not in 1..={} (nothing waits for ever)",
+                        kuka_protocol::MAX_WAIT_MS
+                    ))));
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 impl MotionRequest {
@@ -245,7 +369,19 @@ impl MotionRequest {
         }
     }
 
-    /// `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp` or `spl`.
+    /// An I/O action or a dwell (`set_output`, `wait_input`, `dwell`), not
+    /// a motion.
+    pub fn is_action(&self) -> bool {
+        matches!(
+            self,
+            MotionRequest::SetOutput { .. }
+                | MotionRequest::WaitInput { .. }
+                | MotionRequest::Dwell { .. }
+        )
+    }
+
+    /// `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp`, `spl`, or
+    /// an action: `set_output`, `wait_input`, `dwell`.
     pub fn kind(&self) -> &'static str {
         match self {
             MotionRequest::Ptp { .. } => "ptp",
@@ -256,6 +392,9 @@ impl MotionRequest {
             MotionRequest::Scirc { .. } => "scirc",
             MotionRequest::Sptp { .. } => "sptp",
             MotionRequest::Spl { .. } => "spl",
+            MotionRequest::SetOutput { .. } => "set_output",
+            MotionRequest::WaitInput { .. } => "wait_input",
+            MotionRequest::Dwell { .. } => "dwell",
         }
     }
 
@@ -278,7 +417,10 @@ impl MotionRequest {
             | MotionRequest::Scirc { target, .. }
             | MotionRequest::Sptp { target, .. }
             | MotionRequest::Spl { target, .. } => Some(target),
-            MotionRequest::PtpAxes { .. } => None,
+            MotionRequest::PtpAxes { .. }
+            | MotionRequest::SetOutput { .. }
+            | MotionRequest::WaitInput { .. }
+            | MotionRequest::Dwell { .. } => None,
         }
     }
 
@@ -333,6 +475,9 @@ impl MotionRequest {
                 approx_mm,
                 ..
             } => (*velocity_m_s, *acceleration_pct, *approx_mm),
+            MotionRequest::SetOutput { .. }
+            | MotionRequest::WaitInput { .. }
+            | MotionRequest::Dwell { .. } => (None, None, None),
         }
     }
 }
@@ -422,6 +567,9 @@ pub fn set_default_approx(
                 | MotionRecord::Scirc { params, .. }
                 | MotionRecord::Sptp { params, .. }
                 | MotionRecord::Spl { params, .. } => params,
+                MotionRecord::SetOutput { .. }
+                | MotionRecord::WaitInput { .. }
+                | MotionRecord::Dwell { .. } => continue,
             };
             params.approx_mm = default_approx_mm;
         }
@@ -440,7 +588,12 @@ pub fn resolve(
 ) -> Result<Vec<MotionRecord>> {
     let mut pose = start.pose.to_array();
     let mut axes = start.axes;
-    let last = requests.len().saturating_sub(1);
+    // The last motion stops exactly unless set (the actions after it do
+    // not move the robot).
+    let last = requests
+        .iter()
+        .rposition(|r| !r.is_action())
+        .unwrap_or(requests.len().saturating_sub(1));
     let mut out = Vec::with_capacity(requests.len());
     for (i, req) in requests.iter().enumerate() {
         let (vel, acc, apo) = req.speed();
@@ -459,7 +612,39 @@ pub fn resolve(
             approx_mm: apo.unwrap_or(if i == last { 0.0 } else { default_approx_mm }),
         };
         let st = |v: Option<i64>| v.and_then(|v| u8::try_from(v).ok());
+        let index = |signal: &SignalRef| match signal {
+            SignalRef::Index(n) => u16::try_from(*n)
+                .ok()
+                .filter(|n| (1..=kuka_protocol::MAX_IO_INDEX).contains(n))
+                .ok_or_else(|| {
+                    BridgeError::invalid(format!("motion {i}: signal {n} is not in 1..=4096"))
+                        .at_motion(i)
+                }),
+            SignalRef::Name(name) => Err(BridgeError::invalid(format!(
+                "motion {i}: signal {name:?} was not resolved (resolve_signals first)"
+            ))
+            .at_motion(i)),
+        };
         let record = match req {
+            MotionRequest::SetOutput {
+                signal,
+                value,
+                pulse_ms,
+            } => MotionRecord::SetOutput {
+                index: index(signal)?,
+                value: *value,
+                pulse_ms: pulse_ms.unwrap_or(0),
+            },
+            MotionRequest::WaitInput {
+                signal,
+                value,
+                timeout_ms,
+            } => MotionRecord::WaitInput {
+                index: index(signal)?,
+                value: *value,
+                timeout_ms: *timeout_ms,
+            },
+            MotionRequest::Dwell { ms } => MotionRecord::Dwell { ms: *ms },
             MotionRequest::Ptp {
                 target, relative, ..
             } => {
@@ -553,7 +738,7 @@ pub fn resolve(
                 let given = [spec.a1, spec.a2, spec.a3, spec.a4, spec.a5, spec.a6];
                 let after_cartesian = requests[..i]
                     .iter()
-                    .any(|r| !matches!(r, MotionRequest::PtpAxes { .. }));
+                    .any(|r| !r.is_action() && !matches!(r, MotionRequest::PtpAxes { .. }));
                 if after_cartesian && (*relative || given.iter().any(Option::is_none)) {
                     return Err(BridgeError::invalid(format!(
                         "motion {i}: an axis PTP after a Cartesian motion in the same batch must give all six axes absolutely"
@@ -571,7 +756,7 @@ pub fn resolve(
         if matches!(req, MotionRequest::PtpAxes { .. }) && i < last {
             let needs_pose = requests[i + 1..]
                 .iter()
-                .any(|r| !matches!(r, MotionRequest::PtpAxes { .. }));
+                .any(|r| !r.is_action() && !matches!(r, MotionRequest::PtpAxes { .. }));
             if needs_pose {
                 return Err(BridgeError::invalid(format!(
                     "motion {i}: an axis PTP may only be followed by other axis PTPs in one batch (its Cartesian end is computed by the controller); send the Cartesian motions as a separate request"

@@ -260,6 +260,10 @@ impl Safety {
                         finite(name, v, i)?;
                     }
                 }
+                // (Their signals and times: `resolve_signals`.)
+                MotionRequest::SetOutput { .. }
+                | MotionRequest::WaitInput { .. }
+                | MotionRequest::Dwell { .. } => {}
             }
             let (vel, acc, apo) = r.speed();
             match (vel, r.is_ptp()) {
@@ -682,7 +686,7 @@ impl Safety {
                     | MotionKind::Lin { target }
                     | MotionKind::Spl { target, .. } => points.push(*target),
                     MotionKind::Circ { aux, target } => points.extend([*aux, *target]),
-                    MotionKind::PtpAxes { .. } => {}
+                    MotionKind::PtpAxes { .. } | MotionKind::Hold { .. } | MotionKind::Mark => {}
                 }
                 for p in points {
                     if !ws.contains(p.x, p.y, p.z) {

@@ -360,8 +360,12 @@ impl Engine {
                 "the service is shutting down and takes no new jobs; stop still works",
             ));
         }
-        if let Operation::Move(motions) = &op {
+        let mut op = op;
+        if let Operation::Move(motions) = &mut op {
             self.shared.safety.check_request(motions)?;
+            // Signal names to numbers, the outputs against the allow-list:
+            // nothing reaches the channel for another output.
+            crate::motion::resolve_signals(motions, &self.shared.io)?;
         }
         if let Operation::SetSpeed(s) = &op {
             check_speeds(s, &self.shared.safety)?;

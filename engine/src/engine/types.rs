@@ -522,7 +522,8 @@ pub struct JobPlan {
 /// One motion of a [`JobPlan`].
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
 pub struct PlannedMotion {
-    /// `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp` or `spl`.
+    /// `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp`, `spl`,
+    /// or an action (`set_output`, `wait_input`, `dwell`: no target).
     #[serde(rename = "type")]
     pub kind: String,
     /// Target TCP pose in the base frame `[x, y, z, a, b, c]` (not for `ptp_axes`).
@@ -552,6 +553,9 @@ impl From<&kuka_protocol::MotionRecord> for PlannedMotion {
             M::Scirc { aux, target, .. } => ("scirc", Some(target.to_array()), Some(*aux), None),
             M::Sptp { target, .. } => ("sptp", Some(target.to_array()), None, None),
             M::Spl { target, .. } => ("spl", Some(target.to_array()), None, None),
+            M::SetOutput { .. } => ("set_output", None, None, None),
+            M::WaitInput { .. } => ("wait_input", None, None, None),
+            M::Dwell { .. } => ("dwell", None, None, None),
         };
         let left = match m {
             M::Spl { left, .. } => Some(*left),

@@ -120,6 +120,22 @@ pub enum MotionKind {
         /// The block's next point, if this is not its last.
         next: Option<Pose>,
     },
+    /// A standstill of `seconds` where the motion before it ended (KRL
+    /// `WAIT SEC`, or `WAIT FOR` with a timer played for its whole
+    /// timeout): the motion before it stops exactly. Its samples carry its
+    /// index, so a caller can cut it short and shift what follows (the
+    /// robot starts from a standstill after it, so the rest of the plan is
+    /// the same, only earlier).
+    Hold {
+        /// Length of the standstill in seconds (≥ 0).
+        seconds: f64,
+    },
+    /// A point of the sequence that does not move the robot and does not
+    /// stop it (an I/O action switched by the next motion's trigger): the
+    /// planner skips it, and the motions on either side blend as if it
+    /// were not there. No sample carries its index: a caller sees the
+    /// robot pass it when the index after it is reached.
+    Mark,
 }
 
 /// A point of the centripetal Catmull-Rom curve (Barry–Goldman, α = ½)
@@ -356,6 +372,17 @@ fn validate_settings(s: &PlanSettings) -> Result<(), MotionError> {
 }
 
 fn validate_motion(m: &Motion) -> Result<(), MotionError> {
+    match &m.kind {
+        MotionKind::Mark => return Ok(()),
+        MotionKind::Hold { seconds } => {
+            return if seconds.is_finite() && *seconds >= 0.0 {
+                Ok(())
+            } else {
+                Err(MotionError::Parameter("a standstill must be >= 0 s"))
+            };
+        }
+        _ => {}
+    }
     if !(m.velocity.is_finite() && m.velocity > 0.0) {
         return Err(MotionError::Parameter("velocity must be > 0"));
     }
@@ -418,6 +445,7 @@ fn validate_motion(m: &Motion) -> Result<(), MotionError> {
                 ));
             }
         }
+        MotionKind::Hold { .. } | MotionKind::Mark => {}
     }
     Ok(())
 }
@@ -669,7 +697,10 @@ impl Segment {
                     (geom, len, din, dout, target.rotation())
                 }
             }
-            MotionKind::Ptp { .. } | MotionKind::PtpAxes { .. } => {
+            MotionKind::Ptp { .. }
+            | MotionKind::PtpAxes { .. }
+            | MotionKind::Hold { .. }
+            | MotionKind::Mark => {
                 return Err(MotionError::Geometry("not a Cartesian motion"));
             }
         };
@@ -884,7 +915,7 @@ impl<'a> Planner<'a> {
             return self.finish(Some((0, e)));
         }
         // Parameters first: the motions before the first bad one still run.
-        let (runnable, mut pending) = match motions
+        let (runnable, pending) = match motions
             .iter()
             .enumerate()
             .find_map(|(i, m)| validate_motion(m).err().map(|e| (i, e)))
@@ -892,6 +923,41 @@ impl<'a> Planner<'a> {
             Some((i, e)) => (&motions[..i], Some((i, e))),
             None => (motions, None),
         };
+        // Marks are not planned: the motions on either side are planned as
+        // neighbours, and the indices are mapped back below.
+        let index: Vec<usize> = (0..runnable.len())
+            .filter(|&k| !matches!(runnable[k].kind, MotionKind::Mark))
+            .collect();
+        if index.len() < runnable.len() {
+            let kept: Vec<Motion> = index.iter().map(|&k| runnable[k].clone()).collect();
+            // (the start sample too: it carries the first planned index)
+            let first_sample = self.samples.len().saturating_sub(1);
+            let first_junction = self.junctions.len();
+            let mut e = self.run_planned(&kept, pending);
+            let map = |k: usize| index.get(k).copied().unwrap_or(runnable.len());
+            for s in &mut e.samples[first_sample..] {
+                s.motion = map(s.motion);
+            }
+            for j in &mut e.junctions[first_junction..] {
+                j.motion = map(j.motion);
+            }
+            if let Some((k, _)) = &mut e.error
+                && *k < kept.len()
+            {
+                *k = map(*k);
+            }
+            return e;
+        }
+        self.run_planned(runnable, pending)
+    }
+
+    /// Plans `runnable` (no marks), then reports `pending` (a bad motion
+    /// after them) unless planning fails first.
+    fn run_planned(
+        mut self,
+        runnable: &[Motion],
+        mut pending: Option<(usize, MotionError)>,
+    ) -> Execution {
         let mut i = 0;
         while i < runnable.len() {
             let m = &runnable[i];
@@ -906,6 +972,10 @@ impl<'a> Planner<'a> {
                 let r = self.cartesian_block(runnable, i, j);
                 i = j;
                 r
+            } else if let MotionKind::Hold { seconds } = m.kind {
+                self.hold(i, seconds);
+                i += 1;
+                Ok(())
             } else {
                 let r = self.ptp(i, m);
                 i += 1;
@@ -968,7 +1038,11 @@ impl<'a> Planner<'a> {
                     .map_err(|e| (index, e.into()))?;
                 *axes
             }
-            MotionKind::Lin { .. } | MotionKind::Circ { .. } | MotionKind::Spl { .. } => {
+            MotionKind::Lin { .. }
+            | MotionKind::Circ { .. }
+            | MotionKind::Spl { .. }
+            | MotionKind::Hold { .. }
+            | MotionKind::Mark => {
                 return Err((index, MotionError::Geometry("not a PTP motion")));
             }
         };
@@ -1003,6 +1077,35 @@ impl<'a> Planner<'a> {
         Ok(())
     }
 
+    /// A standstill of `seconds` at the current axes.
+    fn hold(&mut self, index: usize, seconds: f64) {
+        self.junctions.push(Junction {
+            motion: index,
+            t: self.t,
+            axes: self.axes,
+            speed: 0.0,
+        });
+        self.entry_speed = 0.0;
+        let t_end = self.t + seconds;
+        let pose = self.pose(&self.axes);
+        let mut times = self.grid_until(t_end);
+        if times.last().is_none_or(|t| *t < t_end - 1e-9) && seconds > 0.0 {
+            // Its end is a sample too: a caller cutting the hold short
+            // finds where it ends.
+            times.push(t_end);
+        }
+        for t in times {
+            self.samples.push(Sample {
+                t,
+                motion: index,
+                axes: self.axes,
+                pose,
+            });
+        }
+        self.t = t_end;
+        self.motion = index;
+    }
+
     /// Plans motions `from..to` (all LIN/CIRC, blended) as one block.
     fn cartesian_block(&mut self, motions: &[Motion], from: usize, to: usize) -> BlockResult {
         let mut segs: Vec<Segment> = Vec::with_capacity(to - from);
@@ -1015,7 +1118,10 @@ impl<'a> Planner<'a> {
                 MotionKind::Lin { target }
                 | MotionKind::Circ { target, .. }
                 | MotionKind::Spl { target, .. } => *target,
-                MotionKind::Ptp { .. } | MotionKind::PtpAxes { .. } => break,
+                MotionKind::Ptp { .. }
+                | MotionKind::PtpAxes { .. }
+                | MotionKind::Hold { .. }
+                | MotionKind::Mark => break,
             };
             let seg = Segment::build(k, m, &start, before, self.settings).and_then(|seg| {
                 self.model

@@ -146,7 +146,45 @@ pub enum MotionRecord {
         /// Points of the block from this one to its end, 1..=8.
         left: u8,
     },
+    /// `SOT i index value pulse_ms K` — an I/O action, not a motion: set
+    /// `$OUT[index]` when the robot passes this point of the sequence (the
+    /// start of the next motion: KRL `TRIGGER WHEN DISTANCE=0` / `PATH=0
+    /// ONSTART`; after the last motion, once it has ended). It does not
+    /// stop the robot: motions on either side blend as if it were not
+    /// there. A pulse returns the output after `pulse_ms` (0 = it stays).
+    SetOutput {
+        /// `$OUT` index, 1..=[`MAX_IO_INDEX`].
+        index: u16,
+        /// The value to set.
+        value: bool,
+        /// Pulse length in ms, 0..=[`MAX_PULSE_MS`] (0 = no pulse).
+        pulse_ms: u32,
+    },
+    /// `WIN i index value timeout_ms K` — wait until `$IN[index] == value`
+    /// (KRL `WAIT FOR` with a timer). The robot stops exactly at the end
+    /// of the motion before it (an advance-run stop). Not true within
+    /// `timeout_ms` (1..=[`MAX_WAIT_MS`]): the command ends with
+    /// INPUT_TIMEOUT (25) and `done` = this record's index.
+    WaitInput {
+        /// `$IN` index, 1..=[`MAX_IO_INDEX`].
+        index: u16,
+        /// The value waited for.
+        value: bool,
+        /// Longest wait in ms, 1..=[`MAX_WAIT_MS`].
+        timeout_ms: u32,
+    },
+    /// `DWL i ms K` — dwell: the robot stops exactly at the end of the
+    /// motion before it and stands for `ms` (KRL `WAIT SEC`),
+    /// 0..=[`MAX_WAIT_MS`].
+    Dwell {
+        /// Standstill in ms.
+        ms: u32,
+    },
 }
+
+/// Longest wait of a `WIN` or `DWL` record in ms (10 minutes): nothing in
+/// a motion sequence waits for ever.
+pub const MAX_WAIT_MS: u32 = 600_000;
 
 /// Most points a spline block (`SPL` records) holds: the KRL program
 /// plays a block as one of its static `SPLINE … ENDSPLINE` statements of
@@ -154,8 +192,8 @@ pub enum MotionRecord {
 pub const MAX_SPLINE_POINTS: usize = 8;
 
 impl MotionRecord {
-    /// Its motion parameters.
-    pub fn params(&self) -> &MotionParams {
+    /// Its motion parameters (none for an I/O action or a dwell).
+    pub fn params(&self) -> Option<&MotionParams> {
         match self {
             MotionRecord::Ptp { params, .. }
             | MotionRecord::PtpAxes { params, .. }
@@ -164,8 +202,25 @@ impl MotionRecord {
             | MotionRecord::Slin { params, .. }
             | MotionRecord::Scirc { params, .. }
             | MotionRecord::Sptp { params, .. }
-            | MotionRecord::Spl { params, .. } => params,
+            | MotionRecord::Spl { params, .. } => Some(params),
+            MotionRecord::SetOutput { .. }
+            | MotionRecord::WaitInput { .. }
+            | MotionRecord::Dwell { .. } => None,
         }
+    }
+
+    /// A motion (as opposed to an action: `SOT`, `WIN`, `DWL`).
+    pub fn is_motion(&self) -> bool {
+        self.params().is_some()
+    }
+
+    /// An action that stops the robot exactly at the end of the motion
+    /// before it (`WIN`, `DWL`: an advance-run stop in KRL).
+    pub fn stops_robot(&self) -> bool {
+        matches!(
+            self,
+            MotionRecord::WaitInput { .. } | MotionRecord::Dwell { .. }
+        )
     }
 
     /// A motion of the spline family (SLIN, SCIRC, SPTP, SPL): a KRC plans
@@ -191,7 +246,10 @@ impl MotionRecord {
             | MotionRecord::Scirc { target, .. }
             | MotionRecord::Sptp { target, .. }
             | MotionRecord::Spl { target, .. } => Some(target),
-            MotionRecord::PtpAxes { .. } => None,
+            MotionRecord::PtpAxes { .. }
+            | MotionRecord::SetOutput { .. }
+            | MotionRecord::WaitInput { .. }
+            | MotionRecord::Dwell { .. } => None,
         }
     }
 
@@ -524,6 +582,45 @@ fn encode_motions(
                 f.push(Field::Int(i32::from(*left)));
                 "SPL"
             }
+            MotionRecord::SetOutput {
+                index,
+                value,
+                pulse_ms,
+            } => {
+                if *index == 0 || *index > MAX_IO_INDEX || *pulse_ms > MAX_PULSE_MS {
+                    return Err(EncodeError::Shape(format!(
+                        "output {index} (1..={MAX_IO_INDEX}) or pulse {pulse_ms} ms (0..={MAX_PULSE_MS}) out of range"
+                    )));
+                }
+                f.push(Field::Int(i32::from(*index)));
+                f.push(Field::Int(i32::from(*value)));
+                f.push(Field::Int(*pulse_ms as i32));
+                "SOT"
+            }
+            MotionRecord::WaitInput {
+                index,
+                value,
+                timeout_ms,
+            } => {
+                if *index == 0 || *index > MAX_IO_INDEX || !(1..=MAX_WAIT_MS).contains(timeout_ms) {
+                    return Err(EncodeError::Shape(format!(
+                        "input {index} (1..={MAX_IO_INDEX}) or timeout {timeout_ms} ms (1..={MAX_WAIT_MS}) out of range"
+                    )));
+                }
+                f.push(Field::Int(i32::from(*index)));
+                f.push(Field::Int(i32::from(*value)));
+                f.push(Field::Int(*timeout_ms as i32));
+                "WIN"
+            }
+            MotionRecord::Dwell { ms } => {
+                if *ms > MAX_WAIT_MS {
+                    return Err(EncodeError::Shape(format!(
+                        "dwell {ms} ms (0..={MAX_WAIT_MS}) out of range"
+                    )));
+                }
+                f.push(Field::Int(*ms as i32));
+                "DWL"
+            }
         };
         let continues = match i.checked_sub(1).map(|k| &motions[k]) {
             Some(MotionRecord::Spl { left, .. }) if *left > 1 => Some(*left - 1),
@@ -667,11 +764,65 @@ fn decode_motions(
                     ),
                 )
             }
+            "SOT" | "WIN" => {
+                let output = tag == "SOT";
+                let mut l = r.line(if output { "SOT" } else { "WIN" }, "iiii")?;
+                let idx = l.int();
+                let index = l.int();
+                let value = l.int();
+                let ms = l.int();
+                let index = u16::try_from(index)
+                    .ok()
+                    .filter(|i| (1..=MAX_IO_INDEX).contains(i))
+                    .ok_or_else(|| {
+                        l.invalid(format!("I/O index {index} is not in 1..={MAX_IO_INDEX}"))
+                    })?;
+                let value = match value {
+                    0 => false,
+                    1 => true,
+                    v => return Err(l.invalid(format!("I/O value {v} is not 0 or 1"))),
+                };
+                let (lo, hi) = if output {
+                    (0, MAX_PULSE_MS)
+                } else {
+                    (1, MAX_WAIT_MS)
+                };
+                let ms = u32::try_from(ms)
+                    .ok()
+                    .filter(|m| (lo..=hi).contains(m))
+                    .ok_or_else(|| l.invalid(format!("{ms} ms is not in {lo}..={hi}")))?;
+                let m = if output {
+                    MotionRecord::SetOutput {
+                        index,
+                        value,
+                        pulse_ms: ms,
+                    }
+                } else {
+                    MotionRecord::WaitInput {
+                        index,
+                        value,
+                        timeout_ms: ms,
+                    }
+                };
+                (l, (idx, m))
+            }
+            "DWL" => {
+                let mut l = r.line("DWL", "ii")?;
+                let idx = l.int();
+                let ms = l.int();
+                let ms = u32::try_from(ms)
+                    .ok()
+                    .filter(|m| *m <= MAX_WAIT_MS)
+                    .ok_or_else(|| {
+                        l.invalid(format!("dwell {ms} ms is not in 0..={MAX_WAIT_MS}"))
+                    })?;
+                (l, (idx, MotionRecord::Dwell { ms }))
+            }
             "END" => return Err(DecodeError::Truncated),
             other => {
                 return Err(DecodeError::Tag {
                     line: r.next_line_number(),
-                    expected: "PTP, PTA, LIN, CIR, SLN, SCI, SPT or SPL",
+                    expected: "PTP, PTA, LIN, CIR, SLN, SCI, SPT, SPL, SOT, WIN or DWL",
                     found: other.to_string(),
                 });
             }
@@ -994,6 +1145,9 @@ pub enum ResultCode {
     NoConfiguration,
     /// 24: degenerate geometry (e.g. CIRC points collinear).
     Geometry,
+    /// 25: a `WIN` record's input did not come within its timeout; the
+    /// robot stands at the end of the motion before it.
+    InputTimeout,
     /// 30: the controller is in an error state; RESET first.
     ControllerError,
     /// 31: drives off, wrong mode or program not ready.
@@ -1019,6 +1173,7 @@ impl ResultCode {
             ResultCode::Singularity => 22,
             ResultCode::NoConfiguration => 23,
             ResultCode::Geometry => 24,
+            ResultCode::InputTimeout => 25,
             ResultCode::ControllerError => 30,
             ResultCode::NotReady => 31,
             ResultCode::RuntimeError => 40,
@@ -1040,6 +1195,7 @@ impl ResultCode {
             22 => ResultCode::Singularity,
             23 => ResultCode::NoConfiguration,
             24 => ResultCode::Geometry,
+            25 => ResultCode::InputTimeout,
             30 => ResultCode::ControllerError,
             31 => ResultCode::NotReady,
             40 => ResultCode::RuntimeError,

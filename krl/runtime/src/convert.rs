@@ -39,13 +39,39 @@ const SPL_INNER_APPROX_MM: f64 = 1.0;
 ///   the other family stops exactly (a KRC's two motion planners,
 ///   docs/CONTROLLER.md point 21). The last record blends as asked (in a
 ///   path the next motion may come later).
+///
+/// The actions become planner steps of their own, so that index `i` of the
+/// result is record `i`: a `WIN`/`DWL` is a [`MotionKind::Hold`] (a `WIN`
+/// held for its whole timeout; the caller cuts it short when the input
+/// comes) before which the robot stops exactly, an `SOT` a
+/// [`MotionKind::Mark`] the planner skips (the motions on either side
+/// blend as if it were not there).
 pub fn to_motions(records: &[MotionRecord]) -> Vec<Motion> {
     records
         .iter()
         .enumerate()
         .map(|(i, r)| {
-            let next = records.get(i + 1);
-            let p = r.params();
+            // The next record that is not an SOT: what this one blends into.
+            let next = records[i + 1..]
+                .iter()
+                .find(|n| !matches!(n, MotionRecord::SetOutput { .. }));
+            let Some(p) = r.params() else {
+                let kind = match r {
+                    MotionRecord::WaitInput { timeout_ms, .. } => MotionKind::Hold {
+                        seconds: f64::from(*timeout_ms) / 1000.0,
+                    },
+                    MotionRecord::Dwell { ms } => MotionKind::Hold {
+                        seconds: f64::from(*ms) / 1000.0,
+                    },
+                    _ => MotionKind::Mark,
+                };
+                return Motion {
+                    kind,
+                    velocity: 1.0,
+                    acceleration_pct: 100.0,
+                    approx_mm: 0.0,
+                };
+            };
             let kind = match r {
                 MotionRecord::Ptp { target, s, t, .. }
                 | MotionRecord::Sptp { target, s, t, .. } => MotionKind::Ptp {
@@ -84,6 +110,9 @@ pub fn to_motions(records: &[MotionRecord]) -> Vec<Motion> {
                         _ => None,
                     },
                 },
+                MotionRecord::SetOutput { .. }
+                | MotionRecord::WaitInput { .. }
+                | MotionRecord::Dwell { .. } => unreachable!("actions have no parameters"),
             };
             let inner = matches!(r, MotionRecord::Spl { left, .. } if *left > 1);
             let ptp = matches!(
@@ -96,7 +125,9 @@ pub fn to_motions(records: &[MotionRecord]) -> Vec<Motion> {
                 0.0
             } else if inner {
                 SPL_INNER_APPROX_MM
-            } else if next.is_some_and(|n| n.is_spline_family() != r.is_spline_family()) {
+            } else if next.is_some_and(|n| {
+                n.stops_robot() || n.is_spline_family() != r.is_spline_family()
+            }) {
                 0.0
             } else {
                 p.approx_mm

@@ -16,6 +16,7 @@ use kuka_protocol::{
 };
 use serde::Serialize;
 
+use crate::actions::{Actions, OutputAction, Wait, decide};
 use crate::path::{PathEnd, PathRun};
 
 /// One executed point of the TCP trace.
@@ -50,6 +51,10 @@ struct Active {
     current_motion: usize,
     /// Set while a RUN command plays an uploaded program.
     program: Option<ProgramRun>,
+    /// The batch's I/O actions (protocol §5.6).
+    actions: Actions,
+    /// The `WIN` whose input did not come in time: the batch ends there.
+    timed_out: Option<usize>,
 }
 
 impl Active {
@@ -251,6 +256,21 @@ impl Controller {
         }
     }
 
+    /// Switches outputs the robot has passed (`SOT` records), as SETOUT
+    /// does: one pulse at a time, a new output ends a running pulse first.
+    fn switch_outputs(&mut self, outputs: Vec<OutputAction>, now: Instant) {
+        for (index, value, pulse_ms) in outputs {
+            if let Some((i, back, _)) = self.pulse.take() {
+                self.outputs[usize::from(i)] = back;
+            }
+            self.outputs[usize::from(index)] = value;
+            if pulse_ms > 0 {
+                let at = now + std::time::Duration::from_millis(u64::from(pulse_ms));
+                self.pulse = Some((index, !value, at));
+            }
+        }
+    }
+
     /// Ends an output pulse that is due.
     fn end_pulse(&mut self, now: Instant) {
         if let Some((index, back, at)) = self.pulse
@@ -405,14 +425,7 @@ impl Controller {
             Command::GetPosition => self.push_result(cid, ResultCode::Ok, 0, 0, None),
             Command::SetOutput(o) => {
                 // (The decoder checked the ranges.)
-                if let Some((index, back, _)) = self.pulse.take() {
-                    self.outputs[usize::from(index)] = back;
-                }
-                self.outputs[usize::from(o.index)] = o.value;
-                if o.pulse_ms > 0 {
-                    let at = now + std::time::Duration::from_millis(u64::from(o.pulse_ms));
-                    self.pulse = Some((o.index, !o.value, at));
-                }
+                self.switch_outputs(vec![(o.index, o.value, o.pulse_ms)], now);
                 self.push_result(cid, ResultCode::Ok, 0, 0, None);
             }
             Command::SetTool(f) => {
@@ -458,10 +471,12 @@ impl Controller {
                     acceleration_pct: self.speed.ptp_acceleration_pct,
                     approx_mm: 0.0,
                 };
-                self.start(cid, vec![home], now);
+                self.start(cid, vec![home], Actions::default(), now);
             }
             Command::Move(records) => {
-                self.start(cid, to_motions(&records), now);
+                let mut actions = Actions::default();
+                actions.extend(&records, 0);
+                self.start(cid, to_motions(&records), actions, now);
             }
             Command::Run(n) => {
                 let loaded = program.unwrap_or_else(|| Err("program not loaded".into()));
@@ -531,7 +546,7 @@ impl Controller {
         } else {
             now.saturating_duration_since(*wall).as_secs_f64() * time_scale
         };
-        let played = run.play(until);
+        let (played, switched) = run.play(until, &self.inputs);
         let waiting = run.waiting;
         let n = played.len();
         let cid = run.cid;
@@ -554,7 +569,9 @@ impl Controller {
         if waiting {
             self.axes = run.end_axes();
         }
-        let Some(end) = run.ended() else {
+        let ended = run.ended();
+        self.switch_outputs(switched, now);
+        let Some(end) = ended else {
             return Changes::default();
         };
         let Some((run, _, _)) = self.path.take() else {
@@ -563,6 +580,10 @@ impl Controller {
         self.sim_time += run.t;
         match end {
             PathEnd::Done => self.push_result(run.cid, ResultCode::Ok, run.stored, 0, None),
+            PathEnd::TimedOut(w) => {
+                tracing::info!(cid, motion = w, "input did not come in time");
+                self.push_result(run.cid, ResultCode::InputTimeout, w as u32, 0, None);
+            }
             PathEnd::Failed(k, err) => {
                 let (code, axis) = motion_error_code(&err);
                 tracing::info!(cid, motion = k, %err, "path motion failed");
@@ -693,10 +714,12 @@ impl Controller {
             next_sample: 0,
             current_motion: 0,
             program: Some(run),
+            actions: Actions::default(),
+            timed_out: None,
         });
     }
 
-    fn start(&mut self, cid: Cid, motions: Vec<Motion>, now: Instant) {
+    fn start(&mut self, cid: Cid, motions: Vec<Motion>, actions: Actions, now: Instant) {
         let execution = kuka_kinematics::plan::plan(
             &self.model,
             &self.axes,
@@ -723,6 +746,8 @@ impl Controller {
             next_sample: 0,
             current_motion: 0,
             program: None,
+            actions,
+            timed_out: None,
         });
     }
 
@@ -758,12 +783,14 @@ impl Controller {
                 .as_secs_f64()
                 * time_scale
         };
-        let last = active.execution.samples.len().saturating_sub(1);
-        while let Some(s) = active.execution.samples.get(active.next_sample) {
+        let mut switched = Vec::new();
+        while let Some(&s) = active.execution.samples.get(active.next_sample) {
             if s.t > elapsed {
                 break;
             }
+            let last = active.execution.samples.len().saturating_sub(1);
             let stop = active.next_sample == last;
+            switched.extend(active.actions.passed(s.motion));
             self.axes = s.axes;
             active.current_motion = s.motion;
             active.next_sample += 1;
@@ -780,7 +807,42 @@ impl Controller {
                     stop,
                 });
             }
+            if let Some((index, value)) = active.actions.wait(s.motion) {
+                let e = &mut active.execution;
+                let rest: Vec<_> = e.samples[active.next_sample..]
+                    .iter()
+                    .take_while(|x| x.motion == s.motion)
+                    .collect();
+                let ok = self.inputs[usize::from(index)] == value;
+                match decide(&s, &rest, ok) {
+                    Wait::Goes => {}
+                    Wait::Came(dt) => {
+                        let n = rest.len();
+                        e.samples.drain(active.next_sample..active.next_sample + n);
+                        for x in &mut e.samples[active.next_sample..] {
+                            x.t -= dt;
+                        }
+                        for j in e.junctions.iter_mut().filter(|j| j.t > s.t) {
+                            j.t -= dt;
+                        }
+                        e.duration_s -= dt;
+                    }
+                    Wait::TimedOut => {
+                        e.samples.truncate(active.next_sample);
+                        e.duration_s = s.t;
+                        e.end_axes = s.axes;
+                        e.error = None;
+                        active.timed_out = Some(s.motion);
+                    }
+                }
+            }
         }
+        if !switched.is_empty() {
+            self.switch_outputs(switched, now);
+        }
+        let Some(active) = self.active.as_mut() else {
+            return Advanced::Changes(Changes::default());
+        };
         if active.next_sample < active.execution.samples.len() {
             return Advanced::Changes(Changes::default());
         }
@@ -802,10 +864,22 @@ impl Controller {
             execution,
             motions,
             program,
+            mut actions,
+            timed_out,
             ..
         } = active;
+        if let Some(w) = timed_out {
+            tracing::info!(cid, motion = w, "input did not come in time");
+            self.push_result(cid, ResultCode::InputTimeout, w as u32, 0, None);
+            return Advanced::Changes(Changes::results());
+        }
         match (&execution.error, program) {
-            (None, None) => self.push_result(cid, ResultCode::Ok, motions as u32, 0, None),
+            (None, None) => {
+                // Outputs after the last motion: switched once it has ended.
+                let left = actions.all_left();
+                self.switch_outputs(left, now);
+                self.push_result(cid, ResultCode::Ok, motions as u32, 0, None)
+            }
             (None, Some(mut run)) => {
                 run.steps_before += motions;
                 match run.rest.pop_front() {

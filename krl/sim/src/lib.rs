@@ -13,6 +13,7 @@
 //! ([`kuka_krl_runtime`]), the same interpreter the service's dry run uses.
 #![deny(missing_docs)]
 
+mod actions;
 mod controller;
 mod path;
 mod runner;

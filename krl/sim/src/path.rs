@@ -16,6 +16,8 @@ use kuka_kinematics::plan::{self, Junction, Sample};
 use kuka_kinematics::{Axes, Motion, MotionError, PlanSettings, Pose, RobotModel};
 use kuka_protocol::{Cid, MotionRecord};
 
+use crate::actions::{Actions, OutputAction, Wait, decide};
+
 /// Motions the stream buffer holds (stored and not yet started), as the
 /// shipped KRL program's ring `kb_sq` (`kb_main.dat`).
 pub(crate) const STREAM_CAPACITY: u32 = 200;
@@ -31,6 +33,8 @@ pub(crate) enum PathEnd {
     Done,
     /// A motion failed (path-wide index): the robot stopped where it did.
     Failed(usize, MotionError),
+    /// The input of a `WIN` (path-wide index) did not come in time.
+    TimedOut(usize),
 }
 
 /// A path being executed.
@@ -65,6 +69,10 @@ pub(crate) struct PathRun {
     /// The last stored record: whether the next one may blend into it
     /// (the same motion family) decides its approximation.
     last_record: Option<MotionRecord>,
+    /// The path's I/O actions (protocol §5.6).
+    actions: Actions,
+    /// The `WIN` whose input did not come in time: the path ends there.
+    timed_out: Option<usize>,
 }
 
 impl PathRun {
@@ -85,6 +93,8 @@ impl PathRun {
             current: 0,
             waiting: true,
             last_record: None,
+            actions: Actions::default(),
+            timed_out: None,
         }
     }
 
@@ -121,7 +131,8 @@ impl PathRun {
         }
         let first_new = self.stored as usize;
         self.stored += motions.len() as u32;
-        if self.error.is_some() {
+        self.actions.extend(records, first_new);
+        if self.error.is_some() || self.timed_out.is_some() {
             // The robot stops at the failing motion: nothing after it runs.
             return;
         }
@@ -183,26 +194,68 @@ impl PathRun {
     }
 
     /// Plays the path up to path time `until` (never past the end of the
-    /// plan); returns the samples reached, oldest first.
-    pub(crate) fn play(&mut self, until: f64) -> Vec<Sample> {
+    /// plan), with the digital inputs `inputs` (for `WIN` records); returns
+    /// the samples reached, oldest first, and the outputs (`SOT`) the robot
+    /// passed.
+    pub(crate) fn play(&mut self, until: f64, inputs: &[bool]) -> (Vec<Sample>, Vec<OutputAction>) {
         let mut out = Vec::new();
+        let mut switched = Vec::new();
         while let Some(s) = self.samples.front() {
             if s.t > until + 1e-12 {
                 break;
             }
             let s = self.samples.pop_front().expect("front exists");
             self.current = s.motion;
+            switched.extend(self.actions.passed(s.motion));
             out.push(s);
+            if let Some((index, value)) = self.actions.wait(s.motion) {
+                let rest: Vec<_> = self
+                    .samples
+                    .iter()
+                    .take_while(|x| x.motion == s.motion)
+                    .collect();
+                let ok = inputs.get(usize::from(index)) == Some(&value);
+                match decide(&s, &rest, ok) {
+                    Wait::Goes => {}
+                    Wait::Came(dt) => {
+                        let n = rest.len();
+                        self.samples.drain(..n);
+                        for x in &mut self.samples {
+                            x.t -= dt;
+                        }
+                        for j in self.junctions.iter_mut().filter(|j| j.t > s.t) {
+                            j.t -= dt;
+                        }
+                        self.end_t -= dt;
+                    }
+                    Wait::TimedOut => {
+                        // The robot stands here; nothing after it runs.
+                        self.samples.clear();
+                        self.junctions.retain(|j| j.t <= s.t);
+                        self.end_t = s.t;
+                        self.end_axes = s.axes;
+                        self.error = None;
+                        self.timed_out = Some(s.motion);
+                        break;
+                    }
+                }
+            }
         }
         if self.samples.is_empty() && until >= self.end_t - 1e-12 {
             // The robot reached the end of the plan: it stands there while
             // the path's time goes on.
             self.t = until.max(self.t);
             self.waiting = true;
-            if self.error.is_none() {
+            if self.error.is_none() && self.timed_out.is_none() {
                 // Every stored motion is done.
                 self.current = self.stored as usize;
+                if self.closed {
+                    // Outputs after the last motion: switched at its end.
+                    switched.extend(self.actions.all_left());
+                }
             }
+        } else if self.timed_out.is_some() {
+            self.t = self.end_t.max(self.t);
         } else {
             self.t = until.min(self.end_t).max(self.t);
         }
@@ -220,7 +273,7 @@ impl PathRun {
         {
             self.junctions.pop_front();
         }
-        out
+        (out, switched)
     }
 
     /// Path time of the next sample, if any is planned.
@@ -234,7 +287,7 @@ impl PathRun {
     /// an instant one playing to the end would re-plan every append from
     /// the braking phase of the last motion.
     pub(crate) fn hold_t(&self) -> f64 {
-        if self.closed || self.error.is_some() {
+        if self.closed || self.error.is_some() || self.timed_out.is_some() {
             return self.end_t;
         }
         // Never hold so much that the buffer stays full: play on until half
@@ -258,6 +311,9 @@ impl PathRun {
     pub(crate) fn ended(&self) -> Option<PathEnd> {
         if !self.samples.is_empty() || self.t < self.end_t - 1e-12 {
             return None;
+        }
+        if let Some(w) = self.timed_out {
+            return Some(PathEnd::TimedOut(w));
         }
         match &self.error {
             Some((k, e)) => Some(PathEnd::Failed(*k, e.clone())),

@@ -27,7 +27,7 @@ const MARKDOWN: &str = include_str!("../../../docs/errors.md");
 
 /// Every code, in the order of the enum (a test compares this list with
 /// the codes utoipa derives from the enum, so a new code cannot be missed).
-pub(crate) const ALL: [ErrorCode; 44] = [
+pub(crate) const ALL: [ErrorCode; 45] = [
     ErrorCode::InvalidInput,
     ErrorCode::WorkspaceViolation,
     ErrorCode::SpeedLimit,
@@ -72,6 +72,7 @@ pub(crate) const ALL: [ErrorCode; 44] = [
     ErrorCode::OutputNotAllowed,
     ErrorCode::UnknownSignal,
     ErrorCode::SignalNotReported,
+    ErrorCode::InputTimeout,
 ];
 
 /// One code of the catalogue.

@@ -209,6 +209,7 @@ pub fn statuscode(code: ErrorCode) -> i32 {
         ErrorCode::OutputNotAllowed => 81,
         ErrorCode::UnknownSignal => 82,
         ErrorCode::SignalNotReported => 83,
+        ErrorCode::InputTimeout => 84,
         ErrorCode::Internal => 99,
     }
 }

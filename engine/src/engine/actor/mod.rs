@@ -765,8 +765,10 @@ impl Actor {
                         motions: records[..sent].to_vec(),
                         close: sent == records.len(),
                     };
+                    let timeout = job
+                        .timeout
+                        .unwrap_or(self.cfg.command_timeout + waiting_time(&records));
                     self.path = Some(paths::PathState::batch(job.id, cid, start, records, sent));
-                    let timeout = job.timeout.unwrap_or(self.cfg.command_timeout);
                     let command = Command::OpenPath(chunk);
                     self.write(CommandFile { cid, command }, Some((job, timeout)));
                     return Ok(());
@@ -803,7 +805,11 @@ impl Actor {
             }
         };
         let cid = self.next_cid()?;
-        let timeout = job.timeout.unwrap_or(self.cfg.command_timeout);
+        let waits = match &command {
+            Command::Move(records) => waiting_time(records),
+            _ => Duration::ZERO,
+        };
+        let timeout = job.timeout.unwrap_or(self.cfg.command_timeout + waits);
         self.write(CommandFile { cid, command }, Some((job, timeout)));
         Ok(())
     }
@@ -936,4 +942,20 @@ impl Actor {
             self.shared.publish(Event::State(Box::new(next)));
         }
     }
+}
+
+/// The longest time a batch's actions may keep the robot standing (each
+/// `wait_input` its whole timeout, each `dwell`): added to the default
+/// command timeout, so that a wait the client asked for is not cut short
+/// by the service.
+fn waiting_time(records: &[MotionRecord]) -> Duration {
+    let ms: u64 = records
+        .iter()
+        .map(|r| match r {
+            MotionRecord::WaitInput { timeout_ms, .. } => u64::from(*timeout_ms),
+            MotionRecord::Dwell { ms } => u64::from(*ms),
+            _ => 0,
+        })
+        .sum();
+    Duration::from_millis(ms)
 }

@@ -58,6 +58,13 @@ pub(super) fn result_error(r: &ResultRecord) -> Option<BridgeError> {
             ErrorCode::ControllerError,
             "a KRL runtime error stopped the command".into(),
         ),
+        ResultCode::InputTimeout => (
+            ErrorCode::InputTimeout,
+            format!(
+                "the input of wait_input {} did not come within its timeout; the robot stands where it waited and nothing after it ran",
+                r.completed
+            ),
+        ),
         ResultCode::PathClosed => (
             ErrorCode::PathClosed,
             "the path is no longer open on the controller (it ended, failed or was stopped)".into(),

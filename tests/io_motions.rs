@@ -1,0 +1,369 @@
+//! I/O inside motion batches through HTTP against the simulated controller
+//! (issue 23, point 2; `KB_TEST_SIMULATOR=krc`: the shipped KRL program in
+//! the KRC-like runtime): an output switched as the motion after it
+//! starts, without stopping the robot; a wait for an input that comes, and
+//! one that does not (`input_timeout`, robot stopped); a dwell; hostile
+//! actions refused before anything reaches the channel.
+
+use kuka_bridge::io::{IoConfig, SignalConfig};
+use kuka_bridge_tests::{Options, TestService, WAIT, wait_for};
+use serde_json::{Value, json};
+
+fn signal(name: &str, index: u16, watch: bool) -> SignalConfig {
+    SignalConfig {
+        name: name.into(),
+        index,
+        pulse_ms: 0,
+        watch,
+    }
+}
+
+/// A gripper on `$OUT[1]` (the only writable output) and a part-present
+/// sensor on `$IN[3]`.
+async fn cell() -> TestService {
+    TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(|c| {
+            c.io = IoConfig {
+                inputs: vec![signal("part_present", 3, true)],
+                outputs: vec![signal("gripper_close", 1, true)],
+            };
+        }),
+        ..Options::default()
+    })
+    .await
+}
+
+/// The TCP `[x, y, z]` and `$OUT[1]` of one state answer (one state file).
+fn pose_and_gripper(s: &Value) -> Option<([f64; 3], bool)> {
+    let p = &s["position"];
+    let xyz = [p["x"].as_f64()?, p["y"].as_f64()?, p["z"].as_f64()?];
+    let out1 = s["io"]["outputs"][0].as_bool()?;
+    Some((xyz, out1))
+}
+
+/// Moves to a posture away from home's stretched arm and wrist
+/// singularity (A5 = 0), where LINs of some cm run in every direction.
+async fn to_work_pose(t: &TestService) -> [f64; 3] {
+    let (s, v) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a1": 0, "a2": -80, "a3": 100, "a4": 0, "a5": 45, "a6": 0}}]))
+        .await;
+    assert_eq!(s, 200, "{v}");
+    start_xyz(t).await
+}
+
+async fn start_xyz(t: &TestService) -> [f64; 3] {
+    let (_, s) = t.get("/api/v1/state").await;
+    pose_and_gripper(&s).expect("a position and I/O").0
+}
+
+async fn last_cid(t: &TestService) -> i64 {
+    let (_, s) = t.get("/api/v1/state").await;
+    s["controller"]["last_cid"].as_i64().unwrap_or(0)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_pick_switches_the_gripper_where_planned_and_waits_for_the_part() {
+    let t = cell().await;
+    let p0 = to_work_pose(&t).await;
+    let (s, v) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"wait": false, "motions": [
+                {"type": "lin", "target": {"x": 60}, "relative": true, "velocity_m_s": 0.05, "approx_mm": 10},
+                {"type": "set_output", "signal": "gripper_close", "value": true},
+                {"type": "lin", "target": {"z": -60}, "relative": true, "velocity_m_s": 0.05, "approx_mm": 0},
+                {"type": "wait_input", "signal": "part_present", "value": true, "timeout_ms": 20000},
+                {"type": "lin", "target": {"z": 60}, "relative": true, "velocity_m_s": 0.2},
+                {"type": "set_output", "signal": 1, "value": false},
+            ]}),
+        )
+        .await;
+    assert_eq!(s, 202, "{v}");
+    let id = v["id"].as_u64().expect("job id");
+    // While the robot runs the first LIN (z unchanged, x on its way) the
+    // gripper is still open ...
+    wait_for(
+        WAIT,
+        "a state in the first LIN with the gripper open",
+        async || {
+            let (_, s) = t.get("/api/v1/state").await;
+            match pose_and_gripper(&s) {
+                Some((p, false)) if p[0] - p0[0] > 10.0 && p[0] - p0[0] < 45.0 => Ok(()),
+                other => Err(format!("{other:?}")),
+            }
+        },
+    )
+    .await;
+    // ... and it is closed while the robot is still descending: it
+    // switched as the second LIN started, not at its end.
+    wait_for(
+        WAIT,
+        "a state in the descent with the gripper closed",
+        async || {
+            let (_, s) = t.get("/api/v1/state").await;
+            match pose_and_gripper(&s) {
+                Some((p, true)) if p0[2] - p[2] > 5.0 && p0[2] - p[2] < 50.0 => Ok(()),
+                other => Err(format!("{other:?}")),
+            }
+        },
+    )
+    .await;
+    // The robot waits at the bottom for the part (the job is at the wait).
+    let job = t
+        .wait_job(id, "the job waiting at wait_input 3", |j| {
+            j["completed"] == 3 && j["state"] == "executing"
+        })
+        .await;
+    assert_eq!(job["state"], "executing", "{job}");
+    let (s, v) = t
+        .put_json("/api/v1/sim/inputs/3", &json!({"value": true}))
+        .await;
+    assert_eq!(s, 204, "{v}");
+    let job = t
+        .wait_job(id, "the pick to end", |j| {
+            !matches!(j["state"].as_str(), Some("executing" | "sent" | "queued"))
+        })
+        .await;
+    assert_eq!(job["state"], "done", "{job}");
+    // The gripper opened again after the last motion.
+    let (_, s) = t.get("/api/v1/state").await;
+    let (p, out1) = pose_and_gripper(&s).expect("state");
+    assert!(!out1, "the last set_output ran: {s}");
+    assert!((p[2] - p0[2]).abs() < 0.5, "back up: {p:?} vs {p0:?}");
+    // The two LINs blended across the set_output: no stop at the end of
+    // motion 0 (the only stops: the bottom, before the wait, and the end).
+    let cid = job["cid"].as_i64().expect("cid");
+    let trace: Vec<_> = t.trace().into_iter().filter(|x| x.cid == cid).collect();
+    assert!(
+        trace.iter().any(|x| x.motion == 2),
+        "the descent is in the trace"
+    );
+    let stops_in_0: Vec<_> = trace.iter().filter(|x| x.motion == 0 && x.stop).collect();
+    assert!(
+        stops_in_0.is_empty(),
+        "the robot stopped in motion 0: {stops_in_0:?}"
+    );
+    // The gripper's changes were pushed in order.
+    let (_, ev) = t.get("/api/v1/events/recent?types=io&limit=1000").await;
+    let values: Vec<bool> = ev
+        .as_array()
+        .expect("events")
+        .iter()
+        .filter(|e| e["data"]["name"] == "gripper_close")
+        .filter_map(|e| e["data"]["value"].as_bool())
+        .collect();
+    assert_eq!(values, [true, false], "{ev}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_part_that_never_comes_ends_the_job_with_input_timeout() {
+    let t = cell().await;
+    let p0 = to_work_pose(&t).await;
+    let (s, v) = t
+        .motions(json!([
+            {"type": "lin", "target": {"z": -20}, "relative": true, "velocity_m_s": 0.1},
+            {"type": "wait_input", "signal": "part_present", "timeout_ms": 400},
+            {"type": "lin", "target": {"z": 20}, "relative": true},
+        ]))
+        .await;
+    assert_eq!(s, 422, "{v}");
+    assert_eq!(v["code"], "input_timeout", "{v}");
+    assert_eq!(v["motion"], 1, "{v}");
+    // The robot stands where it waited: the last LIN never ran.
+    let p = start_xyz(&t).await;
+    assert!((p0[2] - 20.0 - p[2]).abs() < 0.5, "{p:?} vs {p0:?}");
+    // No error state: the next request runs.
+    let (s, v) = t
+        .motions(json!([{"type": "lin", "target": {"z": 20}, "relative": true}]))
+        .await;
+    assert_eq!(s, 200, "{v}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_dwell_holds_the_robot_for_its_time() {
+    let t = cell().await;
+    let p0 = to_work_pose(&t).await;
+    let (s, v) = t
+        .motions(json!([
+            {"type": "lin", "target": {"x": 20}, "relative": true, "velocity_m_s": 0.1, "approx_mm": 5},
+            {"type": "dwell", "ms": 600},
+            {"type": "lin", "target": {"x": -20}, "relative": true, "velocity_m_s": 0.1},
+        ]))
+        .await;
+    assert_eq!(s, 200, "{v}");
+    let cid = v["job"]["cid"]
+        .as_i64()
+        .or_else(|| v["cid"].as_i64())
+        .expect("cid");
+    let trace: Vec<_> = t.trace().into_iter().filter(|x| x.cid == cid).collect();
+    let end0 = trace
+        .iter()
+        .filter(|x| x.motion == 0)
+        .map(|x| x.t)
+        .fold(f64::MIN, f64::max);
+    let start2 = trace
+        .iter()
+        .filter(|x| x.motion == 2)
+        .map(|x| x.t)
+        .fold(f64::MAX, f64::min);
+    assert!(
+        start2 - end0 >= 0.55,
+        "the robot stood {:.3} s between the motions (dwell 0.6 s)",
+        start2 - end0
+    );
+    // An exact stop before the dwell despite approx_mm: motion 0 ends at
+    // its target, not on an approximation arc.
+    let last0 = trace
+        .iter()
+        .filter(|x| x.motion == 0)
+        .last()
+        .expect("motion 0 in the trace");
+    assert!(
+        (last0.pose[0] - (p0[0] + 20.0)).abs() < 0.05,
+        "motion 0 ended at x = {} (target {})",
+        last0.pose[0],
+        p0[0] + 20.0
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn hostile_actions_are_refused_before_the_channel() {
+    let t = cell().await;
+    let before = last_cid(&t).await;
+    let lin = json!({"type": "lin", "target": {"z": -5}, "relative": true});
+    let cases: Vec<(Value, u16, &str)> = vec![
+        (
+            json!({"type": "set_output", "signal": 2, "value": true}),
+            403,
+            "output_not_allowed",
+        ),
+        (
+            json!({"type": "set_output", "signal": "part_present", "value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            json!({"type": "set_output", "signal": "$OUT[1]=TRUE;", "value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            json!({"type": "set_output", "signal": "gripper_close\nEND", "value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            json!({"type": "set_output", "signal": 0, "value": true}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "set_output", "signal": 4097, "value": true}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "set_output", "signal": -1, "value": true}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "set_output", "signal": 1.5, "value": true}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "set_output", "signal": {"index": 1}, "value": true}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "set_output", "signal": 1, "value": "TRUE"}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "set_output", "signal": 1, "value": 1}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "set_output", "signal": 1}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "set_output", "signal": 1, "value": true, "pulse_ms": 60001}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "set_output", "signal": 1, "value": true, "pulse_ms": -5}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "set_output", "signal": 1, "value": true, "at": "end"}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "set_output", "signal": "x".repeat(5000), "value": true}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            json!({"type": "wait_input", "signal": 3, "timeout_ms": 0}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "wait_input", "signal": 3, "timeout_ms": 600001}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "wait_input", "signal": 3}),
+            422,
+            "invalid_input",
+        ),
+        (
+            json!({"type": "wait_input", "signal": "gripper_close", "timeout_ms": 100}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            json!({"type": "wait_input", "signal": "$IN[3]", "timeout_ms": 100}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            json!({"type": "wait_input", "signal": 3, "timeout_ms": 1e3}),
+            422,
+            "invalid_input",
+        ),
+        (json!({"type": "dwell", "ms": 600001}), 422, "invalid_input"),
+        (json!({"type": "dwell", "ms": -1}), 422, "invalid_input"),
+        (json!({"type": "dwell"}), 422, "invalid_input"),
+        (
+            json!({"type": "dwell", "ms": "WAIT SEC 5"}),
+            422,
+            "invalid_input",
+        ),
+    ];
+    for (action, status, code) in &cases {
+        let (s, v) = t.motions(json!([lin, action, lin])).await;
+        assert_eq!(
+            (s, v["code"].as_str()),
+            (*status, Some(*code)),
+            "{action}: {v}"
+        );
+        // Refused actions name where they are (those serde refuses name
+        // the field instead).
+        if *status != 422 || v["motion"].is_number() {
+            assert_eq!(v["motion"], 1, "{action}: {v}");
+        }
+    }
+    assert_eq!(last_cid(&t).await, before, "nothing reached the channel");
+}
