@@ -367,3 +367,98 @@ async fn hostile_actions_are_refused_before_the_channel() {
     }
     assert_eq!(last_cid(&t).await, before, "nothing reached the channel");
 }
+
+/// Waits until the job has ended.
+async fn wait_end(t: &TestService, id: u64) -> Value {
+    t.wait_job(id, "the job to end", |j| {
+        matches!(j["state"].as_str(), Some("done" | "failed" | "cancelled"))
+    })
+    .await
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn actions_stream_into_a_path_and_a_timeout_ends_it() {
+    let t = cell().await;
+    let p0 = to_work_pose(&t).await;
+    let (s, job) = t.post_json("/api/v1/paths", &json!({})).await;
+    assert_eq!(s, 201, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    // JSON lines: two LINs with an output between them, then a wait.
+    let lines = [
+        json!({"type": "lin", "target": {"y": 30}, "relative": true, "velocity_m_s": 0.1, "approx_mm": 5}),
+        json!({"type": "set_output", "signal": "gripper_close", "value": true}),
+        json!({"type": "lin", "target": {"y": -30}, "relative": true, "velocity_m_s": 0.1}),
+        json!({"type": "wait_input", "signal": 3, "timeout_ms": 300}),
+        json!({"type": "lin", "target": {"z": 30}, "relative": true}),
+    ]
+    .iter()
+    .map(|l| format!("{l}\n"))
+    .collect::<String>();
+    let r = t
+        .http
+        .post(t.url(&format!("/api/v1/paths/{id}/motions")))
+        .header("content-type", "application/x-ndjson")
+        .body(lines)
+        .send()
+        .await
+        .expect("stream");
+    let status = r.status().as_u16();
+    let body: Value = r.json().await.expect("a JSON answer");
+    assert_eq!(status, 200, "{body}");
+    let (s, j) = t.delete(&format!("/api/v1/paths/{id}")).await;
+    assert_eq!(s, 200, "{j}");
+    let j = wait_end(&t, id).await;
+    assert_eq!(
+        (
+            j["state"].as_str(),
+            j["error"]["code"].as_str(),
+            j["completed"].as_u64()
+        ),
+        (Some("failed"), Some("input_timeout"), Some(3)),
+        "{j}"
+    );
+    let (_, s) = t.get("/api/v1/state").await;
+    let (p, out1) = pose_and_gripper(&s).expect("state");
+    assert!(out1, "the set_output ran: {s}");
+    // Back where the path started (the second LIN ran), not lifted.
+    assert!(
+        (p[1] - p0[1]).abs() < 0.5 && (p[2] - p0[2]).abs() < 0.5,
+        "{p:?} vs {p0:?}"
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_action_refused_in_a_path_ends_it_before_anything_is_sent() {
+    let t = cell().await;
+    to_work_pose(&t).await;
+    let (s, job) = t.post_json("/api/v1/paths", &json!({})).await;
+    assert_eq!(s, 201, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    let url = format!("/api/v1/paths/{id}/motions");
+    let (s, v) = t
+        .post_json(
+            &url,
+            &json!({"motions": [{"type": "lin", "target": {"z": -10}, "relative": true}]}),
+        )
+        .await;
+    assert_eq!(s, 200, "{v}");
+    let (s, v) = t
+        .post_json(
+            &url,
+            &json!({"motions": [
+                {"type": "lin", "target": {"z": 10}, "relative": true},
+                {"type": "set_output", "signal": 7, "value": true},
+            ]}),
+        )
+        .await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (403, Some("output_not_allowed")),
+        "{v}"
+    );
+    assert_eq!(v["motion"], 2, "the path-wide index: {v}");
+    let j = wait_end(&t, id).await;
+    assert_eq!(j["error"]["code"], "output_not_allowed", "{j}");
+    let (_, io) = t.get("/api/v1/io/outputs/7").await;
+    assert_eq!(io["value"], false, "{io}");
+}

@@ -27,9 +27,12 @@ export function classifyPlan(motions, start, endOf) {
   const out = [];
   let at = start;
   for (const m of motions) {
-    const end = endOf(m);
+    // An I/O action or a dwell (no target) does not move the robot: the
+    // next motion starts where the previous one ended.
+    const action = ["set_output", "wait_input", "dwell"].includes(m.type);
+    const end = action ? null : endOf(m);
     out.push({ type: m.type, start: at, end, aux: m.aux || null });
-    at = end;
+    if (!action) at = end;
   }
   const zs = out
     .filter(isCp)

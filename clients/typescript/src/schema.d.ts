@@ -1513,7 +1513,7 @@ export interface components {
             detail: string;
         };
         /**
-         * @description A stable, machine-readable error code (never renamed; see /errors). The bridge's codes: invalid_input, workspace_violation, speed_limit, unreachable, software_limit, singularity, controller_offline, channel_locked, timeout, controller_error, controller_busy, cancelled, not_found, method_not_allowed, payload_too_large, unsupported_media_type, queue_full, invalid_program, program_unsupported, program_failed, programs_unavailable, plugin_invalid, plugin_timeout, plugin_memory, plugin_trap, plugin_bad_response, plugins_unavailable, unauthenticated, forbidden, control_held, too_many_attempts, overloaded, request_timeout, protocol_error, internal, storage_unavailable, command_lost, gone, shutting_down, path_closed, path_full, output_not_allowed, unknown_signal, signal_not_reported. A plugin's answer may carry a code of its own.
+         * @description A stable, machine-readable error code (never renamed; see /errors). The bridge's codes: invalid_input, workspace_violation, speed_limit, unreachable, software_limit, singularity, controller_offline, channel_locked, timeout, controller_error, controller_busy, cancelled, not_found, method_not_allowed, payload_too_large, unsupported_media_type, queue_full, invalid_program, program_unsupported, program_failed, programs_unavailable, plugin_invalid, plugin_timeout, plugin_memory, plugin_trap, plugin_bad_response, plugins_unavailable, unauthenticated, forbidden, control_held, too_many_attempts, overloaded, request_timeout, protocol_error, internal, storage_unavailable, command_lost, gone, shutting_down, path_closed, path_full, output_not_allowed, unknown_signal, signal_not_reported, input_timeout. A plugin's answer may carry a code of its own.
          * @example invalid_input
          * @example workspace_violation
          * @example speed_limit
@@ -1558,6 +1558,7 @@ export interface components {
          * @example output_not_allowed
          * @example unknown_signal
          * @example signal_not_reported
+         * @example input_timeout
          */
         ErrorCode: string;
         /**
@@ -2049,7 +2050,7 @@ export interface components {
          *     start of the motion. An omitted speed is the default speed, not the
          *     previous motion's.
          */
-        MotionRequest: components["schemas"]["PtpMotion"] | components["schemas"]["AxisMotion"] | components["schemas"]["LinMotion"] | components["schemas"]["CircMotion"] | components["schemas"]["SlinMotion"] | components["schemas"]["ScircMotion"] | components["schemas"]["SptpMotion"] | components["schemas"]["SplMotion"];
+        MotionRequest: components["schemas"]["PtpMotion"] | components["schemas"]["AxisMotion"] | components["schemas"]["LinMotion"] | components["schemas"]["CircMotion"] | components["schemas"]["SlinMotion"] | components["schemas"]["ScircMotion"] | components["schemas"]["SptpMotion"] | components["schemas"]["SplMotion"] | components["schemas"]["SetOutputAction"] | components["schemas"]["WaitInputAction"] | components["schemas"]["DwellAction"];
         /**
          * @description A new token.
          * @example {
@@ -2156,7 +2157,10 @@ export interface components {
             left?: number | null;
             /** @description Target TCP pose in the base frame `[x, y, z, a, b, c]` (not for `ptp_axes`). */
             target?: number[] | null;
-            /** @description `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp` or `spl`. */
+            /**
+             * @description `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp`, `spl`,
+             *     or an action (`set_output`, `wait_input`, `dwell`: no target).
+             */
             type: string;
         };
         /**
@@ -2651,6 +2655,8 @@ export interface components {
             /** @description Clients may write it (an output on the site's list). */
             writable: boolean;
         };
+        /** @description A digital signal in a request: its number or its configured name. */
+        SignalRef: number | string;
         /** @description A snapshot of the simulated controller for tests and the API. */
         SimSnapshot: {
             /** @description Current axis angles. */
@@ -3328,6 +3334,85 @@ export interface components {
              * @description TCP speed in m/s.
              */
             velocity_m_s?: number | null;
+        };
+        /**
+         * @description An I/O action, not a motion: set a digital output when the robot
+         *     passes this point of the sequence, i.e. as the next motion starts
+         *     (KRL `TRIGGER WHEN DISTANCE=0`), without stopping the robot: the
+         *     motions on either side blend as if it were not there. Before a
+         *     `wait_input`/`dwell`, or at the end, it switches once the motions
+         *     before it have ended. Only outputs on the site's allow-list
+         *     (`[io] outputs`, docs/IO.md).
+         * @example {
+         *       "type": "set_output",
+         *       "signal": "gripper_close",
+         *       "value": true
+         *     }
+         */
+        SetOutputAction: {
+            /**
+             * Format: int32
+             * @description Return to the other value after this many ms (default: the
+             *     signal's configured `pulse_ms`, else none).
+             */
+            pulse_ms?: number | null;
+            /** @description The output: its number (1..=4096) or its configured name. */
+            signal: components["schemas"]["SignalRef"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "set_output";
+            /** @description The value to set. */
+            value: boolean;
+        };
+        /**
+         * @description An I/O action: the robot stops exactly at the end of the motion
+         *     before it and waits until the input has `value` (KRL `WAIT FOR`).
+         *     If it does not within `timeout_ms`, the job fails with
+         *     `input_timeout` and the robot stands there; nothing after it runs.
+         * @example {
+         *       "type": "wait_input",
+         *       "signal": "part_present",
+         *       "value": true,
+         *       "timeout_ms": 2000
+         *     }
+         */
+        WaitInputAction: {
+            /** @description The input: its number (1..=4096) or its configured name. */
+            signal: components["schemas"]["SignalRef"];
+            /**
+             * Format: int32
+             * @description Longest wait in ms, 1..=600000 (nothing waits for ever).
+             */
+            timeout_ms: number;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "wait_input";
+            /** @description The value waited for (default true). */
+            value?: boolean;
+        };
+        /**
+         * @description The robot stops exactly at the end of the motion before it and
+         *     stands for `ms` (KRL `WAIT SEC`).
+         * @example {
+         *       "type": "dwell",
+         *       "ms": 500
+         *     }
+         */
+        DwellAction: {
+            /**
+             * Format: int32
+             * @description Standstill in ms, 0..=600000.
+             */
+            ms: number;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "dwell";
         };
     };
     responses: never;

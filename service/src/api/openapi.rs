@@ -11,7 +11,8 @@
 //!   job id, `i32` for a command id) are inlined;
 //! - the motion kinds are named schemas (`PtpMotion`, `AxisMotion`,
 //!   `LinMotion`, `CircMotion`, `SlinMotion`, `ScircMotion`, `SptpMotion`,
-//!   `SplMotion`) under a `oneOf` with a `type` discriminator,
+//!   `SplMotion`, and the actions `SetOutputAction`, `WaitInputAction`,
+//!   `DwellAction`) under a `oneOf` with a `type` discriminator,
 //!   and so are the variants of other tagged unions (`JobEvent`, …);
 //! - a problem's `code` is an open string: the bridge's codes are listed,
 //!   and plugins may answer their own;
@@ -96,6 +97,9 @@ const MOTION_KINDS: &[(&str, &str)] = &[
     ("scirc", "ScircMotion"),
     ("sptp", "SptpMotion"),
     ("spl", "SplMotion"),
+    ("set_output", "SetOutputAction"),
+    ("wait_input", "WaitInputAction"),
+    ("dwell", "DwellAction"),
 ];
 
 const METHODS: &[&str] = &[

@@ -22,6 +22,8 @@ from .control_state import ControlState
 from .controller_info import ControllerInfo
 from .controller_safety import ControllerSafety
 from .created_token import CreatedToken
+from .dwell_action import DwellAction
+from .dwell_action_type import DwellActionType
 from .error_body import ErrorBody
 from .error_code_info import ErrorCodeInfo
 from .health import Health
@@ -72,6 +74,8 @@ from .run_request import RunRequest
 from .schema_violation import SchemaViolation
 from .scirc_motion import ScircMotion
 from .scirc_motion_type import ScircMotionType
+from .set_output_action import SetOutputAction
+from .set_output_action_type import SetOutputActionType
 from .signal import Signal
 from .sim_snapshot import SimSnapshot
 from .slin_motion import SlinMotion
@@ -92,6 +96,8 @@ from .thesis_response import ThesisResponse
 from .token_info import TokenInfo
 from .trace_sample import TraceSample
 from .upload_form import UploadForm
+from .wait_input_action import WaitInputAction
+from .wait_input_action_type import WaitInputActionType
 from .workspace_box import WorkspaceBox
 from .workspace_info import WorkspaceInfo
 
@@ -118,6 +124,8 @@ __all__ = (
     "ControlRequest",
     "ControlState",
     "CreatedToken",
+    "DwellAction",
+    "DwellActionType",
     "ErrorBody",
     "ErrorCodeInfo",
     "Health",
@@ -168,6 +176,8 @@ __all__ = (
     "SchemaViolation",
     "ScircMotion",
     "ScircMotionType",
+    "SetOutputAction",
+    "SetOutputActionType",
     "Signal",
     "SimSnapshot",
     "SlinMotion",
@@ -188,6 +198,8 @@ __all__ = (
     "TokenInfo",
     "TraceSample",
     "UploadForm",
+    "WaitInputAction",
+    "WaitInputActionType",
     "WorkspaceBox",
     "WorkspaceInfo",
 )

@@ -14,12 +14,15 @@ from typing import cast
 if TYPE_CHECKING:
   from ..models.axis_motion import AxisMotion
   from ..models.circ_motion import CircMotion
+  from ..models.dwell_action import DwellAction
   from ..models.lin_motion import LinMotion
   from ..models.ptp_motion import PtpMotion
   from ..models.scirc_motion import ScircMotion
+  from ..models.set_output_action import SetOutputAction
   from ..models.slin_motion import SlinMotion
   from ..models.spl_motion import SplMotion
   from ..models.sptp_motion import SptpMotion
+  from ..models.wait_input_action import WaitInputAction
 
 
 
@@ -39,8 +42,9 @@ class AppendBody:
 
         Attributes:
             close (bool | Unset): Close the path after these motions: it ends when they have run.
-            motions (list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion |
-                SptpMotion] | Unset): The motions, in order; they are approximated into each other and
+            motions (list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction |
+                SlinMotion | SplMotion | SptpMotion | WaitInputAction] | Unset): The motions, in order; they are approximated
+                into each other and
                 into what follows (`approx_mm` default of the site) unless they set
                 `approx_mm`. May be empty (with `close`).
             wait_ms (int | None | Unset): How long to wait for room while the path's buffer is full (ms,
@@ -48,7 +52,7 @@ class AppendBody:
      """
 
     close: bool | Unset = UNSET
-    motions: list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion | SptpMotion] | Unset = UNSET
+    motions: list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpMotion | WaitInputAction] | Unset = UNSET
     wait_ms: int | None | Unset = UNSET
 
 
@@ -58,12 +62,15 @@ class AppendBody:
     def to_dict(self) -> dict[str, Any]:
         from ..models.axis_motion import AxisMotion # noqa: PLC0415
         from ..models.circ_motion import CircMotion # noqa: PLC0415
+        from ..models.dwell_action import DwellAction # noqa: PLC0415
         from ..models.lin_motion import LinMotion # noqa: PLC0415
         from ..models.ptp_motion import PtpMotion # noqa: PLC0415
         from ..models.scirc_motion import ScircMotion # noqa: PLC0415
+        from ..models.set_output_action import SetOutputAction # noqa: PLC0415
         from ..models.slin_motion import SlinMotion # noqa: PLC0415
         from ..models.spl_motion import SplMotion # noqa: PLC0415
         from ..models.sptp_motion import SptpMotion # noqa: PLC0415
+        from ..models.wait_input_action import WaitInputAction # noqa: PLC0415
         close = self.close
 
         motions: list[dict[str, Any]] | Unset = UNSET
@@ -84,6 +91,12 @@ class AppendBody:
                 elif isinstance(motions_item_data, ScircMotion):
                     motions_item = motions_item_data.to_dict()
                 elif isinstance(motions_item_data, SptpMotion):
+                    motions_item = motions_item_data.to_dict()
+                elif isinstance(motions_item_data, SplMotion):
+                    motions_item = motions_item_data.to_dict()
+                elif isinstance(motions_item_data, SetOutputAction):
+                    motions_item = motions_item_data.to_dict()
+                elif isinstance(motions_item_data, WaitInputAction):
                     motions_item = motions_item_data.to_dict()
                 else:
                     motions_item = motions_item_data.to_dict()
@@ -118,21 +131,24 @@ class AppendBody:
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
         from ..models.axis_motion import AxisMotion # noqa: PLC0415
         from ..models.circ_motion import CircMotion # noqa: PLC0415
+        from ..models.dwell_action import DwellAction # noqa: PLC0415
         from ..models.lin_motion import LinMotion # noqa: PLC0415
         from ..models.ptp_motion import PtpMotion # noqa: PLC0415
         from ..models.scirc_motion import ScircMotion # noqa: PLC0415
+        from ..models.set_output_action import SetOutputAction # noqa: PLC0415
         from ..models.slin_motion import SlinMotion # noqa: PLC0415
         from ..models.spl_motion import SplMotion # noqa: PLC0415
         from ..models.sptp_motion import SptpMotion # noqa: PLC0415
+        from ..models.wait_input_action import WaitInputAction # noqa: PLC0415
         d = dict(src_dict)
         close = d.pop("close", UNSET)
 
         _motions = d.pop("motions", UNSET)
-        motions: list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion | SptpMotion] | Unset = UNSET
+        motions: list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpMotion | WaitInputAction] | Unset = UNSET
         if _motions is not UNSET:
             motions = []
             for motions_item_data in _motions:
-                def _parse_motions_item(data: object) -> AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion | SptpMotion:
+                def _parse_motions_item(data: object) -> AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpMotion | WaitInputAction:
                     try:
                         if not isinstance(data, dict):
                             raise TypeError()
@@ -203,13 +219,43 @@ class AppendBody:
                         return componentsschemas_motion_request_type_6
                     except (TypeError, ValueError, AttributeError, KeyError):
                         pass
+                    try:
+                        if not isinstance(data, dict):
+                            raise TypeError()
+                        componentsschemas_motion_request_type_7 = SplMotion.from_dict(data)
+
+
+
+                        return componentsschemas_motion_request_type_7
+                    except (TypeError, ValueError, AttributeError, KeyError):
+                        pass
+                    try:
+                        if not isinstance(data, dict):
+                            raise TypeError()
+                        componentsschemas_motion_request_type_8 = SetOutputAction.from_dict(data)
+
+
+
+                        return componentsschemas_motion_request_type_8
+                    except (TypeError, ValueError, AttributeError, KeyError):
+                        pass
+                    try:
+                        if not isinstance(data, dict):
+                            raise TypeError()
+                        componentsschemas_motion_request_type_9 = WaitInputAction.from_dict(data)
+
+
+
+                        return componentsschemas_motion_request_type_9
+                    except (TypeError, ValueError, AttributeError, KeyError):
+                        pass
                     if not isinstance(data, dict):
                         raise TypeError()
-                    componentsschemas_motion_request_type_7 = SplMotion.from_dict(data)
+                    componentsschemas_motion_request_type_10 = DwellAction.from_dict(data)
 
 
 
-                    return componentsschemas_motion_request_type_7
+                    return componentsschemas_motion_request_type_10
 
                 motions_item = _parse_motions_item(motions_item_data)
 

@@ -15,12 +15,15 @@ from typing import cast
 if TYPE_CHECKING:
   from ..models.axis_motion import AxisMotion
   from ..models.circ_motion import CircMotion
+  from ..models.dwell_action import DwellAction
   from ..models.lin_motion import LinMotion
   from ..models.ptp_motion import PtpMotion
   from ..models.scirc_motion import ScircMotion
+  from ..models.set_output_action import SetOutputAction
   from ..models.slin_motion import SlinMotion
   from ..models.spl_motion import SplMotion
   from ..models.sptp_motion import SptpMotion
+  from ..models.wait_input_action import WaitInputAction
 
 
 
@@ -40,8 +43,9 @@ class MotionBatch:
                 'y': 100}, 'approx_mm': 2}, {'type': 'lin', 'target': {'z': 100}}], 'wait': True}
 
         Attributes:
-            motions (list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion |
-                SptpMotion]): The motions, executed in order as one continuous batch (approximated
+            motions (list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction |
+                SlinMotion | SplMotion | SptpMotion | WaitInputAction]): The motions, executed in order as one continuous batch
+                (approximated
                 between motions unless `approx_mm` is 0).
             config (Configuration | None | Unset):
             timeout_ms (int | None | Unset): Fail the job (and stop the robot) if it has not finished after this many ms.
@@ -49,7 +53,7 @@ class MotionBatch:
                 with the queued job; poll `/api/v1/jobs/{id}` or listen to events.
      """
 
-    motions: list[AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion | SptpMotion]
+    motions: list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpMotion | WaitInputAction]
     config: Configuration | None | Unset = UNSET
     timeout_ms: int | None | Unset = UNSET
     wait: bool | None | Unset = UNSET
@@ -61,12 +65,15 @@ class MotionBatch:
     def to_dict(self) -> dict[str, Any]:
         from ..models.axis_motion import AxisMotion # noqa: PLC0415
         from ..models.circ_motion import CircMotion # noqa: PLC0415
+        from ..models.dwell_action import DwellAction # noqa: PLC0415
         from ..models.lin_motion import LinMotion # noqa: PLC0415
         from ..models.ptp_motion import PtpMotion # noqa: PLC0415
         from ..models.scirc_motion import ScircMotion # noqa: PLC0415
+        from ..models.set_output_action import SetOutputAction # noqa: PLC0415
         from ..models.slin_motion import SlinMotion # noqa: PLC0415
         from ..models.spl_motion import SplMotion # noqa: PLC0415
         from ..models.sptp_motion import SptpMotion # noqa: PLC0415
+        from ..models.wait_input_action import WaitInputAction # noqa: PLC0415
         motions = []
         for motions_item_data in self.motions:
             motions_item: dict[str, Any]
@@ -83,6 +90,12 @@ class MotionBatch:
             elif isinstance(motions_item_data, ScircMotion):
                 motions_item = motions_item_data.to_dict()
             elif isinstance(motions_item_data, SptpMotion):
+                motions_item = motions_item_data.to_dict()
+            elif isinstance(motions_item_data, SplMotion):
+                motions_item = motions_item_data.to_dict()
+            elif isinstance(motions_item_data, SetOutputAction):
+                motions_item = motions_item_data.to_dict()
+            elif isinstance(motions_item_data, WaitInputAction):
                 motions_item = motions_item_data.to_dict()
             else:
                 motions_item = motions_item_data.to_dict()
@@ -132,17 +145,20 @@ class MotionBatch:
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
         from ..models.axis_motion import AxisMotion # noqa: PLC0415
         from ..models.circ_motion import CircMotion # noqa: PLC0415
+        from ..models.dwell_action import DwellAction # noqa: PLC0415
         from ..models.lin_motion import LinMotion # noqa: PLC0415
         from ..models.ptp_motion import PtpMotion # noqa: PLC0415
         from ..models.scirc_motion import ScircMotion # noqa: PLC0415
+        from ..models.set_output_action import SetOutputAction # noqa: PLC0415
         from ..models.slin_motion import SlinMotion # noqa: PLC0415
         from ..models.spl_motion import SplMotion # noqa: PLC0415
         from ..models.sptp_motion import SptpMotion # noqa: PLC0415
+        from ..models.wait_input_action import WaitInputAction # noqa: PLC0415
         d = dict(src_dict)
         motions = []
         _motions = d.pop("motions")
         for motions_item_data in (_motions):
-            def _parse_motions_item(data: object) -> AxisMotion | CircMotion | LinMotion | PtpMotion | ScircMotion | SlinMotion | SplMotion | SptpMotion:
+            def _parse_motions_item(data: object) -> AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpMotion | WaitInputAction:
                 try:
                     if not isinstance(data, dict):
                         raise TypeError()
@@ -213,13 +229,43 @@ class MotionBatch:
                     return componentsschemas_motion_request_type_6
                 except (TypeError, ValueError, AttributeError, KeyError):
                     pass
+                try:
+                    if not isinstance(data, dict):
+                        raise TypeError()
+                    componentsschemas_motion_request_type_7 = SplMotion.from_dict(data)
+
+
+
+                    return componentsschemas_motion_request_type_7
+                except (TypeError, ValueError, AttributeError, KeyError):
+                    pass
+                try:
+                    if not isinstance(data, dict):
+                        raise TypeError()
+                    componentsschemas_motion_request_type_8 = SetOutputAction.from_dict(data)
+
+
+
+                    return componentsschemas_motion_request_type_8
+                except (TypeError, ValueError, AttributeError, KeyError):
+                    pass
+                try:
+                    if not isinstance(data, dict):
+                        raise TypeError()
+                    componentsschemas_motion_request_type_9 = WaitInputAction.from_dict(data)
+
+
+
+                    return componentsschemas_motion_request_type_9
+                except (TypeError, ValueError, AttributeError, KeyError):
+                    pass
                 if not isinstance(data, dict):
                     raise TypeError()
-                componentsschemas_motion_request_type_7 = SplMotion.from_dict(data)
+                componentsschemas_motion_request_type_10 = DwellAction.from_dict(data)
 
 
 
-                return componentsschemas_motion_request_type_7
+                return componentsschemas_motion_request_type_10
 
             motions_item = _parse_motions_item(motions_item_data)
 

@@ -25,7 +25,8 @@ class PlannedMotion:
     """ One motion of a [`JobPlan`].
 
         Attributes:
-            type_ (str): `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp` or `spl`.
+            type_ (str): `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp`, `spl`,
+                or an action (`set_output`, `wait_input`, `dwell`: no target).
             aux (list[float] | None | Unset): Auxiliary point `[x, y, z]` of a `circ` or `scirc`.
             axes (list[float] | None | Unset): Target axis angles A1..A6 of a `ptp_axes`.
             left (int | None | Unset): Of an `spl`: the points of its spline block from this one to the
