@@ -68,6 +68,7 @@ fn target(m: &Motion) -> Pose {
         | MotionKind::Circ { target, .. }
         | MotionKind::Spl { target, .. } => *target,
         MotionKind::PtpAxes { .. } => panic!("axis motion"),
+        MotionKind::Hold { .. } | MotionKind::Mark => panic!("not a motion"),
     }
 }
 
