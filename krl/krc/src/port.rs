@@ -38,6 +38,13 @@ pub(crate) enum Msg {
     Discard,
     /// `CWRITE($CMD, …)`.
     Command(String),
+    /// `PULSE`: set `signal[index]` to `restore` at `until_ms`.
+    Pulse {
+        signal: String,
+        index: i64,
+        restore: bool,
+        until_ms: i64,
+    },
     /// The interpreter's routine ended (or failed, or was cancelled).
     Ended {
         who: Who,
@@ -180,6 +187,15 @@ impl Host for Port {
                 self.passes_this_cycle += 1;
             }
         }
+    }
+
+    fn pulse(&mut self, signal: &str, index: i64, restore: bool, until_ms: i64) {
+        let _ = self.tx.send(Msg::Pulse {
+            signal: signal.to_string(),
+            index,
+            restore,
+            until_ms,
+        });
     }
 
     fn file_call(&mut self, function: &str) {

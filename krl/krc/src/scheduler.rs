@@ -111,7 +111,23 @@ pub(crate) struct Scheduler {
     pub(crate) trace: VecDeque<KrcTraceSample>,
     /// The robot moved in the last cycle.
     was_moving: bool,
+    /// Running `PULSE`s: signal, index, the level it returns to, and when
+    /// (controller ms).
+    pulses: Vec<Pulse>,
 }
+
+/// A running `PULSE` of a signal.
+#[derive(Debug, Clone, PartialEq)]
+struct Pulse {
+    signal: String,
+    index: i64,
+    restore: bool,
+    until_ms: i64,
+}
+
+/// The controller timers `$TIMER[1..64]` (ms), `$TIMER_STOP[]` and
+/// `$TIMER_FLAG[]` (KSS 8.x has 64; unconfirmed for every version).
+const TIMERS: i64 = 64;
 
 /// One cycle of the executed path.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -162,6 +178,7 @@ impl Scheduler {
             stopmess: false,
             trace: VecDeque::new(),
             was_moving: false,
+            pulses: Vec::new(),
         })
     }
 
@@ -315,6 +332,23 @@ impl Scheduler {
                 Msg::Motion { step, triggers } => self.exec.queue(step, triggers),
                 Msg::Discard => self.exec.discard(),
                 Msg::Command(c) => self.commands.push_back(c),
+                Msg::Pulse {
+                    signal,
+                    index,
+                    restore,
+                    until_ms,
+                } => {
+                    // A new pulse of the same signal replaces the one
+                    // running (its end is the new one's).
+                    self.pulses
+                        .retain(|p| !(p.signal == signal && p.index == index));
+                    self.pulses.push(Pulse {
+                        signal,
+                        index,
+                        restore,
+                        until_ms,
+                    });
+                }
                 Msg::Yield {
                     vars,
                     wait,
@@ -595,12 +629,46 @@ impl Scheduler {
             v.ensure_bools("$IN", 4096, false);
             v.ensure_bools("$OUT", 4096, false);
         }
+        // The controller timers: stopped at 0 after a cold start.
+        v.ensure_ints("$TIMER", TIMERS as usize, 0);
+        v.ensure_bools("$TIMER_STOP", TIMERS as usize, true);
+        v.ensure_bools("$TIMER_FLAG", TIMERS as usize, true);
+        // Pulses whose time is over return to their other level.
+        self.pulses.retain(|p| {
+            if t < p.until_ms {
+                return true;
+            }
+            v.set_bool_element(&p.signal, p.index, p.restore);
+            false
+        });
+    }
+
+    /// One cycle of the controller timers: every `$TIMER[n]` whose
+    /// `$TIMER_STOP[n]` is FALSE counts `ms` on; `$TIMER_FLAG[n]` is
+    /// `$TIMER[n] >= 0`.
+    fn count_timers(&mut self, ms: i64) {
+        let Some(v) = self.vars.as_mut() else {
+            return;
+        };
+        for n in 1..=TIMERS {
+            if v.bool("$TIMER_STOP", &[n]) != Some(false) {
+                continue;
+            }
+            let Some(t) = v.int("$TIMER", &[n]) else {
+                continue;
+            };
+            let t = t.saturating_add(ms).min(i64::from(i32::MAX));
+            v.set_int_element("$TIMER", n, t);
+            v.set_bool_element("$TIMER_FLAG", n, t >= 0);
+        }
     }
 
     /// One interpreter cycle.
     pub(crate) fn cycle(&mut self) {
         let dt = self.config.cycle.as_secs_f64();
-        self.t_ms += (dt * 1000.0).round() as i64;
+        let dt_ms = (dt * 1000.0).round() as i64;
+        self.t_ms += dt_ms;
+        self.count_timers(dt_ms);
         self.counters.cycles += 1;
         if !self.exec.moving() {
             self.counters.standstill_cycles += 1;

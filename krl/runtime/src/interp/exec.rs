@@ -342,6 +342,8 @@ impl<'a> Interp<'a> {
             self.swrite(args)?;
         } else if self.harness.is_some() && name.eq_ignore_ascii_case("SREAD") {
             self.sread(args)?;
+        } else if self.hosted.is_some() && name.eq_ignore_ascii_case("PULSE") {
+            self.pulse(args)?;
         } else if self.harness.is_some() && name.eq_ignore_ascii_case("ERR_CLEAR") {
             match args {
                 [Expr::Var(v)] if v.eq_ignore_ascii_case("$ERR") => {

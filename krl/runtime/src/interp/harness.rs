@@ -202,6 +202,31 @@ impl Globals {
         }
     }
 
+    /// Sets an element of an INT array (1-based, as `$TIMER[3]`); false
+    /// when the array or the element does not exist.
+    pub fn set_int_element(&mut self, name: &str, index: i64, v: i64) -> bool {
+        match self.vars.get_mut(&name.to_ascii_uppercase()) {
+            Some(Value::Array(dims, items)) => match flat_index(dims, &[index])
+                .ok()
+                .and_then(|k| items.get_mut(k))
+            {
+                Some(slot @ Value::Int(_)) => {
+                    *slot = Value::Int(v);
+                    true
+                }
+                _ => false,
+            },
+            _ => false,
+        }
+    }
+
+    /// Sets an INT array of `len` elements, all `v`, unless it exists.
+    pub fn ensure_ints(&mut self, name: &str, len: usize, v: i64) {
+        self.vars
+            .entry(name.to_ascii_uppercase())
+            .or_insert_with(|| Value::Array(vec![len], vec![Value::Int(v); len]));
+    }
+
     /// Sets a BOOL array of `len` elements, all `v`, unless it exists.
     pub fn ensure_bools(&mut self, name: &str, len: usize, v: bool) {
         self.vars

@@ -22,6 +22,8 @@
 //! handlers of lower priority wait), `RESUME` (ends every routine above the
 //! one that declared the running interrupt; the motions planned ahead are
 //! discarded), `TRIGGER WHEN DISTANCE|PATH` (attached to the next motion),
+//! `PULSE(signal, level, seconds)` (the signal is set now; the host sets it
+//! back to the other level when the time is over: [`Host::pulse`]),
 //! and everything of the test harness ([`run_with_files`](super::run_with_files)):
 //! `CWRITE($FCT_CALL, …)` on the host's folder, `ON_ERROR_PROCEED`, `$ERR`.
 
@@ -29,7 +31,7 @@ use kuka_krl::{Expr, Stmt};
 
 use super::harness::Globals;
 use super::values::{Value, axis_value, pose_of};
-use super::{Interp, RunError, Step};
+use super::{Interp, RunError, Step, describe};
 
 /// Why the interpreter waits.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -104,6 +106,12 @@ pub trait Host {
     /// `krl_fgets` …, as written in the program), for the host's
     /// statistics (file operations per motion).
     fn file_call(&mut self, _function: &str) {}
+    /// `PULSE(signal[index], level, t)`: the program has set the element
+    /// `index` of the BOOL array `signal` (`$OUT`) to `level`; the host
+    /// sets it to `restore` (the other level) once its clock
+    /// (`$ROB_TIMER`, ms) reaches `until_ms`, whatever the program does
+    /// meanwhile. A host without a clock leaves the signal as it is.
+    fn pulse(&mut self, _signal: &str, _index: i64, _restore: bool, _until_ms: i64) {}
 }
 
 /// A declared interrupt.
@@ -429,6 +437,50 @@ impl<'a> Interp<'a> {
         let pos = self.pos_act();
         self.globals.insert("$POS_ACT".into(), pos);
         self.globals.insert("$AXIS_ACT".into(), axis_value(&axes));
+        Ok(())
+    }
+
+    /// `PULSE(signal, level, seconds)` in hosted mode: an element of a
+    /// BOOL system array (`$OUT[n]`) is set to `level` now, and the host
+    /// sets it back after `seconds` ([`Host::pulse`]).
+    pub(super) fn pulse(&mut self, args: &[Expr]) -> Result<(), RunError> {
+        let [signal, level, time] = args else {
+            return Err(self.err("PULSE takes a signal, a level and a time"));
+        };
+        let level = self.eval_bool(level)?;
+        let seconds = self.eval_num(time)?;
+        if !(seconds > 0.0 && seconds.is_finite()) {
+            return Err(self.err(format!("PULSE: the time {seconds} s must be positive")));
+        }
+        let place = self.place_of(signal)?;
+        let target = match &place {
+            Some(super::vars::Place {
+                root: super::vars::Root::Global(n),
+                path,
+                ..
+            }) if n.starts_with('$') => match path.as_slice() {
+                [super::values::PathElem::Index(ix)] if ix.len() == 1 => Some((n.clone(), ix[0])),
+                _ => None,
+            },
+            _ => None,
+        };
+        let (Some(place), Some((name, index))) = (place, target) else {
+            return Err(self.err(format!(
+                "PULSE: {} is not a signal such as $OUT[n]",
+                describe(signal)
+            )));
+        };
+        self.write_place(&place, Value::Bool(level))?;
+        let now = self
+            .globals
+            .get("$ROB_TIMER")
+            .and_then(|v| v.int().ok())
+            .unwrap_or(0);
+        let until = now + (seconds * 1000.0).round() as i64;
+        self.with_host(|h, _| {
+            h.pulse(&name, index, !level, until);
+            Ok(Turn::default())
+        })?;
         Ok(())
     }
 
