@@ -363,7 +363,8 @@ fn doc_batch() -> CommandFile {
 }
 
 /// A batch with extreme values: the largest CID, ±9999.999, ±0.001,
-/// Status/Turn set and not set.
+/// Status/Turn set and not set, and the actions SOT/WIN/DWL at the ends
+/// of their ranges.
 fn edge_batch() -> CommandFile {
     CommandFile {
         cid: 2_147_483_647,
@@ -414,6 +415,29 @@ fn edge_batch() -> CommandFile {
                 target: frame(-5.5, 6.25, -7.125, 45.0, -45.0, 90.0),
                 params: params(0.001, 50.0, 0.5),
             },
+            // The actions (PROTOCOL.md 5.6) at the ends of their ranges,
+            // between two motions and after the last one.
+            MotionRecord::SetOutput {
+                index: 4096,
+                value: true,
+                pulse_ms: 60_000,
+            },
+            MotionRecord::SetOutput {
+                index: 1,
+                value: false,
+                pulse_ms: 0,
+            },
+            MotionRecord::WaitInput {
+                index: 4096,
+                value: false,
+                timeout_ms: 600_000,
+            },
+            MotionRecord::WaitInput {
+                index: 1,
+                value: true,
+                timeout_ms: 1,
+            },
+            MotionRecord::Dwell { ms: 0 },
             MotionRecord::Spl {
                 target: frame(-9999.999, 1.0, 2.0, 3.0, 4.0, 5.0),
                 params: params(1.5, 75.0, 3.0),
@@ -424,6 +448,7 @@ fn edge_batch() -> CommandFile {
                 params: params(1.5, 75.0, 9999.999),
                 left: 1,
             },
+            MotionRecord::Dwell { ms: 600_000 },
         ]),
     }
 }
@@ -618,6 +643,30 @@ fn command_records(cmd: &CommandFile) -> Vec<(&'static str, Vec<Val>)> {
                         v.extend(params_vals(params));
                         v.push(Val::I(i64::from(*left)));
                         "SPL"
+                    }
+                    MotionRecord::SetOutput {
+                        index,
+                        value,
+                        pulse_ms,
+                    } => {
+                        v.push(Val::I(i64::from(*index)));
+                        v.push(Val::I(i64::from(*value)));
+                        v.push(Val::I(i64::from(*pulse_ms)));
+                        "SOT"
+                    }
+                    MotionRecord::WaitInput {
+                        index,
+                        value,
+                        timeout_ms,
+                    } => {
+                        v.push(Val::I(i64::from(*index)));
+                        v.push(Val::I(i64::from(*value)));
+                        v.push(Val::I(i64::from(*timeout_ms)));
+                        "WIN"
+                    }
+                    MotionRecord::Dwell { ms } => {
+                        v.push(Val::I(i64::from(*ms)));
+                        "DWL"
                     }
                 };
                 body.push((tag, v));
@@ -830,8 +879,8 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(
         tags,
         [
-            "APD", "CIR", "CMD", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP", "SCI", "SLN",
-            "SPD", "SPL", "SPT"
+            "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP", "SCI",
+            "SLN", "SOT", "SPD", "SPL", "SPT", "WIN"
         ],
         "the samples cover every command record"
     );
@@ -854,6 +903,9 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(formats["SPD"], one(5, 0b1_1111));
     assert_eq!(formats["PRG"], one(1, 0));
     assert_eq!(formats["APD"], one(3, 0));
+    assert_eq!(formats["SOT"], one(4, 0));
+    assert_eq!(formats["WIN"], one(4, 0));
+    assert_eq!(formats["DWL"], one(2, 0));
     // The files the KRL program reads back at start (KsRecover) in the
     // shapes the Rust encoder writes them.
     let results = sample_results(3).encode().expect("encodes");
@@ -879,8 +931,8 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(
         tags,
         BTreeSet::from([
-            "APD", "CIR", "CMD", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP", "RES", "RSL",
-            "SCI", "SLN", "SPD", "SPL", "SPT", "STA"
+            "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP", "RES",
+            "RSL", "SCI", "SLN", "SOT", "SPD", "SPL", "SPT", "STA", "WIN"
         ]),
         "kb_submit.src parses exactly the protocol's records"
     );
@@ -1389,6 +1441,29 @@ fn state(files: &BTreeMap<String, String>) -> StateFile {
 fn assert_motion(g: &Globals, i: usize, m: &MotionRecord) {
     let int = |f: &str| g.int_at(&format!("kb_mot[{i}].{f}"));
     let real = |f: &str| g.real_at(&format!("kb_mot[{i}].{f}"));
+    // The actions: K 9 SOT, 10 WIN, 11 DWL; S = index, T = value, N = ms.
+    let action = match m {
+        MotionRecord::SetOutput {
+            index,
+            value,
+            pulse_ms,
+        } => Some((9, i64::from(*index), i64::from(*value), *pulse_ms)),
+        MotionRecord::WaitInput {
+            index,
+            value,
+            timeout_ms,
+        } => Some((10, i64::from(*index), i64::from(*value), *timeout_ms)),
+        MotionRecord::Dwell { ms } => Some((11, 0, 0, *ms)),
+        _ => None,
+    };
+    if let Some((k, s, t, n)) = action {
+        let ctx = format!("kb_mot[{i}] for {m:?}");
+        assert_eq!(int("K"), Some(k), "{ctx}");
+        assert_eq!(int("S"), Some(s), "{ctx}");
+        assert_eq!(int("T"), Some(t), "{ctx}");
+        assert_eq!(int("N"), Some(i64::from(n)), "{ctx}");
+        return;
+    }
     let (k, s, t, six, aux, p) = match m {
         MotionRecord::Ptp {
             target,
@@ -1432,6 +1507,9 @@ fn assert_motion(g: &Globals, i: usize, m: &MotionRecord) {
         MotionRecord::Spl { target, params, .. } => {
             (8, -1, -1, target.to_array(), [0.0; 3], params)
         }
+        MotionRecord::SetOutput { .. }
+        | MotionRecord::WaitInput { .. }
+        | MotionRecord::Dwell { .. } => unreachable!("actions are checked above"),
     };
     assert_eq!(
         int("N"),
