@@ -2,7 +2,8 @@
 //! KRC-like runtime: statements per pass of the Submit loop, file
 //! operations per motion, standstill before a MOVE (1 and 4 motions, the
 //! most the service sends as a MOVE) starts to move, round trip per
-//! command. The figures go to docs/BENCHMARKS.md §8.
+//! command, a MOVE with I/O actions (SOT, DWL). The figures go to
+//! docs/BENCHMARKS.md §8.
 //!
 //! ```text
 //! cargo run --release -p kuka-krc --example submit_cost [-- --cycle-ms 12 --budget 500]
@@ -172,6 +173,53 @@ fn main() -> anyhow::Result<()> {
             (file_ops(&after) - file_ops(&before)) as f64 / n as f64,
         );
     }
+    // A MOVE of 4 records with actions (PROTOCOL.md 5.6): LIN, SOT, DWL
+    // 50 ms, LIN, 5 mm each, as in a pick: the Submit side parses the
+    // action lines like motion lines (4 INT fields), kb_main stops for the
+    // dwell. The longest pass before and after it tells whether a pass
+    // reading actions costs more than one reading 4 LINs.
+    let lin = |dx: f64, apo: f64| MotionRecord::Lin {
+        target: Frame {
+            x: home.x + dx,
+            y: home.y,
+            z: home.z,
+            a: home.a,
+            b: home.b,
+            c: home.c,
+        },
+        params: MotionParams {
+            velocity: 0.2,
+            acceleration_pct: 100.0,
+            approx_mm: apo,
+        },
+    };
+    let actions = vec![
+        lin(5.0, 2.0),
+        MotionRecord::SetOutput {
+            index: 1,
+            value: true,
+            pulse_ms: 0,
+        },
+        MotionRecord::Dwell { ms: 50 },
+        lin(0.0, 0.0),
+    ];
+    cid += 1;
+    let before = krc.stats();
+    let t = send(&krc, dir.path(), cid, Command::Move(actions))?;
+    let (seen, code) = result(&krc, dir.path(), cid)?;
+    let after = krc.stats();
+    if code != ResultCode::Ok {
+        bail!("MOVE with actions answered {code:?}: {:?}", krc.snapshot());
+    }
+    println!(
+        "MOVE of LIN, SOT, DWL 50 ms, LIN: whole round trip {:>6} ms, moving {:>6.0} ms, \
+         chains {}; longest Submit pass before {} statements, after {}",
+        seen - t,
+        (after.moving_s - before.moving_s) * 1000.0,
+        after.chains_started - before.chains_started,
+        before.pass_statements_max,
+        after.pass_statements_max,
+    );
     let s = krc.stats();
     println!(
         "Submit passes: {} (statements/pass p50 {}, p99 {}, max {}); passes over the budget: {}",

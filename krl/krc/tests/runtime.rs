@@ -404,7 +404,14 @@ fn a_damaged_line_in_a_path_ends_it_after_the_motions_before_it() {
 #[test]
 fn a_path_is_read_a_few_lines_per_pass_within_the_budget() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let krc = start_with(dir.path(), |c| c.submit_budget = 5000);
+    // The clock paced at 5x real time: the test thread, which sends each
+    // APPEND after the answer to the one before as the service does, keeps
+    // up with the robot on a loaded host (at the instant scale a test
+    // thread descheduled for a few ms let the robot run out of motions).
+    let krc = start_with(dir.path(), |c| {
+        c.submit_budget = 5000;
+        c.time_scale = 5.0;
+    });
     assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
     // Away from the home pose's wrist singularity (A5 = 0) first.
     let r = round_trip(
@@ -780,7 +787,14 @@ fn a_batch_of_spline_motions_runs_with_c_spl_and_reports_each_motion() {
 #[test]
 fn a_streamed_path_stores_spline_blocks_whole_within_the_budget() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let krc = start_with(dir.path(), |c| c.submit_budget = 5000);
+    // The clock paced at 5x real time: the test thread, which sends each
+    // APPEND after the answer to the one before as the service does, keeps
+    // up with the robot on a loaded host (at the instant scale a test
+    // thread descheduled for a few ms let the robot run out of motions).
+    let krc = start_with(dir.path(), |c| {
+        c.submit_budget = 5000;
+        c.time_scale = 5.0;
+    });
     assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
     let p = away_from_home(&krc, dir.path(), 1);
     let mut motions = Vec::new();
@@ -993,5 +1007,430 @@ fn a_malformed_spline_block_is_a_bad_command() {
     .expect("encodes");
     let r = round_trip_text(&krc, dir.path(), 4, &damage(&text), 20);
     assert_eq!((r.code, r.completed), (ResultCode::BadCommand, 1), "{r:?}");
+    krc.shutdown();
+}
+
+// ------------------------------------------------------------------
+// I/O actions in a motion sequence (PROTOCOL.md 5.6): SOT, WIN, DWL.
+// ------------------------------------------------------------------
+
+/// The state file, when it decodes now (the KRL program rewrites it in
+/// place over several cycles: a read may catch it half-written).
+fn read_state(dir: &Path) -> Option<kuka_protocol::StateFile> {
+    std::fs::read_to_string(dir.join(STATE_FILE))
+        .ok()
+        .and_then(|t| kuka_protocol::StateFile::decode(&t).ok())
+}
+
+/// Waits (in simulated time) until the state file shows command `cid`
+/// busy at record `index`; the state then.
+fn wait_busy_at(krc: &KrcController, dir: &Path, cid: i32, index: u32) -> kuka_protocol::StateFile {
+    let mut seen = None;
+    let done = krc.wait_until(Duration::from_secs(30), |_| {
+        seen = read_state(dir).filter(|s| s.busy_cid == cid && s.busy_index == index);
+        seen.is_some()
+    });
+    assert!(
+        done,
+        "CID {cid} never busy at {index}: {:?}\n{:?}",
+        read_state(dir),
+        krc.snapshot()
+    );
+    seen.expect("seen")
+}
+
+fn sot(index: u16, value: bool, pulse_ms: u32) -> MotionRecord {
+    MotionRecord::SetOutput {
+        index,
+        value,
+        pulse_ms,
+    }
+}
+
+fn win(index: u16, value: bool, timeout_ms: u32) -> MotionRecord {
+    MotionRecord::WaitInput {
+        index,
+        value,
+        timeout_ms,
+    }
+}
+
+fn lin_to(p: Frame, dx: f64, apo: f64) -> MotionRecord {
+    MotionRecord::Lin {
+        target: offset(p, dx, 0.0, 0.0),
+        params: cp(0.1, apo),
+    }
+}
+
+/// LIN (approximated), SOT, SOT (a pulse), LIN: both outputs switch
+/// together where the second LIN starts (at the approximation, the robot
+/// moving), not when the batch starts and not at its end; the two LINs
+/// still blend (one chain of motion, the only stop at the end); the
+/// pulse (PULSE in the trigger routine) ends by itself.
+#[test]
+fn an_output_between_two_blended_lins_switches_as_the_second_starts() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // Real time: the test reads the outputs between cycles.
+    let krc = start_with(dir.path(), |c| c.time_scale = 1.0);
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let p = away_from_home(&krc, dir.path(), 1);
+    assert_eq!(krc.bool_element("$OUT", 7), Some(false));
+    let batch = vec![
+        lin_to(p, 40.0, 5.0),
+        sot(7, true, 0),
+        sot(8, true, 300),
+        lin_to(p, 80.0, 0.0),
+    ];
+    let before = krc.stats();
+    krc.clear_trace();
+    let text = CommandFile {
+        cid: 2,
+        command: Command::Move(batch),
+    }
+    .encode()
+    .expect("encodes");
+    write_command(&krc, dir.path(), &text);
+    // The X of the TCP in the cycle the outputs first read TRUE, and
+    // whether the robot was moving then.
+    let mut at = None;
+    let switched = krc.wait_until(Duration::from_secs(20), |snap| {
+        let (o7, o8) = (krc.bool_element("$OUT", 7), krc.bool_element("$OUT", 8));
+        if o7 == Some(true) {
+            at = Some((snap.pose[0], snap.moving, o8));
+        }
+        at.is_some()
+    });
+    assert!(switched, "{:?}", krc.snapshot());
+    let r = wait_result(&krc, dir.path(), 2, 20);
+    assert_eq!((r.code, r.completed), (ResultCode::Ok, 4), "{r:?}");
+    let (x, moving, o8) = at.expect("switched");
+    assert!(moving, "switched while the robot moves");
+    assert_eq!(o8, Some(true), "the two SOTs switch together");
+    // Where the second LIN starts: the blend around p + 40 (5 mm), plus
+    // a few cycles of reading late at 0.1 m/s.
+    assert!(
+        (x - (p.x + 40.0)).abs() < 8.0,
+        "switched at x {x:.1}, the LINs meet at {:.1}",
+        p.x + 40.0
+    );
+    let after = krc.stats();
+    assert_eq!(after.motions_done - before.motions_done, 2, "{after:?}");
+    assert_eq!(
+        after.chains_started - before.chains_started,
+        1,
+        "no stop between the LINs: {after:?}"
+    );
+    let stops = krc.trace().iter().filter(|s| s.stop).count();
+    assert_eq!(stops, 1, "one stop, at the end");
+    // The pulse returns to FALSE after 300 ms; the plain output stays.
+    assert!(
+        krc.wait_until(Duration::from_secs(5), |_| krc.bool_element("$OUT", 8)
+            == Some(false)),
+        "the pulse ended"
+    );
+    assert_eq!(krc.bool_element("$OUT", 7), Some(true));
+    krc.shutdown();
+}
+
+/// LIN, WIN, LIN: the robot stops at the end of the first LIN and waits
+/// with busy_idx at the WIN; the input set then lets the batch go on.
+#[test]
+fn a_wait_for_an_input_goes_on_when_the_input_comes() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let p = away_from_home(&krc, dir.path(), 1);
+    let before = krc.stats();
+    let text = CommandFile {
+        cid: 2,
+        command: Command::Move(vec![
+            lin_to(p, 20.0, 5.0),
+            win(5, true, 600_000),
+            lin_to(p, 40.0, 0.0),
+        ]),
+    }
+    .encode()
+    .expect("encodes");
+    write_command(&krc, dir.path(), &text);
+    let s = wait_busy_at(&krc, dir.path(), 2, 1);
+    assert!((s.position.x - (p.x + 20.0)).abs() < 0.01, "{s:?}");
+    let snap = krc.snapshot();
+    assert!(!snap.moving, "the robot waits standing: {snap:?}");
+    assert!(krc.set_bool_element("$IN", 5, true));
+    let r = wait_result(&krc, dir.path(), 2, 20);
+    assert_eq!((r.code, r.completed), (ResultCode::Ok, 3), "{r:?}");
+    assert!((r.position.x - (p.x + 40.0)).abs() < 0.01, "{r:?}");
+    let after = krc.stats();
+    assert_eq!(after.motions_done - before.motions_done, 2, "{after:?}");
+    assert_eq!(
+        after.chains_started - before.chains_started,
+        2,
+        "the WIN stops the robot between the LINs (apo 5 or not): {after:?}"
+    );
+    krc.shutdown();
+}
+
+/// LIN, WIN (500 ms), LIN with the input never coming: INPUT_TIMEOUT
+/// (25) with done = the WIN's index once the timeout has passed; the robot
+/// stands at the end of the first LIN; the second never ran.
+#[test]
+fn a_wait_for_an_input_that_does_not_come_ends_with_input_timeout() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let p = away_from_home(&krc, dir.path(), 1);
+    let before = krc.stats();
+    krc.clear_trace();
+    let r = round_trip(
+        &krc,
+        dir.path(),
+        2,
+        Command::Move(vec![
+            lin_to(p, 20.0, 0.0),
+            win(6, true, 500),
+            lin_to(p, 40.0, 0.0),
+        ]),
+        20,
+    );
+    let answered_s = krc.snapshot().time_ms as f64 / 1000.0;
+    assert_eq!(
+        (r.code, r.completed),
+        (ResultCode::InputTimeout, 1),
+        "{r:?}"
+    );
+    assert!((r.position.x - (p.x + 20.0)).abs() < 0.01, "{r:?}");
+    let after = krc.stats();
+    assert_eq!(after.motions_done - before.motions_done, 1, "{after:?}");
+    let stop = krc
+        .trace()
+        .iter()
+        .rfind(|s| s.stop)
+        .map(|s| s.t)
+        .expect("a stop");
+    assert!(
+        answered_s >= stop + 0.5,
+        "answered at {answered_s:.3} s, the robot stopped at {stop:.3} s"
+    );
+    let snap = krc.snapshot();
+    assert!(!snap.moving && (snap.pose[0] - (p.x + 20.0)).abs() < 0.01);
+    // The program goes on with the next command.
+    let r = round_trip(&krc, dir.path(), 3, Command::GetPosition, 5);
+    assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+    krc.shutdown();
+}
+
+/// LIN, DWL 800 ms, LIN: the robot stands 800 ms (simulated clock) at the
+/// end of the first LIN, with busy_idx at the DWL.
+#[test]
+fn a_dwell_stands_for_its_time() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // Paced at 10x real time: the 800 ms dwell lasts 80 ms of wall time,
+    // long enough for the test to see busy_idx at it.
+    let krc = start_with(dir.path(), |c| c.time_scale = 10.0);
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let p = away_from_home(&krc, dir.path(), 1);
+    krc.clear_trace();
+    let text = CommandFile {
+        cid: 2,
+        command: Command::Move(vec![
+            lin_to(p, 20.0, 5.0),
+            MotionRecord::Dwell { ms: 800 },
+            lin_to(p, 40.0, 0.0),
+        ]),
+    }
+    .encode()
+    .expect("encodes");
+    write_command(&krc, dir.path(), &text);
+    wait_busy_at(&krc, dir.path(), 2, 1);
+    let r = wait_result(&krc, dir.path(), 2, 20);
+    assert_eq!((r.code, r.completed), (ResultCode::Ok, 3), "{r:?}");
+    let trace: Vec<_> = krc.trace().into_iter().filter(|s| s.cid == 2).collect();
+    let k = trace
+        .iter()
+        .position(|s| s.stop)
+        .expect("a stop after the first LIN");
+    let standstill = trace[k + 1].t - trace[k].t;
+    assert!(
+        (0.8..0.9).contains(&standstill),
+        "stood {standstill:.3} s at {:?}",
+        trace[k].pose
+    );
+    krc.shutdown();
+}
+
+/// A STOP while a WIN waits: the command ends CANCELLED with done = the
+/// WIN's index (interrupt 20 brakes and RESUMEs out of the WAIT FOR), the
+/// motion after it never runs, and the program takes the next command.
+#[test]
+fn a_stop_during_a_wait_for_an_input_cancels_the_command() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let p = away_from_home(&krc, dir.path(), 1);
+    let text = CommandFile {
+        cid: 2,
+        command: Command::Move(vec![
+            lin_to(p, 20.0, 0.0),
+            win(7, true, 600_000),
+            lin_to(p, 40.0, 0.0),
+        ]),
+    }
+    .encode()
+    .expect("encodes");
+    write_command(&krc, dir.path(), &text);
+    wait_busy_at(&krc, dir.path(), 2, 1);
+    let stop = round_trip(&krc, dir.path(), 3, Command::Stop, 5);
+    assert_eq!(stop.code, ResultCode::Ok, "{stop:?}");
+    let r = wait_result(&krc, dir.path(), 2, 5);
+    assert_eq!((r.code, r.completed), (ResultCode::Cancelled, 1), "{r:?}");
+    assert!((r.position.x - (p.x + 20.0)).abs() < 0.01, "{r:?}");
+    // The input comes later: nothing moves any more.
+    assert!(krc.set_bool_element("$IN", 7, true));
+    let r = round_trip(
+        &krc,
+        dir.path(),
+        4,
+        Command::Move(vec![lin_to(p, 10.0, 0.0)]),
+        20,
+    );
+    assert_eq!((r.code, r.completed), (ResultCode::Ok, 1), "{r:?}");
+    assert!((r.position.x - (p.x + 10.0)).abs() < 0.01, "{r:?}");
+    assert!(krc.snapshot().robot_errors.is_empty());
+    krc.shutdown();
+}
+
+/// Actions in a path, sent piece by piece: PATH (LIN, SOT, LIN), APPEND
+/// (WIN, LIN), APPEND (SOT, close). The actions count as records (the
+/// stored counts 3, 5, 6; busy_idx at the WIN), the first SOT switches
+/// when the second LIN starts, the last once the path's motions have
+/// ended, and the path ends OK with done = 6.
+#[test]
+fn actions_in_a_streamed_path_count_as_records() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let p = away_from_home(&krc, dir.path(), 1);
+    let path = 20;
+    let open = CommandFile {
+        cid: path,
+        command: Command::OpenPath(PathChunk {
+            path,
+            first: 0,
+            motions: vec![lin_to(p, 20.0, 5.0), sot(9, true, 0), lin_to(p, 40.0, 5.0)],
+            close: false,
+        }),
+    }
+    .encode()
+    .expect("encodes");
+    write_command(&krc, dir.path(), &open);
+    assert!(krc.wait_until(Duration::from_secs(10), |_| {
+        read_state(dir.path()).is_some_and(|s| s.busy_cid == path)
+    }));
+    let r = round_trip(
+        &krc,
+        dir.path(),
+        21,
+        Command::Append(PathChunk {
+            path,
+            first: 3,
+            motions: vec![win(9, true, 600_000), lin_to(p, 60.0, 0.0)],
+            close: false,
+        }),
+        10,
+    );
+    assert_eq!((r.code, r.completed), (ResultCode::Ok, 5), "{r:?}");
+    let r = round_trip(
+        &krc,
+        dir.path(),
+        22,
+        Command::Append(PathChunk {
+            path,
+            first: 5,
+            motions: vec![sot(10, true, 0)],
+            close: true,
+        }),
+        10,
+    );
+    assert_eq!((r.code, r.completed), (ResultCode::Ok, 6), "{r:?}");
+    // (A state written before the last APPEND was read still says 5.)
+    assert!(
+        krc.wait_until(Duration::from_secs(30), |_| read_state(dir.path())
+            .is_some_and(|s| s.busy_cid == path && s.stored == 6)),
+        "{:?}",
+        read_state(dir.path())
+    );
+    let s = wait_busy_at(&krc, dir.path(), path, 3);
+    assert_eq!((s.stored, s.room), (6, 200 - (6 - 3)), "{s:?}");
+    assert!((s.position.x - (p.x + 40.0)).abs() < 0.01, "{s:?}");
+    assert_eq!(krc.bool_element("$OUT", 9), Some(true), "switched by LIN 2");
+    assert_eq!(krc.bool_element("$OUT", 10), Some(false), "not yet");
+    assert!(krc.set_bool_element("$IN", 9, true));
+    let r = wait_result(&krc, dir.path(), path, 20);
+    assert_eq!((r.code, r.completed), (ResultCode::Ok, 6), "{r:?}");
+    assert!((r.position.x - (p.x + 60.0)).abs() < 0.01, "{r:?}");
+    assert_eq!(krc.bool_element("$OUT", 10), Some(true));
+    krc.shutdown();
+}
+
+/// Action lines the service never sends: out of range (output 0, a
+/// timeout of 0, a dwell over 10 minutes), and an SOT inside a spline
+/// block. The program answers BAD_COMMAND (10) and nothing moves.
+#[test]
+fn a_malformed_action_is_a_bad_command() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let p = away_from_home(&krc, dir.path(), 1);
+    // Replaces field `f` after the index (1 = the first after `i`) of
+    // the first line with `tag` by `v`.
+    let damage = |text: &str, tag: &str, f: usize, v: &str| {
+        let line = text.lines().find(|l| l.starts_with(tag)).expect("tag");
+        let mut fields: Vec<&str> = line.split(' ').collect();
+        fields[f + 1] = v;
+        text.replace(line, &rechecksum(&fields.join(" ")))
+    };
+    let batch = |cid: i32, action: MotionRecord| {
+        CommandFile {
+            cid,
+            command: Command::Move(vec![lin_to(p, 20.0, 0.0), action]),
+        }
+        .encode()
+        .expect("encodes")
+    };
+    let cases = [
+        damage(&batch(2, sot(1, true, 0)), "SOT", 1, "0"),
+        damage(&batch(3, sot(1, true, 0)), "SOT", 2, "2"),
+        damage(&batch(4, sot(1, true, 0)), "SOT", 3, "60001"),
+        damage(&batch(5, win(1, true, 100)), "WIN", 3, "0"),
+        damage(&batch(6, win(1, true, 100)), "WIN", 1, "4097"),
+        damage(&batch(7, MotionRecord::Dwell { ms: 0 }), "DWL", 1, "600001"),
+    ];
+    for (k, text) in cases.iter().enumerate() {
+        let cid = 2 + k as i32;
+        let r = round_trip_text(&krc, dir.path(), cid, text, 10);
+        assert_eq!(r.code, ResultCode::BadCommand, "{text}\n{r:?}");
+        assert!((r.position.x - p.x).abs() < 0.01, "nothing moved: {r:?}");
+    }
+    // SPL (1 left), SOT, LIN -> SPL with 2 left: the SOT is inside the
+    // block.
+    let text = CommandFile {
+        cid: 10,
+        command: Command::Move(vec![
+            MotionRecord::Spl {
+                target: offset(p, 10.0, 0.0, 0.0),
+                params: cp(0.2, 0.0),
+                left: 1,
+            },
+            sot(1, true, 0),
+            lin_to(p, 20.0, 0.0),
+        ]),
+    }
+    .encode()
+    .expect("encodes");
+    let text = damage(&text, "SPL", 10, "2");
+    let r = round_trip_text(&krc, dir.path(), 10, &text, 10);
+    assert_eq!(r.code, ResultCode::BadCommand, "{text}\n{r:?}");
+    assert!((r.position.x - p.x).abs() < 0.01, "nothing moved: {r:?}");
+    assert_eq!(krc.bool_element("$OUT", 1), Some(false));
     krc.shutdown();
 }
