@@ -638,6 +638,7 @@ fn build_rust_plugins(out: &Path) {
     for (from, to) in [
         ("draw_circle.wasm", "draw-circle.wasm"),
         ("draw_smiley.wasm", "draw-smiley.wasm"),
+        ("pick_and_place.wasm", "pick-and-place.wasm"),
         ("misbehave.wasm", "misbehave.wasm"),
         ("bad_describe.wasm", "bad-describe.wasm"),
         ("other_world.wasm", "other-world.wasm"),

@@ -1316,3 +1316,183 @@ async fn removing_the_python_plugin_gives_its_memory_back() {
     )
     .await;
 }
+
+/// A cell for the pick-and-place plugin: the gripper on `$OUT[1]` (true =
+/// closed, the only writable output), the part-present sensor on `$IN[3]`,
+/// both watched.
+async fn pick_and_place_cell() -> TestService {
+    use kuka_bridge::io::{IoConfig, SignalConfig};
+    let signal = |name: &str, index| SignalConfig {
+        name: name.into(),
+        index,
+        pulse_ms: 0,
+        watch: true,
+    };
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(move |c| {
+            c.io = IoConfig {
+                inputs: vec![signal("part_present", 3)],
+                outputs: vec![signal("gripper_close", 1)],
+            };
+        }),
+        ..Options::default()
+    })
+    .await;
+    let (status, v) = install(&t, "pick-and-place", example_plugin("pick-and-place")).await;
+    assert_eq!(status, 201, "{v}");
+    t
+}
+
+/// Pick at (300, -60, 100), place at (300, 60, 100), approach 50 mm.
+fn cycle_body(timeout_ms: u32) -> Value {
+    json!({
+        "pick": {"x": 300, "y": -60, "z": 100},
+        "place": {"x": 300, "y": 60, "z": 100},
+        "part_timeout_ms": timeout_ms,
+        "speed_m_s": 0.3,
+        "approach_speed_m_s": 0.1
+    })
+}
+
+/// The gripper's `io` events, oldest first.
+async fn gripper_events(t: &TestService) -> Vec<bool> {
+    let (_, ev) = t.get("/api/v1/events/recent?types=io&limit=1000").await;
+    ev.as_array()
+        .expect("events")
+        .iter()
+        .filter(|e| e["data"]["name"] == "gripper_close")
+        .filter_map(|e| e["data"]["value"].as_bool())
+        .collect()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn pick_and_place_plugin_runs_a_cycle_as_one_job() {
+    let t = pick_and_place_cell().await;
+    let call = {
+        let http = t.http.clone();
+        let url = t.url("/api/v1/plugins/pick-and-place/cycle");
+        tokio::spawn(async move {
+            let r = http
+                .post(url)
+                .json(&cycle_body(20_000))
+                .send()
+                .await
+                .expect("plugin call");
+            let status = r.status().as_u16();
+            (status, r.json::<Value>().await.expect("JSON"))
+        })
+    };
+    // The robot waits at the pick point with the gripper closed: one state
+    // file shows both (it closed at the bottom, before the wait).
+    let job = kuka_bridge_tests::wait_for(
+        Duration::from_secs(30),
+        "the cycle waiting for the part",
+        async || {
+            let (_, jobs) = t.get("/api/v1/jobs").await;
+            let j = jobs
+                .as_array()
+                .and_then(|a| a.iter().find(|j| j["operation"] == "move").cloned())
+                .ok_or("no job")?;
+            let (_, s) = t.get("/api/v1/state").await;
+            let z = s["position"]["z"].as_f64().unwrap_or(f64::NAN);
+            let closed = s["io"]["outputs"][0].as_bool();
+            if j["completed"] == 4
+                && j["state"] == "executing"
+                && (z - 100.0).abs() < 0.5
+                && closed == Some(true)
+            {
+                Ok(j)
+            } else {
+                Err(format!("{j} z={z} closed={closed:?}"))
+            }
+        },
+    )
+    .await;
+    assert_eq!(job["motions"], 11, "one job for the whole cycle: {job}");
+    assert_eq!(
+        job["origin"]
+            .as_str()
+            .map(|o| o.starts_with("plugin:pick-and-place")),
+        Some(true),
+        "{job}"
+    );
+    // The part arrives.
+    let (s, v) = t
+        .put_json("/api/v1/sim/inputs/3", &json!({"value": true}))
+        .await;
+    assert_eq!(s, 204, "{v}");
+    let (status, v) = call.await.expect("task");
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(
+        (v["completed"].as_u64(), v["steps"].as_u64()),
+        (Some(11), Some(11)),
+        "{v}"
+    );
+    let (x, y, z) = (
+        v["position"]["x"].as_f64().expect("x"),
+        v["position"]["y"].as_f64().expect("y"),
+        v["position"]["z"].as_f64().expect("z"),
+    );
+    assert!(
+        (x - 300.0).abs() < 0.5 && (y - 60.0).abs() < 0.5 && (z - 150.0).abs() < 0.5,
+        "above the place point: {v}"
+    );
+    // Closed at the pick, opened at the place; the state agrees.
+    let events =
+        kuka_bridge_tests::wait_for(Duration::from_secs(5), "both gripper events", async || {
+            let e = gripper_events(&t).await;
+            if e.len() >= 2 {
+                Ok(e)
+            } else {
+                Err(format!("{e:?}"))
+            }
+        })
+        .await;
+    assert_eq!(events, [true, false]);
+    let (_, io) = t.get("/api/v1/io/outputs/gripper_close").await;
+    assert_eq!(io["value"], false, "{io}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn pick_and_place_plugin_stops_cleanly_when_the_part_never_comes() {
+    let t = pick_and_place_cell().await;
+    let (status, v) = t
+        .post_json("/api/v1/plugins/pick-and-place/cycle", &cycle_body(300))
+        .await;
+    assert_eq!(status, 422, "{v}");
+    assert_eq!(
+        (v["code"].as_str(), v["step"].as_u64()),
+        (Some("input_timeout"), Some(4)),
+        "{v}"
+    );
+    // The robot stands at the pick point, the gripper closed; nothing
+    // after the wait ran and the controller takes the next command.
+    let (_, s) = t.get("/api/v1/state").await;
+    let p = &s["position"];
+    assert!(
+        (p["y"].as_f64().unwrap_or(0.0) + 60.0).abs() < 0.5
+            && (p["z"].as_f64().unwrap_or(0.0) - 100.0).abs() < 0.5,
+        "at the pick point: {s}"
+    );
+    assert_eq!(s["io"]["outputs"][0], true, "{s}");
+    assert_eq!(s["controller"]["status"], "idle", "{s}");
+    let (_, jobs) = t.get("/api/v1/jobs").await;
+    let j = jobs
+        .as_array()
+        .and_then(|a| a.iter().find(|j| j["operation"] == "move").cloned())
+        .expect("the cycle's job");
+    assert_eq!(
+        (
+            j["state"].as_str(),
+            j["error"]["code"].as_str(),
+            j["completed"].as_u64()
+        ),
+        (Some("failed"), Some("input_timeout"), Some(4)),
+        "{j}"
+    );
+    let (status, v) = t
+        .motions(json!([{"type": "lin", "target": {"z": 150}}]))
+        .await;
+    assert_eq!(status, 200, "{v}");
+}

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the example and fixture plugins into OUT_DIR:
-#   draw-circle.wasm, draw-circle-0.2.0.wasm, draw-smiley.wasm,
+#   draw-circle.wasm, draw-circle-0.2.0.wasm, draw-smiley.wasm, pick-and-place.wasm,
 #   misbehave.wasm, bad-describe.wasm, other-world.wasm
 #   and, with --python, py-square.wasm.
 #
@@ -58,6 +58,7 @@ wasm="$CARGO_TARGET_DIR/wasm32-wasip2/release"
 install "$wasm/draw_circle.wasm" draw-circle.wasm
 install "$CARGO_TARGET_DIR/next-version/wasm32-wasip2/release/draw_circle.wasm" draw-circle-0.2.0.wasm
 install "$wasm/draw_smiley.wasm" draw-smiley.wasm
+install "$wasm/pick_and_place.wasm" pick-and-place.wasm
 install "$wasm/misbehave.wasm" misbehave.wasm
 install "$wasm/bad_describe.wasm" bad-describe.wasm
 install "$wasm/other_world.wasm" other-world.wasm

@@ -15,7 +15,7 @@ use wasmtime_wasi::p2::pipe::MemoryOutputPipe;
 use wasmtime_wasi::{WasiCtx, WasiCtxBuilder, WasiCtxView, WasiView};
 
 use crate::PluginLimits;
-use crate::bindings::{Done, HostError, LogLevel, Motion, Pose, Position};
+use crate::bindings::{Done, HostError, LogLevel, Motion, Pose, Position, Step};
 
 /// A boxed future, as [`BridgeApi::run_motions`] returns it.
 pub type BoxFuture<'a, T> = Pin<Box<dyn Future<Output = T> + Send + 'a>>;
@@ -88,6 +88,33 @@ pub trait BridgeApi: Send + Sync + 'static {
         let _ = path;
         Box::pin(async { Err(paths_unavailable()) })
     }
+    /// Validates the steps (motions and I/O actions) and runs them as one
+    /// continuous batch; resolves when the batch has ended.
+    fn run_steps<'a>(
+        &'a self,
+        ctx: &'a CallContext,
+        steps: Vec<Step>,
+    ) -> BoxFuture<'a, Result<Done, HostError>> {
+        let _ = (ctx, steps);
+        Box::pin(async { Err(io_unavailable()) })
+    }
+    /// The value of an input (`output` false) or output, by number or
+    /// configured name, from the controller's latest state.
+    fn read_signal(&self, output: bool, signal: &str) -> Result<bool, HostError> {
+        let _ = (output, signal);
+        Err(io_unavailable())
+    }
+    /// Sets an allow-listed output (queued like every command).
+    fn write_output<'a>(
+        &'a self,
+        ctx: &'a CallContext,
+        signal: String,
+        value: bool,
+        pulse_ms: Option<u32>,
+    ) -> BoxFuture<'a, Result<(), HostError>> {
+        let _ = (ctx, signal, value, pulse_ms);
+        Box::pin(async { Err(io_unavailable()) })
+    }
     /// A path the plugin's request left open when it ended (returned,
     /// trapped, timed out): closed in the background, so the robot ends at
     /// its last appended motion and the controller is free again.
@@ -102,6 +129,10 @@ fn paths_unavailable() -> HostError {
         "paths are not available in this bridge",
         None,
     )
+}
+
+fn io_unavailable() -> HostError {
+    host_error("not_allowed", "I/O is not available in this bridge", None)
 }
 
 /// Builds a [`HostError`].
@@ -325,6 +356,60 @@ impl crate::bindings::kuka_bridge::plugin::paths::Host for RequestState {
         };
         let result = api.cancel_path(path).await;
         self.open_paths.retain(|p| *p != path);
+        Ok(result)
+    }
+}
+
+impl crate::bindings::kuka_bridge::plugin::io::Host for RequestState {
+    async fn run_steps(&mut self, steps: Vec<Step>) -> wasmtime::Result<Result<Done, HostError>> {
+        let api = match self.api("run-steps") {
+            Ok(api) => api,
+            Err(e) => return Ok(Err(e)),
+        };
+        if steps.len() > self.motions_left {
+            return Ok(Err(host_error(
+                "plugin_motion_limit",
+                format!(
+                    "this request may run {} more motions, the plugin asked for {}",
+                    self.motions_left,
+                    steps.len()
+                ),
+                None,
+            )));
+        }
+        self.motions_left -= steps.len();
+        tracing::debug!(plugin = %self.ctx.plugin, steps = steps.len(), "plugin runs steps");
+        let started = Instant::now();
+        let result = api.run_steps(&self.ctx, steps).await;
+        self.host_time += started.elapsed();
+        Ok(result)
+    }
+
+    async fn read_input(&mut self, signal: String) -> wasmtime::Result<Result<bool, HostError>> {
+        Ok(self
+            .api("read-input")
+            .and_then(|api| api.read_signal(false, &signal)))
+    }
+
+    async fn read_output(&mut self, signal: String) -> wasmtime::Result<Result<bool, HostError>> {
+        Ok(self
+            .api("read-output")
+            .and_then(|api| api.read_signal(true, &signal)))
+    }
+
+    async fn write_output(
+        &mut self,
+        signal: String,
+        value: bool,
+        pulse_ms: Option<u32>,
+    ) -> wasmtime::Result<Result<(), HostError>> {
+        let api = match self.api("write-output") {
+            Ok(api) => api,
+            Err(e) => return Ok(Err(e)),
+        };
+        let started = Instant::now();
+        let result = api.write_output(&self.ctx, signal, value, pulse_ms).await;
+        self.host_time += started.elapsed();
         Ok(result)
     }
 }

@@ -33,7 +33,7 @@ use std::time::{Duration, Instant};
 
 pub use bindings::{
     Axes, CircMotion, Description, Done, HostError, LinMotion, LogLevel, Motion, MotionParams,
-    Point, Pose, Position, PtpAxesMotion, PtpMotion, Request, Response,
+    Point, Pose, Position, PtpAxesMotion, PtpMotion, Request, Response, SetOutput, Step, WaitInput,
 };
 pub use cache::sha256_hex;
 pub use describe::{METHODS, RouteSpec, check_name};

@@ -8,7 +8,8 @@ use kuka_plugin_host as host;
 use crate::access::RequestContext;
 use crate::engine::{CartesianFrame, Engine, Operation, Position};
 use crate::error::{BridgeError, ErrorCode};
-use crate::motion::{AuxPoint, AxesSpec, MotionRequest, TargetSpec};
+use crate::io::{IoKind, OutputRequest};
+use crate::motion::{AuxPoint, AxesSpec, MotionRequest, SignalRef, TargetSpec};
 
 /// Forwards plugin host calls to the engine.
 pub struct EngineBridge {
@@ -88,6 +89,24 @@ pub fn motion_request(m: host::Motion) -> MotionRequest {
     }
 }
 
+/// A plugin step (a motion or an I/O action) as the REST API's request.
+pub fn step_request(s: host::Step) -> MotionRequest {
+    match s {
+        host::Step::Motion(m) => motion_request(m),
+        host::Step::SetOutput(o) => MotionRequest::SetOutput {
+            signal: SignalRef::Name(o.signal),
+            value: o.value,
+            pulse_ms: o.pulse_ms,
+        },
+        host::Step::WaitInput(w) => MotionRequest::WaitInput {
+            signal: SignalRef::Name(w.signal),
+            value: w.value,
+            timeout_ms: w.timeout_ms,
+        },
+        host::Step::Dwell(ms) => MotionRequest::Dwell { ms },
+    }
+}
+
 /// `[x, y, z, a, b, c]` as a plugin pose.
 fn pose([x, y, z, a, b, c]: [f64; 6]) -> host::Pose {
     host::Pose { x, y, z, a, b, c }
@@ -124,48 +143,140 @@ fn unknown(what: &str) -> host::HostError {
     )
 }
 
+impl EngineBridge {
+    /// Runs a batch for a plugin: under its caller's identity and control
+    /// lease, as long as the plugin's request may take (a drawing can
+    /// outlast `channel.command_timeout_ms`).
+    async fn run_batch(
+        &self,
+        ctx: &host::CallContext,
+        requests: Vec<MotionRequest>,
+    ) -> Result<host::Done, host::HostError> {
+        let count = requests.len();
+        let who = ctx
+            .caller
+            .clone()
+            .and_then(|c| c.downcast::<RequestContext>().ok());
+        if let Some(who) = &who {
+            // The caller's own HTTP call holds the lease meanwhile.
+            drop(self.control.check(&who.principal).map_err(host_error)?);
+        }
+        tracing::info!(plugin = %ctx.plugin, version = %ctx.version, motions = count, "plugin motion batch");
+        let job = self
+            .engine
+            // The batch may take as long as the plugin's request (a
+            // drawing can outlast `channel.command_timeout_ms`).
+            .execute_from(
+                Operation::Move(requests),
+                Some(ctx.request_time),
+                ctx.request_time,
+                Some(format!("plugin:{}@{}", ctx.plugin, ctx.version)),
+                who.map(|w| w.caller()).unwrap_or_default(),
+            )
+            .await
+            .map_err(host_error)?;
+        let state = self.engine.state();
+        let at = job
+            .position
+            .or(state.position)
+            .ok_or_else(|| unknown("position"))?;
+        Ok(host::Done {
+            completed: u32::try_from(job.completed).unwrap_or(u32::MAX),
+            position: position(&at, job.axes.as_ref().or(state.axes.as_ref())),
+        })
+    }
+}
+
 impl host::BridgeApi for EngineBridge {
     fn run_motions<'a>(
         &'a self,
         ctx: &'a host::CallContext,
         motions: Vec<host::Motion>,
     ) -> host::BoxFuture<'a, Result<host::Done, host::HostError>> {
+        let requests: Vec<MotionRequest> = motions.into_iter().map(motion_request).collect();
+        Box::pin(self.run_batch(ctx, requests))
+    }
+
+    fn run_steps<'a>(
+        &'a self,
+        ctx: &'a host::CallContext,
+        steps: Vec<host::Step>,
+    ) -> host::BoxFuture<'a, Result<host::Done, host::HostError>> {
+        let requests: Vec<MotionRequest> = steps.into_iter().map(step_request).collect();
+        Box::pin(self.run_batch(ctx, requests))
+    }
+
+    fn read_signal(&self, output: bool, signal: &str) -> Result<bool, host::HostError> {
+        let kind = if output {
+            IoKind::Output
+        } else {
+            IoKind::Input
+        };
+        let (index, _) = self
+            .engine
+            .io_config()
+            .resolve(kind, signal)
+            .map_err(host_error)?;
+        let state = self.engine.state();
+        let w = state.io.as_ref().ok_or_else(|| {
+            host::host_error(
+                ErrorCode::SignalNotReported.as_str(),
+                "the controller program reports no I/O",
+                None,
+            )
+        })?;
+        w.get(kind, index).ok_or_else(|| {
+            host::host_error(
+                ErrorCode::SignalNotReported.as_str(),
+                format!(
+                    "the controller reports {io}[{}..{}] only, not {io}[{index}]",
+                    w.base,
+                    w.base + w.inputs.len() as u16 - 1,
+                    io = kind.krl()
+                ),
+                None,
+            )
+        })
+    }
+
+    fn write_output<'a>(
+        &'a self,
+        ctx: &'a host::CallContext,
+        signal: String,
+        value: bool,
+        pulse_ms: Option<u32>,
+    ) -> host::BoxFuture<'a, Result<(), host::HostError>> {
         Box::pin(async move {
-            let requests: Vec<MotionRequest> = motions.into_iter().map(motion_request).collect();
-            let count = requests.len();
+            let io = self.engine.io_config();
+            let (index, _) = io.resolve(IoKind::Output, &signal).map_err(host_error)?;
+            let entry = io.writable(index).map_err(host_error)?;
+            let op = Operation::SetOutput(OutputRequest {
+                index,
+                value,
+                pulse_ms: pulse_ms.unwrap_or(entry.pulse_ms),
+            });
             let who = ctx
                 .caller
                 .clone()
                 .and_then(|c| c.downcast::<RequestContext>().ok());
             if let Some(who) = &who {
-                // The caller's own HTTP call holds the lease meanwhile.
                 drop(self.control.check(&who.principal).map_err(host_error)?);
             }
-            tracing::info!(plugin = %ctx.plugin, version = %ctx.version, motions = count, "plugin motion batch");
-            let job = self
-                .engine
-                // The batch may take as long as the plugin's request (a
-                // drawing can outlast `channel.command_timeout_ms`).
+            tracing::info!(plugin = %ctx.plugin, version = %ctx.version, index, value, "plugin sets an output");
+            self.engine
                 .execute_from(
-                    Operation::Move(requests),
-                    Some(ctx.request_time),
+                    op,
+                    None,
                     ctx.request_time,
                     Some(format!("plugin:{}@{}", ctx.plugin, ctx.version)),
                     who.map(|w| w.caller()).unwrap_or_default(),
                 )
                 .await
                 .map_err(host_error)?;
-            let state = self.engine.state();
-            let at = job
-                .position
-                .or(state.position)
-                .ok_or_else(|| unknown("position"))?;
-            Ok(host::Done {
-                completed: u32::try_from(job.completed).unwrap_or(u32::MAX),
-                position: position(&at, job.axes.as_ref().or(state.axes.as_ref())),
-            })
+            Ok(())
         })
     }
+
 
     fn position(&self) -> Result<host::Position, host::HostError> {
         let state = self.engine.state();
