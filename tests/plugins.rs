@@ -1321,6 +1321,11 @@ async fn removing_the_python_plugin_gives_its_memory_back() {
 /// closed, the only writable output), the part-present sensor on `$IN[3]`,
 /// both watched.
 async fn pick_and_place_cell() -> TestService {
+    pick_and_place_cell_with(Vec::new()).await
+}
+
+/// [`pick_and_place_cell`] with the simulated plant's `links`.
+async fn pick_and_place_cell_with(links: Vec<kuka_bridge::sim_plant::InputLink>) -> TestService {
     use kuka_bridge::io::{IoConfig, SignalConfig};
     let signal = |name: &str, index| SignalConfig {
         name: name.into(),
@@ -1335,6 +1340,7 @@ async fn pick_and_place_cell() -> TestService {
                 inputs: vec![signal("part_present", 3)],
                 outputs: vec![signal("gripper_close", 1)],
             };
+            c.simulator.links = links;
         }),
         ..Options::default()
     })
@@ -1495,4 +1501,42 @@ async fn pick_and_place_plugin_stops_cleanly_when_the_part_never_comes() {
         .motions(json!([{"type": "lin", "target": {"z": 150}}]))
         .await;
     assert_eq!(status, 200, "{v}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn pick_and_place_plugin_runs_unattended_with_a_simulated_sensor() {
+    // The part-present sensor reports the part 150 ms after the gripper
+    // closes, and loses it 150 ms after it opens (a plant wired to the
+    // simulated controller).
+    let link = kuka_bridge::sim_plant::InputLink {
+        output: 1,
+        input: 3,
+        delay_ms: 150,
+        invert: false,
+    };
+    let t = pick_and_place_cell_with(vec![link]).await;
+    let (status, v) = t
+        .post_json("/api/v1/plugins/pick-and-place/cycle", &cycle_body(5000))
+        .await;
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["completed"], 11, "{v}");
+    // The sensor followed the gripper: on, then off again.
+    let seen =
+        kuka_bridge_tests::wait_for(Duration::from_secs(5), "the sensor to follow", async || {
+            let (_, ev) = t.get("/api/v1/events/recent?types=io&limit=1000").await;
+            let e: Vec<bool> = ev
+                .as_array()
+                .expect("events")
+                .iter()
+                .filter(|e| e["data"]["name"] == "part_present")
+                .filter_map(|e| e["data"]["value"].as_bool())
+                .collect();
+            if e.len() >= 2 {
+                Ok(e)
+            } else {
+                Err(format!("{e:?}"))
+            }
+        })
+        .await;
+    assert_eq!(seen, [true, false]);
 }

@@ -172,6 +172,21 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         source,
     })?;
     let (closing, closing_rx) = watch::channel(false);
+    let wired = match (&sim, &krc) {
+        (Some(s), _) => Some(crate::sim_plant::Wired::Native(s.clone())),
+        (None, Some(k)) => Some(crate::sim_plant::Wired::Krc(k.clone())),
+        (None, None) => None,
+    };
+    if let Some(wired) = wired
+        && !config.simulator.links.is_empty()
+    {
+        tokio::spawn(crate::sim_plant::run(
+            config.simulator.links.clone(),
+            wired,
+            config.simulator.time_scale,
+            closing_rx.clone(),
+        ));
+    }
     let (access, admin_token_file) = open_access(&config, closing_rx.clone())?;
     let programs = Arc::new(
         crate::programs::ProgramStore::open(

@@ -226,6 +226,10 @@ pub struct SimulatorConfig {
     pub time_scale: f64,
     /// Heartbeat period (ms).
     pub heartbeat_ms: u64,
+    /// The simulated plant: inputs that follow outputs, e.g. a
+    /// part-present sensor that reports a part once the gripper has
+    /// closed (docs/IO.md).
+    pub links: Vec<crate::sim_plant::InputLink>,
 }
 
 /// The value a simulated KSS answers for a file function that succeeded.
@@ -444,6 +448,7 @@ impl Default for SimulatorConfig {
             text_offset: TextOffset::Consumed,
             time_scale: 1.0,
             heartbeat_ms: 50,
+            links: Vec::new(),
         }
     }
 }
@@ -918,6 +923,11 @@ impl SimulatorConfig {
                 ("submit_budget", self.submit_budget, 10_000_000),
             ],
         );
+        for (k, l) in self.links.iter().enumerate() {
+            if let Err(why) = l.check() {
+                bad.push(Problem::new("links", format!("entry {k}: {why}")));
+            }
+        }
         let p = &self.run_prefix;
         let path_chars = p
             .bytes()

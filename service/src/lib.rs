@@ -20,5 +20,6 @@ pub mod logging;
 pub mod platform;
 pub mod plugins;
 pub mod server;
+pub mod sim_plant;
 #[cfg(windows)]
 pub mod winsvc;
