@@ -101,6 +101,12 @@ pub enum ErrorCode {
     SignalNotReported,
     /// A `wait_input` action's input did not come within its timeout; the robot stands where it waited.
     InputTimeout,
+    /// The variable is not on the site's list of variables clients may write (`[variables] writable`).
+    VariableNotAllowed,
+    /// The controller has no such variable (KUKAVARPROXY refused to read or write it).
+    UnknownVariable,
+    /// No KUKAVARPROXY server is configured or reachable.
+    VariablesUnavailable,
 }
 
 impl ErrorCode {
@@ -144,6 +150,9 @@ impl ErrorCode {
             ErrorCode::UnknownSignal => 404,
             ErrorCode::SignalNotReported => 422,
             ErrorCode::InputTimeout => 422,
+            ErrorCode::VariableNotAllowed => 403,
+            ErrorCode::UnknownVariable => 404,
+            ErrorCode::VariablesUnavailable => 503,
         }
     }
 
@@ -195,6 +204,9 @@ impl ErrorCode {
             ErrorCode::UnknownSignal => "Unknown signal",
             ErrorCode::SignalNotReported => "Signal not reported",
             ErrorCode::InputTimeout => "Input timeout",
+            ErrorCode::VariableNotAllowed => "Variable not allowed",
+            ErrorCode::UnknownVariable => "Unknown variable",
+            ErrorCode::VariablesUnavailable => "Variables unavailable",
         }
     }
 
@@ -246,6 +258,9 @@ impl ErrorCode {
             ErrorCode::UnknownSignal => "unknown_signal",
             ErrorCode::SignalNotReported => "signal_not_reported",
             ErrorCode::InputTimeout => "input_timeout",
+            ErrorCode::VariableNotAllowed => "variable_not_allowed",
+            ErrorCode::UnknownVariable => "unknown_variable",
+            ErrorCode::VariablesUnavailable => "variables_unavailable",
         }
     }
 }

@@ -43,6 +43,9 @@ pub enum AppError {
         #[source]
         source: std::io::Error,
     },
+    /// The simulator's KUKAVARPROXY stand-in could not listen.
+    #[error("KUKAVARPROXY stand-in")]
+    Variables(#[source] std::io::Error),
     /// The program store cannot be opened.
     #[error("program store {path}")]
     Programs {
@@ -220,6 +223,31 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
     } else {
         None
     };
+    let kvp_timeout = Duration::from_millis(config.variables.timeout_ms);
+    let variables = if config.variables.proxy.is_empty() {
+        match crate::variables::simulated(sim.clone(), krc.clone(), kvp_timeout)
+            .map_err(AppError::Variables)?
+        {
+            Some((server, client)) => {
+                tracing::info!(addr = %server.addr(), "KUKAVARPROXY stand-in of the simulated controller");
+                crate::variables::Variables::new(
+                    Some(client),
+                    config.variables.writable.clone(),
+                    Some(server),
+                )
+            }
+            None => crate::variables::Variables::new(None, config.variables.writable.clone(), None),
+        }
+    } else {
+        crate::variables::Variables::new(
+            Some(kuka_kvp::KvpClient::new(
+                config.variables.proxy.clone(),
+                kvp_timeout,
+            )),
+            config.variables.writable.clone(),
+            None,
+        )
+    };
     let router = crate::api::app(crate::api::AppState {
         engine: engine.clone(),
         sim: sim.clone(),
@@ -233,6 +261,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         server: Arc::new(config.server.clone()),
         thesis_blend: Duration::from_millis(config.motion.thesis_blend_ms),
         thesis_paths: Arc::default(),
+        variables: Arc::new(variables),
     });
     let (stop_http, stop_rx) = oneshot::channel::<()>();
     let server_config = config.server.clone();

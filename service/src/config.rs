@@ -85,6 +85,8 @@ pub struct Config {
     pub auth: AuthConfig,
     /// Named digital inputs and outputs; the outputs clients may write.
     pub io: kuka_engine::io::IoConfig,
+    /// KRL variables through KUKAVARPROXY (docs/VARIABLES.md).
+    pub variables: VariablesConfig,
     /// Where the service keeps its own state (command id counter).
     pub data_dir: PathBuf,
     /// Where the config was loaded from (for messages); not a key.
@@ -184,6 +186,58 @@ pub struct RobotConfig {
     /// axis, an assumption). A custom model sets its own.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_acc_deg_s2: Option<[f64; 6]>,
+}
+
+/// KRL variables, read and written through a KUKAVARPROXY server (TCP
+/// 7000 on the controller's Windows side).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct VariablesConfig {
+    /// `host:port` of the KUKAVARPROXY server; empty: none (with
+    /// `--simulate` the simulated controller's own stand-in).
+    pub proxy: String,
+    /// Longest wait for a connection or an answer (ms).
+    pub timeout_ms: u64,
+    /// The variables clients may write (names as `check_name` admits
+    /// them, compared without regard to case); everything else is
+    /// read-only.
+    pub writable: Vec<String>,
+}
+
+impl Default for VariablesConfig {
+    fn default() -> Self {
+        VariablesConfig {
+            proxy: String::new(),
+            timeout_ms: 2000,
+            writable: Vec::new(),
+        }
+    }
+}
+
+impl VariablesConfig {
+    /// Every problem of this section.
+    pub fn problems(&self) -> Vec<Problem> {
+        let mut bad = Vec::new();
+        check_minimums(&mut bad, &[("timeout_ms", self.timeout_ms, 100)]);
+        check_maximums(&mut bad, &[("timeout_ms", self.timeout_ms, 60_000)]);
+        if !self.proxy.is_empty()
+            && self
+                .proxy
+                .rsplit_once(':')
+                .is_none_or(|(h, p)| h.is_empty() || p.parse::<u16>().is_err())
+        {
+            bad.push(Problem::new(
+                "proxy",
+                format!("{:?} is not host:port (e.g. 192.168.1.10:7000)", self.proxy),
+            ));
+        }
+        for n in &self.writable {
+            if let Err(why) = kuka_kvp::check_name(n) {
+                bad.push(Problem::new("writable", why));
+            }
+        }
+        bad
+    }
 }
 
 /// The embedded simulator.
@@ -468,6 +522,7 @@ impl Default for Config {
             log: LogConfig::default(),
             auth: AuthConfig::default(),
             io: kuka_engine::io::IoConfig::default(),
+            variables: VariablesConfig::default(),
             data_dir: default_data_dir(),
             source_name: "defaults".into(),
         }
@@ -656,6 +711,7 @@ impl Config {
             ("plugins", self.plugins.problems()),
             ("auth", self.auth.problems()),
             ("log", self.log.problems()),
+            ("variables", self.variables.problems()),
         ];
         for (section, problems) in sections {
             for p in problems {

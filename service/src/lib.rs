@@ -21,5 +21,6 @@ pub mod platform;
 pub mod plugins;
 pub mod server;
 pub mod sim_plant;
+pub mod variables;
 #[cfg(windows)]
 pub mod winsvc;

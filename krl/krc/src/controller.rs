@@ -267,6 +267,23 @@ impl KrcController {
             .is_some_and(|g| g.set_bool_element(name, index, v))
     }
 
+    /// A variable or a part of one (`$OV_PRO`, `$POS_ACT`, `TOOL_DATA[3]`,
+    /// `$OUT[2]`) as KRL text, as KUKAVARPROXY reads it on a KRC, between
+    /// two cycles; `None` when it does not exist or is not set.
+    pub fn read_krl(&self, path: &str) -> Option<String> {
+        self.lock().vars.as_ref()?.krl_text(path)
+    }
+
+    /// Assigns KRL text to a variable or a part of one between two cycles,
+    /// as KUKAVARPROXY writes on a KRC; its value afterwards.
+    pub fn write_krl(&self, path: &str, text: &str) -> Result<String, String> {
+        let mut s = self.lock();
+        let g = s.vars.as_mut().ok_or("the program is not loaded")?;
+        g.assign_krl(path, text)?;
+        g.krl_text(path)
+            .ok_or_else(|| "the value cannot be shown".into())
+    }
+
     /// The executed path since the start (or the last [`clear_trace`]),
     /// oldest first: a sample per cycle in motion, stops marked.
     ///

@@ -125,9 +125,9 @@ pub fn to_motions(records: &[MotionRecord]) -> Vec<Motion> {
                 0.0
             } else if inner {
                 SPL_INNER_APPROX_MM
-            } else if next.is_some_and(|n| {
-                n.stops_robot() || n.is_spline_family() != r.is_spline_family()
-            }) {
+            } else if next
+                .is_some_and(|n| n.stops_robot() || n.is_spline_family() != r.is_spline_family())
+            {
                 0.0
             } else {
                 p.approx_mm

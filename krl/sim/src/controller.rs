@@ -162,6 +162,10 @@ pub(crate) struct Controller {
     pub(crate) outputs: Vec<bool>,
     /// The running output pulse: output, the value it returns to, when.
     pulse: Option<(u16, bool, Instant)>,
+    /// `TOOL_DATA[1..=16]` (KUKAVARPROXY access only: crate::vars).
+    pub(crate) tool_data: Vec<Pose>,
+    /// `BASE_DATA[1..=32]`.
+    pub(crate) base_data: Vec<Pose>,
 }
 
 /// First I/O index of the state file's window (the KRL program's
@@ -235,6 +239,8 @@ impl Controller {
             inputs: vec![false; usize::from(kuka_protocol::MAX_IO_INDEX) + 1],
             outputs: vec![false; usize::from(kuka_protocol::MAX_IO_INDEX) + 1],
             pulse: None,
+            tool_data: vec![Pose::IDENTITY; crate::vars::TOOLS],
+            base_data: vec![Pose::IDENTITY; crate::vars::BASES],
         }
     }
 

@@ -17,6 +17,7 @@ mod actions;
 mod controller;
 mod path;
 mod runner;
+mod vars;
 
 pub use controller::TraceSample;
 pub use runner::{SimConfig, SimController, SimError, SimSnapshot};

@@ -288,6 +288,20 @@ impl SimController {
         }
     }
 
+    /// A variable as KRL text, as KUKAVARPROXY reads it on a KRC (the few
+    /// this simulator models: `$OV_PRO`, `$POS_ACT`, `$AXIS_ACT`, `$TOOL`,
+    /// `$BASE`, `$MODE_OP`, `$IN[n]`, `$OUT[n]`, `TOOL_DATA[n]`,
+    /// `BASE_DATA[n]` and their components); `None` for any other.
+    pub fn read_krl(&self, path: &str) -> Option<String> {
+        self.lock().read_krl(path)
+    }
+
+    /// Writes `$OV_PRO`, `TOOL_DATA[n]` or `BASE_DATA[n]` (or a component)
+    /// from KRL text; the value afterwards, `None` when it cannot.
+    pub fn write_krl(&self, path: &str, text: &str) -> Option<String> {
+        self.lock().write_krl(path, text)
+    }
+
     /// `$IN[index]` or `$OUT[index]` (1..=4096).
     pub fn io(&self, output: bool, index: u16) -> Option<bool> {
         let c = self.lock();

@@ -27,7 +27,7 @@ const MARKDOWN: &str = include_str!("../../../docs/errors.md");
 
 /// Every code, in the order of the enum (a test compares this list with
 /// the codes utoipa derives from the enum, so a new code cannot be missed).
-pub(crate) const ALL: [ErrorCode; 45] = [
+pub(crate) const ALL: [ErrorCode; 48] = [
     ErrorCode::InvalidInput,
     ErrorCode::WorkspaceViolation,
     ErrorCode::SpeedLimit,
@@ -73,6 +73,9 @@ pub(crate) const ALL: [ErrorCode; 45] = [
     ErrorCode::UnknownSignal,
     ErrorCode::SignalNotReported,
     ErrorCode::InputTimeout,
+    ErrorCode::VariableNotAllowed,
+    ErrorCode::UnknownVariable,
+    ErrorCode::VariablesUnavailable,
 ];
 
 /// One code of the catalogue.

@@ -20,6 +20,7 @@ mod programs;
 mod sim;
 mod thesis;
 mod v1;
+mod variables;
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -68,6 +69,8 @@ pub struct AppState {
     pub thesis_blend: Duration,
     /// The open path of each thesis client that blends.
     pub thesis_paths: Arc<thesis::BlendPaths>,
+    /// KRL variables through KUKAVARPROXY.
+    pub variables: Arc<crate::variables::Variables>,
 }
 
 impl AppState {
@@ -212,6 +215,7 @@ fn documented() -> OpenApiRouter<AppState> {
         .merge(v1::router())
         .merge(paths::router())
         .merge(io::router())
+        .merge(variables::router())
         .merge(programs::router())
         .merge(plugins::router())
         .merge(access::router())

@@ -210,6 +210,9 @@ pub fn statuscode(code: ErrorCode) -> i32 {
         ErrorCode::UnknownSignal => 82,
         ErrorCode::SignalNotReported => 83,
         ErrorCode::InputTimeout => 84,
+        ErrorCode::VariableNotAllowed => 85,
+        ErrorCode::UnknownVariable => 86,
+        ErrorCode::VariablesUnavailable => 87,
         ErrorCode::Internal => 99,
     }
 }

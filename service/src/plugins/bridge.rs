@@ -277,7 +277,6 @@ impl host::BridgeApi for EngineBridge {
         })
     }
 
-
     fn position(&self) -> Result<host::Position, host::HostError> {
         let state = self.engine.state();
         let p = state.position.ok_or_else(|| unknown("position"))?;

@@ -6,7 +6,9 @@ use std::collections::{BTreeMap, HashMap};
 
 use kuka_krl::Expr;
 
-use super::values::{PathElem, Scalar, Value, axis_value, flat_index, step_into};
+use super::values::{
+    PathElem, Scalar, Value, assign_into, axis_value, flat_index, step_into, walk_mut,
+};
 use super::vars::{Place, Root};
 use super::{Interp, RunError, Unsupported, describe};
 
@@ -93,6 +95,32 @@ impl Globals {
             }
         }
         Some(v)
+    }
+
+    /// The value at a KRL path as KUKAVARPROXY shows it (`100`, `1.5`,
+    /// `TRUE`, `"text"`, `#T1`, `{FRAME: X 1.0, ...}`); `None` for a
+    /// variable that does not exist, is not set yet, or is a whole array.
+    pub fn krl_text(&self, path: &str) -> Option<String> {
+        krl_of(self.at(path)?)
+    }
+
+    /// Assigns KRL text (as KUKAVARPROXY writes it) at a path: the value
+    /// is converted to the variable's type as a KRL assignment does, and a
+    /// structure value sets the components it names.
+    pub fn assign_krl(&mut self, path: &str, text: &str) -> Result<(), String> {
+        let v = kuka_kvp::KrlValue::parse(text)
+            .map(value_of)
+            .ok_or_else(|| format!("{text:?} is not a KRL value"))?;
+        let (root, elems) = parse_path(path).ok_or_else(|| format!("{path:?} is not a path"))?;
+        let slot = self
+            .vars
+            .get_mut(&root)
+            .ok_or_else(|| format!("{root} is not declared"))?;
+        let slot = walk_mut(slot, &elems)?;
+        if matches!(slot, Value::Array(..)) && !matches!(v, Value::Str(_)) {
+            return Err("an array is written element by element".into());
+        }
+        assign_into(slot, v)
     }
 
     /// An INT (or CHAR code) at a path (see [`Globals::real_at`]).
@@ -1008,5 +1036,88 @@ mod tests {
         let (v, _) = scan_krl(b"- 5", 0, "%d").expect("scan");
         assert!(v.is_empty());
         assert!(scan_krl(b"1", 0, "%q").is_err());
+    }
+}
+
+/// A KRL path (`kb_mot[3].X`, `$POS_ACT.S`) as its root (upper case) and
+/// the steps into it.
+fn parse_path(path: &str) -> Option<(String, Vec<PathElem>)> {
+    let path = path.trim();
+    let end = path.find(['[', '.']).unwrap_or(path.len());
+    let root = path[..end].to_ascii_uppercase();
+    let mut rest = &path[end..];
+    let mut elems = Vec::new();
+    while !rest.is_empty() {
+        if let Some(r) = rest.strip_prefix('[') {
+            let close = r.find(']')?;
+            let idx = r[..close]
+                .split(',')
+                .map(|x| x.trim().parse().ok())
+                .collect::<Option<Vec<i64>>>()?;
+            elems.push(PathElem::Index(idx));
+            rest = &r[close + 1..];
+        } else {
+            let r = rest.strip_prefix('.')?;
+            let end = r.find(['[', '.']).unwrap_or(r.len());
+            elems.push(PathElem::Field(r[..end].to_ascii_uppercase()));
+            rest = &r[end..];
+        }
+    }
+    Some((root, elems))
+}
+
+/// A value as KRL text, as a KRC's variable display shows it.
+fn krl_of(v: &Value) -> Option<String> {
+    Some(match v {
+        Value::Unset(_) | Value::Opaque(_) => return None,
+        Value::Int(i) => i.to_string(),
+        Value::Real(r) => kuka_kvp::KrlValue::Real(*r).to_krl(),
+        Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.into(),
+        Value::Char(c) => format!("'{}'", char::from(*c)),
+        Value::Str(s) => format!("\"{s}\""),
+        Value::Enum(e) => format!("#{e}"),
+        Value::Struct(ty, fields) => {
+            let inner: Vec<String> = fields
+                .iter()
+                .filter_map(|(k, v)| Some(format!("{k} {}", krl_of(v)?)))
+                .collect();
+            if ty.is_empty() {
+                format!("{{{}}}", inner.join(", "))
+            } else {
+                format!("{{{ty}: {}}}", inner.join(", "))
+            }
+        }
+        Value::Array(dims, items) => {
+            // A CHAR array is its text (up to the first unset character).
+            if dims.len() == 1 && items.first().and_then(Value::scalar_kind) == Some(Scalar::Char) {
+                let text: String = items
+                    .iter()
+                    .map_while(|c| match c {
+                        Value::Char(c) if *c != 0 => Some(char::from(*c)),
+                        _ => None,
+                    })
+                    .collect();
+                format!("\"{text}\"")
+            } else {
+                return None;
+            }
+        }
+    })
+}
+
+/// A KUKAVARPROXY value as an interpreter value (converted to the
+/// variable's type by the assignment).
+fn value_of(v: kuka_kvp::KrlValue) -> Value {
+    use kuka_kvp::KrlValue as K;
+    match v {
+        K::Int(i) => Value::Int(i),
+        K::Real(r) => Value::Real(r),
+        K::Bool(b) => Value::Bool(b),
+        K::Text(t) => Value::Str(t),
+        K::Enum(e) => Value::Enum(e.to_ascii_uppercase()),
+        K::Struct(ty, fields) => Value::Struct(
+            ty.unwrap_or_default().to_ascii_uppercase(),
+            fields.into_iter().map(|(k, v)| (k, value_of(v))).collect(),
+        ),
     }
 }
