@@ -216,8 +216,7 @@ async fn a_dwell_holds_the_robot_for_its_time() {
     // its target, not on an approximation arc.
     let last0 = trace
         .iter()
-        .filter(|x| x.motion == 0)
-        .last()
+        .rfind(|x| x.motion == 0)
         .expect("motion 0 in the trace");
     assert!(
         (last0.pose[0] - (p0[0] + 20.0)).abs() < 0.05,

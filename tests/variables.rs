@@ -84,9 +84,7 @@ async fn the_actual_position_is_a_typed_structure() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_tool_written_and_selected_by_number_changes_the_tcp() {
     let t = service().await;
-    let xyz = |s: &Value| {
-        ["x", "y", "z"].map(|k| s["position"][k].as_f64().unwrap_or(f64::NAN))
-    };
+    let xyz = |s: &Value| ["x", "y", "z"].map(|k| s["position"][k].as_f64().unwrap_or(f64::NAN));
     let before = xyz(&t.get("/api/v1/state").await.1);
     let url = format!("/api/v1/variables/{}", encode("TOOL_DATA[3]"));
     let (s, v) = t
@@ -109,7 +107,10 @@ async fn a_tool_written_and_selected_by_number_changes_the_tcp() {
     let state = t
         .wait_state("the position for the new tool", |s| {
             let p = xyz(s);
-            let d = (0..3).map(|k| (p[k] - before[k]).powi(2)).sum::<f64>().sqrt();
+            let d = (0..3)
+                .map(|k| (p[k] - before[k]).powi(2))
+                .sum::<f64>()
+                .sqrt();
             (d - 120.5).abs() < 0.05
         })
         .await;

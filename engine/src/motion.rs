@@ -339,13 +339,13 @@ pub fn resolve_signals(requests: &mut [MotionRequest], io: &IoConfig) -> Result<
                 }
                 *pulse_ms = Some(p);
             }
-            MotionRequest::WaitInput { timeout_ms, .. } => {
-                if !(1..=kuka_protocol::MAX_WAIT_MS).contains(timeout_ms) {
-                    return Err(at(BridgeError::invalid(format!(
-                        "timeout_ms = {timeout_ms} is not in 1..={} (nothing waits for ever)",
-                        kuka_protocol::MAX_WAIT_MS
-                    ))));
-                }
+            MotionRequest::WaitInput { timeout_ms, .. }
+                if !(1..=kuka_protocol::MAX_WAIT_MS).contains(timeout_ms) =>
+            {
+                return Err(at(BridgeError::invalid(format!(
+                    "timeout_ms = {timeout_ms} is not in 1..={} (nothing waits for ever)",
+                    kuka_protocol::MAX_WAIT_MS
+                ))));
             }
             _ => {}
         }

@@ -48,6 +48,46 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/bases/{number}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Read an entry of the controller's base table (`BASE_DATA[1..32]`).
+         * @description **Access:** role `viewer` or higher.
+         */
+        get: operations["getBaseEntry"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/bases/{number}/select": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Make a base table entry the active base ($BASE = BASE_DATA[n]).
+         * @description **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        post: operations["selectBase"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/control": {
         parameters: {
             query?: never;
@@ -835,6 +875,91 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/tools/{number}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Read an entry of the controller's tool table (`TOOL_DATA[1..16]`).
+         * @description Read through KUKAVARPROXY like every variable (503
+         *     `variables_unavailable` without one). Write entries with
+         *     `PUT /api/v1/variables/TOOL_DATA[n]` where the site allows it.
+         *
+         *     **Access:** role `viewer` or higher.
+         */
+        get: operations["getToolEntry"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/tools/{number}/select": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Make a tool table entry the active tool ($TOOL = TOOL_DATA[n]).
+         * @description Reads the entry and sets it as the tool frame (as `PUT /api/v1/tool`
+         *     does, queued like every command): positions are reported for the new
+         *     TCP from then on. Answers the entry.
+         *
+         *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        post: operations["selectTool"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/variables/{name}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Read a KRL variable by name.
+         * @description Any variable the controller has: system variables (`$OV_PRO`,
+         *     `$POS_ACT`, `$MODE_OP`, `$OUT[3]`), a component (`$POS_ACT.X`), table
+         *     entries (`TOOL_DATA[3]`) and globals of loaded modules. Read through the
+         *     controller's KUKAVARPROXY server (`[variables] proxy`; with
+         *     `--simulate` the simulator's stand-in). The value comes as typed JSON
+         *     with its KRL type and text. Indices in the URL: percent-encode `[`
+         *     and `]` (`TOOL_DATA%5B3%5D`), or use `curl -g`.
+         *
+         *     **Access:** role `viewer` or higher.
+         */
+        get: operations["getVariable"];
+        /**
+         * Write a KRL variable on the site's allow-list.
+         * @description Only names in `[variables] writable` (else 403 `variable_not_allowed`,
+         *     nothing sent). The value is typed JSON, turned into KRL text by the
+         *     service; an operator's token and the control lease are needed; every
+         *     write is audited. Answers the value the controller reports afterwards.
+         *
+         *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        put: operations["setVariable"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/workspace": {
         parameters: {
             query?: never;
@@ -1513,7 +1638,7 @@ export interface components {
             detail: string;
         };
         /**
-         * @description A stable, machine-readable error code (never renamed; see /errors). The bridge's codes: invalid_input, workspace_violation, speed_limit, unreachable, software_limit, singularity, controller_offline, channel_locked, timeout, controller_error, controller_busy, cancelled, not_found, method_not_allowed, payload_too_large, unsupported_media_type, queue_full, invalid_program, program_unsupported, program_failed, programs_unavailable, plugin_invalid, plugin_timeout, plugin_memory, plugin_trap, plugin_bad_response, plugins_unavailable, unauthenticated, forbidden, control_held, too_many_attempts, overloaded, request_timeout, protocol_error, internal, storage_unavailable, command_lost, gone, shutting_down, path_closed, path_full, output_not_allowed, unknown_signal, signal_not_reported, input_timeout. A plugin's answer may carry a code of its own.
+         * @description A stable, machine-readable error code (never renamed; see /errors). The bridge's codes: invalid_input, workspace_violation, speed_limit, unreachable, software_limit, singularity, controller_offline, channel_locked, timeout, controller_error, controller_busy, cancelled, not_found, method_not_allowed, payload_too_large, unsupported_media_type, queue_full, invalid_program, program_unsupported, program_failed, programs_unavailable, plugin_invalid, plugin_timeout, plugin_memory, plugin_trap, plugin_bad_response, plugins_unavailable, unauthenticated, forbidden, control_held, too_many_attempts, overloaded, request_timeout, protocol_error, internal, storage_unavailable, command_lost, gone, shutting_down, path_closed, path_full, output_not_allowed, unknown_signal, signal_not_reported, input_timeout, variable_not_allowed, unknown_variable, variables_unavailable. A plugin's answer may carry a code of its own.
          * @example invalid_input
          * @example workspace_violation
          * @example speed_limit
@@ -1559,6 +1684,9 @@ export interface components {
          * @example unknown_signal
          * @example signal_not_reported
          * @example input_timeout
+         * @example variable_not_allowed
+         * @example unknown_variable
+         * @example variables_unavailable
          */
         ErrorCode: string;
         /**
@@ -2771,6 +2899,32 @@ export interface components {
             src: string;
         };
         /**
+         * @description An entry of the controller's tool or base table.
+         * @example {
+         *       "table": "TOOL_DATA",
+         *       "number": 3,
+         *       "frame": {
+         *         "x": 0,
+         *         "y": 0,
+         *         "z": 120,
+         *         "a": 0,
+         *         "b": 0,
+         *         "c": 0
+         *       }
+         *     }
+         */
+        TableEntry: {
+            /** @description The frame it holds. */
+            frame: components["schemas"]["CartesianFrame"];
+            /**
+             * Format: int32
+             * @description The entry's number (tools 1..=16, bases 1..=32).
+             */
+            number: number;
+            /** @description `TOOL_DATA` or `BASE_DATA`. */
+            table: string;
+        };
+        /**
          * @description A Cartesian target; omitted components keep their current value (the
          *     previous motion's target inside a batch).
          * @example {
@@ -2930,6 +3084,45 @@ export interface components {
              * @description The `.src` file.
              */
             file: string;
+        };
+        /**
+         * @description A variable's value as the API answers it.
+         * @example {
+         *       "name": "$OV_PRO",
+         *       "type": "INT",
+         *       "value": 100,
+         *       "krl": "100"
+         *     }
+         */
+        Variable: {
+            /** @description The value as KRL text, as the controller showed it. */
+            krl: string;
+            /** @description The name as asked. */
+            name: string;
+            /**
+             * @description `INT`, `REAL`, `BOOL`, `CHAR`, `ENUM`, or a structure's type
+             *     (`E6POS`, `FRAME`, ...; `STRUC` when the controller did not name it).
+             */
+            type: string;
+            /**
+             * @description The value: a number, a boolean, a string, `{"enum": "T1"}`, or an
+             *     object of a structure's components.
+             */
+            value: Record<string, never>;
+        };
+        /**
+         * @description The body of a variable write.
+         * @example {
+         *       "value": 50
+         *     }
+         */
+        VariableWrite: {
+            /**
+             * @description The new value: a number, a boolean, a string (printable ASCII
+             *     without `"`, at most 128), `{"enum": "NAME"}`, or an object of
+             *     components (`{"X": 0, "Y": 0, "Z": 120}` sets those of a FRAME).
+             */
+            value: Record<string, never>;
         };
         /** @description An axis-aligned box in the base frame (mm). */
         WorkspaceBox: {
@@ -3590,6 +3783,149 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["CartesianFrame"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getBaseEntry: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TableEntry"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    selectBase: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TableEntry"];
                 };
             };
             /** @description No token, or an unknown or revoked one (`unauthenticated`) */
@@ -7061,6 +7397,352 @@ export interface operations {
             };
             /** @description Too many failed token attempts from this address (`too_many_attempts`) */
             429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getToolEntry: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TableEntry"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    selectTool: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TableEntry"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getVariable: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description A KRL variable name, e.g. $OV_PRO, $POS_ACT.X, TOOL_DATA[3] */
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Variable"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `unknown_variable` */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `invalid_input`: not a variable name */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `variables_unavailable` */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    setVariable: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description A KRL variable name on the allow-list */
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["VariableWrite"];
+            };
+        };
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Variable"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `unknown_variable` */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `invalid_input` */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `variables_unavailable` */
+            503: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -85,6 +85,7 @@ pub(crate) const OPERATION_IDS: &[(&str, &str, &str)] = &[
     ("get", "/api/v1/io/inputs/{signal}", "getInput"),
     ("get", "/api/v1/io/outputs/{signal}", "getOutput"),
     ("put", "/api/v1/io/outputs/{signal}", "setOutput"),
+    ("put", "/api/v1/variables/{name}", "setVariable"),
 ];
 
 /// The motion kinds: the `type` tag and the schema name of each.

@@ -1003,42 +1003,6 @@ fn format_krl(fmt: &str, vals: &[Value]) -> Result<String, String> {
     Ok(out)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::{Scanned, scan_krl};
-
-    #[test]
-    fn sread_scans_like_sscanf_and_counts_the_offset_in_characters_consumed() {
-        let line = b"LIN 3 -12.500 7 0.001 12345\r\n";
-        let (v, at) = scan_krl(line, 4, "%d").expect("scan");
-        assert_eq!((v, at), (vec![Scanned::Int(3)], 5));
-        let (v, at) = scan_krl(line, at, "%f").expect("scan");
-        assert_eq!((v, at), (vec![Scanned::Real(-12.5)], 13));
-        let (v, at) = scan_krl(line, at, "%d %f %d").expect("scan");
-        assert_eq!(
-            v,
-            vec![Scanned::Int(7), Scanned::Real(0.001), Scanned::Int(12345)]
-        );
-        assert_eq!(&line[at..], b"\r\n");
-        // At the end, nothing more converts.
-        let (v, end) = scan_krl(line, at, "%d").expect("scan");
-        assert_eq!((v.len(), end), (0, at));
-    }
-
-    #[test]
-    fn sread_stops_at_the_first_mismatch() {
-        let (v, at) = scan_krl(b"CMD x 5", 0, "%s %d %d").expect("scan");
-        assert_eq!(v, vec![Scanned::Text(b"CMD".to_vec())]);
-        // The format's blank consumed the blank; the failed %d nothing.
-        assert_eq!(at, 4);
-        let (v, _) = scan_krl(b"99999999999", 0, "%d").expect("scan");
-        assert!(v.is_empty(), "an INT beyond 32 bits does not convert");
-        let (v, _) = scan_krl(b"- 5", 0, "%d").expect("scan");
-        assert!(v.is_empty());
-        assert!(scan_krl(b"1", 0, "%q").is_err());
-    }
-}
-
 /// A KRL path (`kb_mot[3].X`, `$POS_ACT.S`) as its root (upper case) and
 /// the steps into it.
 fn parse_path(path: &str) -> Option<(String, Vec<PathElem>)> {
@@ -1119,5 +1083,41 @@ fn value_of(v: kuka_kvp::KrlValue) -> Value {
             ty.unwrap_or_default().to_ascii_uppercase(),
             fields.into_iter().map(|(k, v)| (k, value_of(v))).collect(),
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Scanned, scan_krl};
+
+    #[test]
+    fn sread_scans_like_sscanf_and_counts_the_offset_in_characters_consumed() {
+        let line = b"LIN 3 -12.500 7 0.001 12345\r\n";
+        let (v, at) = scan_krl(line, 4, "%d").expect("scan");
+        assert_eq!((v, at), (vec![Scanned::Int(3)], 5));
+        let (v, at) = scan_krl(line, at, "%f").expect("scan");
+        assert_eq!((v, at), (vec![Scanned::Real(-12.5)], 13));
+        let (v, at) = scan_krl(line, at, "%d %f %d").expect("scan");
+        assert_eq!(
+            v,
+            vec![Scanned::Int(7), Scanned::Real(0.001), Scanned::Int(12345)]
+        );
+        assert_eq!(&line[at..], b"\r\n");
+        // At the end, nothing more converts.
+        let (v, end) = scan_krl(line, at, "%d").expect("scan");
+        assert_eq!((v.len(), end), (0, at));
+    }
+
+    #[test]
+    fn sread_stops_at_the_first_mismatch() {
+        let (v, at) = scan_krl(b"CMD x 5", 0, "%s %d %d").expect("scan");
+        assert_eq!(v, vec![Scanned::Text(b"CMD".to_vec())]);
+        // The format's blank consumed the blank; the failed %d nothing.
+        assert_eq!(at, 4);
+        let (v, _) = scan_krl(b"99999999999", 0, "%d").expect("scan");
+        assert!(v.is_empty(), "an INT beyond 32 bits does not convert");
+        let (v, _) = scan_krl(b"- 5", 0, "%d").expect("scan");
+        assert!(v.is_empty());
+        assert!(scan_krl(b"1", 0, "%q").is_err());
     }
 }

@@ -90,12 +90,17 @@ from .state_event import StateEvent
 from .state_event_type import StateEventType
 from .stopped import Stopped
 from .stored_program import StoredProgram
+from .table_entry import TableEntry
 from .target_spec import TargetSpec
 from .thesis_problem import ThesisProblem
 from .thesis_response import ThesisResponse
 from .token_info import TokenInfo
 from .trace_sample import TraceSample
 from .upload_form import UploadForm
+from .variable import Variable
+from .variable_value import VariableValue
+from .variable_write import VariableWrite
+from .variable_write_value import VariableWriteValue
 from .wait_input_action import WaitInputAction
 from .wait_input_action_type import WaitInputActionType
 from .workspace_box import WorkspaceBox
@@ -192,12 +197,17 @@ __all__ = (
     "StateEventType",
     "Stopped",
     "StoredProgram",
+    "TableEntry",
     "TargetSpec",
     "ThesisProblem",
     "ThesisResponse",
     "TokenInfo",
     "TraceSample",
     "UploadForm",
+    "Variable",
+    "VariableValue",
+    "VariableWrite",
+    "VariableWriteValue",
     "WaitInputAction",
     "WaitInputActionType",
     "WorkspaceBox",

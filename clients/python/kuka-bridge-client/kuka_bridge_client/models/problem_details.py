@@ -38,8 +38,8 @@ class ProblemDetails:
                 programs_unavailable, plugin_invalid, plugin_timeout, plugin_memory, plugin_trap, plugin_bad_response,
                 plugins_unavailable, unauthenticated, forbidden, control_held, too_many_attempts, overloaded, request_timeout,
                 protocol_error, internal, storage_unavailable, command_lost, gone, shutting_down, path_closed, path_full,
-                output_not_allowed, unknown_signal, signal_not_reported, input_timeout. A plugin's answer may carry a code of
-                its own.
+                output_not_allowed, unknown_signal, signal_not_reported, input_timeout, variable_not_allowed, unknown_variable,
+                variables_unavailable. A plugin's answer may carry a code of its own.
             detail (str): Human explanation of this occurrence.
             status (int): HTTP status.
             title (str): Short summary of the problem type.
