@@ -162,11 +162,16 @@ pub(crate) struct Controller {
     pub(crate) outputs: Vec<bool>,
     /// The running output pulse: output, the value it returns to, when.
     pulse: Option<(u16, bool, Instant)>,
-    /// `TOOL_DATA[1..=16]` (KUKAVARPROXY access only: crate::vars).
+    /// `TOOL_DATA[1..=16]` (read and written through KUKAVARPROXY only).
     pub(crate) tool_data: Vec<Pose>,
     /// `BASE_DATA[1..=32]`.
     pub(crate) base_data: Vec<Pose>,
 }
+
+/// Entries of `TOOL_DATA`.
+pub(crate) const TOOLS: usize = 16;
+/// Entries of `BASE_DATA`.
+pub(crate) const BASES: usize = 32;
 
 /// First I/O index of the state file's window (the KRL program's
 /// `kb_io_base`).
@@ -239,8 +244,8 @@ impl Controller {
             inputs: vec![false; usize::from(kuka_protocol::MAX_IO_INDEX) + 1],
             outputs: vec![false; usize::from(kuka_protocol::MAX_IO_INDEX) + 1],
             pulse: None,
-            tool_data: vec![Pose::IDENTITY; crate::vars::TOOLS],
-            base_data: vec![Pose::IDENTITY; crate::vars::BASES],
+            tool_data: vec![Pose::IDENTITY; TOOLS],
+            base_data: vec![Pose::IDENTITY; BASES],
         }
     }
 

@@ -14,11 +14,6 @@ use kuka_protocol::OperatingMode;
 
 use crate::controller::Controller;
 
-/// Entries of `TOOL_DATA`.
-pub(crate) const TOOLS: usize = 16;
-/// Entries of `BASE_DATA`.
-pub(crate) const BASES: usize = 32;
-
 fn frame(ty: &str, p: &Pose) -> KrlValue {
     KrlValue::Struct(
         Some(ty.into()),
