@@ -335,6 +335,33 @@ pub const MAX_IO_INDEX: u16 = 4096;
 /// Longest output pulse the protocol carries (ms).
 pub const MAX_PULSE_MS: u32 = 60_000;
 
+/// Highest analog I/O channel (`$ANIN`/`$ANOUT` of KSS 8.x have 32).
+pub const MAX_ANALOG_INDEX: u8 = 32;
+
+/// The body of a SETANOUT (op 15): `ANO index value K`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AnalogOutputRecord {
+    /// `$ANOUT` index, 1..=[`MAX_ANALOG_INDEX`].
+    pub index: u8,
+    /// The normalised value, −1.0..=1.0 (±1.0 = the channel's full scale).
+    pub value: f64,
+}
+
+/// The analog I/O a controller reports (the state file's optional `ANS`
+/// line): `$ANIN[1..=8]` and `$ANOUT[1..=8]`, normalised −1.0..=1.0.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AnalogState {
+    /// `$ANIN[1..=8]`.
+    pub inputs: [f64; AnalogState::WIDTH],
+    /// `$ANOUT[1..=8]`.
+    pub outputs: [f64; AnalogState::WIDTH],
+}
+
+impl AnalogState {
+    /// Channels reported of each kind.
+    pub const WIDTH: usize = 8;
+}
+
 /// The body of a SETOUT (op 14): `OUT index value pulse_ms K`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct OutputRecord {
@@ -422,6 +449,8 @@ pub enum Command {
     /// Op 14: set a digital output (`$OUT[index]`), optionally as a pulse
     /// of `pulse_ms` after which it returns to the other value.
     SetOutput(OutputRecord),
+    /// Op 15: set an analog output (`$ANOUT[index]`) at once.
+    SetAnalogOutput(AnalogOutputRecord),
     /// Op 20: brake, flush the motion buffer, cancel the running command.
     /// The only command accepted while another one is running.
     Stop,
@@ -445,6 +474,7 @@ impl Command {
             Command::GetBase => 12,
             Command::SetSpeed(_) => 13,
             Command::SetOutput(_) => 14,
+            Command::SetAnalogOutput(_) => 15,
             Command::Stop => 20,
             Command::Reset => 21,
         }
@@ -465,6 +495,7 @@ impl Command {
             Command::GetBase => "get_base",
             Command::SetSpeed(_) => "set_speed",
             Command::SetOutput(_) => "set_output",
+            Command::SetAnalogOutput(_) => "set_analog_output",
             Command::Stop => "stop",
             Command::Reset => "reset",
         }
@@ -948,6 +979,23 @@ impl CommandFile {
                 );
                 n = 1;
             }
+            Command::SetAnalogOutput(a) => {
+                if a.index == 0
+                    || a.index > MAX_ANALOG_INDEX
+                    || !(a.value.is_finite() && (-1.0..=1.0).contains(&a.value))
+                {
+                    return Err(EncodeError::Shape(format!(
+                        "analog output {} (1..={MAX_ANALOG_INDEX}) or value {} (-1..=1) out of range",
+                        a.index, a.value
+                    )));
+                }
+                write_line(
+                    &mut body,
+                    "ANO",
+                    &[Field::Int(i32::from(a.index)), real("value", a.value)?],
+                );
+                n = 1;
+            }
             Command::SetSpeed(s) => {
                 f.push(real("override", s.override_pct)?);
                 f.push(real("ptp_velocity", s.ptp_velocity_pct)?);
@@ -1106,6 +1154,20 @@ impl CommandFile {
                     index: index as u16,
                     value: value == 1,
                     pulse_ms: pulse as u32,
+                })
+            }
+            15 => {
+                expect_n(1)?;
+                let mut l = r.line("ANO", "ir")?;
+                let (index, value) = (l.int(), l.real());
+                if !(1..=i32::from(MAX_ANALOG_INDEX)).contains(&index)
+                    || !(-1.0..=1.0).contains(&value)
+                {
+                    return Err(l.invalid("analog output index or value out of range"));
+                }
+                Command::SetAnalogOutput(AnalogOutputRecord {
+                    index: index as u8,
+                    value,
                 })
             }
             other => return Err(h.invalid(format!("unknown op {other}"))),
@@ -1414,6 +1476,8 @@ pub struct StateFile {
     pub io: Option<IoState>,
     /// Safety and program state (the optional `SAF` line).
     pub safety: Option<SafetyState>,
+    /// Analog I/O (the optional `ANS` line).
+    pub analog: Option<AnalogState>,
 }
 
 impl StateFile {
@@ -1485,6 +1549,13 @@ impl StateFile {
                     Field::Int(i32::from(s.program_state.min(4))),
                 ],
             );
+        }
+        if let Some(a) = &self.analog {
+            let mut f = Vec::with_capacity(2 * AnalogState::WIDTH);
+            for v in a.inputs.iter().chain(&a.outputs) {
+                f.push(real("analog value", *v)?);
+            }
+            write_line(&mut out, "ANS", &f);
         }
         write_line(&mut out, "END", &[Field::Int(self.seq)]);
         Ok(out)
@@ -1564,6 +1635,19 @@ impl StateFile {
         } else {
             None
         };
+        let analog = if r.peek_tag() == Some("ANS") {
+            let mut l = r.line("ANS", "rrrrrrrrrrrrrrrr")?;
+            let mut a = AnalogState::default();
+            for v in a.inputs.iter_mut().chain(a.outputs.iter_mut()) {
+                *v = l.real();
+            }
+            if a.inputs.iter().chain(&a.outputs).any(|v| !(-1.0..=1.0).contains(v)) {
+                return Err(l.invalid("analog values must be within -1..1"));
+            }
+            Some(a)
+        } else {
+            None
+        };
         let mut e = r.line("END", "i")?;
         if e.int() != seq {
             return Err(e.invalid("END record does not match the header"));
@@ -1590,6 +1674,7 @@ impl StateFile {
             base,
             io,
             safety,
+            analog,
         })
     }
 }
