@@ -267,6 +267,23 @@ impl KrcController {
             .is_some_and(|g| g.set_bool_element(name, index, v))
     }
 
+    /// An element of a global REAL array of the program (e.g. `$ANOUT`, 2
+    /// for `$ANOUT[2]`), read between two cycles; `None` when it does not
+    /// exist.
+    pub fn real_element(&self, name: &str, index: i64) -> Option<f64> {
+        self.lock().vars.as_ref()?.real(name, &[index])
+    }
+
+    /// Sets an element of a global REAL array of the program between two
+    /// cycles (a simulated analog input: `$ANIN`, 3 for `$ANIN[3]`); false
+    /// when it does not exist or is not a REAL.
+    pub fn set_real_element(&self, name: &str, index: i64, v: f64) -> bool {
+        self.lock()
+            .vars
+            .as_mut()
+            .is_some_and(|g| g.set_real_element(name, index, v))
+    }
+
     /// A variable or a part of one (`$OV_PRO`, `$POS_ACT`, `TOOL_DATA[3]`,
     /// `$OUT[2]`) as KRL text, as KUKAVARPROXY reads it on a KRC, between
     /// two cycles; `None` when it does not exist or is not set.

@@ -10,7 +10,9 @@ use std::thread::JoinHandle;
 
 use kuka_kinematics::Axes;
 use kuka_krl::Program;
-use kuka_krl_runtime::interp::{Globals, HostedFiles, RunError, Start, Wait, run_hosted};
+use kuka_krl_runtime::interp::{
+    ANALOG_CHANNELS, Globals, HostedFiles, RunError, Start, Wait, run_hosted,
+};
 use kuka_protocol::SpeedRecord;
 
 use crate::config::KrcConfig;
@@ -629,6 +631,10 @@ impl Scheduler {
             v.ensure_bools("$IN", 4096, false);
             v.ensure_bools("$OUT", 4096, false);
         }
+        // The analog channels, 0.0 after a cold start (a test or the
+        // service sets a simulated input with set_real_element).
+        v.ensure_reals("$ANIN", ANALOG_CHANNELS, 0.0);
+        v.ensure_reals("$ANOUT", ANALOG_CHANNELS, 0.0);
         // The controller timers: stopped at 0 after a cold start.
         v.ensure_ints("$TIMER", TIMERS as usize, 0);
         v.ensure_bools("$TIMER_STOP", TIMERS as usize, true);

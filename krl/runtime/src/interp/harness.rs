@@ -10,7 +10,7 @@ use super::values::{
     PathElem, Scalar, Value, assign_into, axis_value, flat_index, step_into, walk_mut,
 };
 use super::vars::{Place, Root};
-use super::{Interp, RunError, Unsupported, describe};
+use super::{ANALOG_CHANNELS, Interp, RunError, Unsupported, describe};
 
 /// Most statements in the test harness ([`run_with_files`](super::run_with_files)), which runs
 /// the controller program's character-by-character parser over whole files.
@@ -230,6 +230,24 @@ impl Globals {
         }
     }
 
+    /// Sets an element of a REAL array (1-based, as `$ANIN[3]`); false
+    /// when the array or the element does not exist or is not a REAL.
+    pub fn set_real_element(&mut self, name: &str, index: i64, v: f64) -> bool {
+        match self.vars.get_mut(&name.to_ascii_uppercase()) {
+            Some(Value::Array(dims, items)) => match flat_index(dims, &[index])
+                .ok()
+                .and_then(|k| items.get_mut(k))
+            {
+                Some(slot @ Value::Real(_)) => {
+                    *slot = Value::Real(v);
+                    true
+                }
+                _ => false,
+            },
+            _ => false,
+        }
+    }
+
     /// Sets an element of an INT array (1-based, as `$TIMER[3]`); false
     /// when the array or the element does not exist.
     pub fn set_int_element(&mut self, name: &str, index: i64, v: i64) -> bool {
@@ -253,6 +271,13 @@ impl Globals {
         self.vars
             .entry(name.to_ascii_uppercase())
             .or_insert_with(|| Value::Array(vec![len], vec![Value::Int(v); len]));
+    }
+
+    /// Sets a REAL array of `len` elements, all `v`, unless it exists.
+    pub fn ensure_reals(&mut self, name: &str, len: usize, v: f64) {
+        self.vars
+            .entry(name.to_ascii_uppercase())
+            .or_insert_with(|| Value::Array(vec![len], vec![Value::Real(v); len]));
     }
 
     /// Sets a BOOL array of `len` elements, all `v`, unless it exists.
@@ -406,6 +431,16 @@ impl<'a> Interp<'a> {
             g.insert(
                 io.into(),
                 Value::Array(vec![4096], vec![Value::Bool(false); 4096]),
+            );
+        }
+        // The analog channels: 32 REALs each, normalised -1.0..1.0.
+        for io in ["$ANIN", "$ANOUT"] {
+            g.insert(
+                io.into(),
+                Value::Array(
+                    vec![ANALOG_CHANNELS],
+                    vec![Value::Real(0.0); ANALOG_CHANNELS],
+                ),
             );
         }
     }

@@ -243,6 +243,10 @@ pub const MAX_ARRAY: usize = 1_000_000;
 /// Most steps (motions and waits) one run may produce; then it ends with
 /// [`RunError::TooLong`].
 pub const MAX_STEPS: usize = 100_000;
+/// Channels of the analog I/O arrays `$ANIN[]` and `$ANOUT[]` (REALs,
+/// normalised −1.0..1.0, 0.0 at start), as KSS 8.x declares them
+/// (`kuka_protocol::MAX_ANALOG_INDEX`).
+pub const ANALOG_CHANNELS: usize = 32;
 /// `$ACC.CP` (m/s²) that is 100 % (the planner's default maximum).
 pub const ACC_CP_MAX: f64 = 2.3;
 /// `$APO.CDIS` at the start (mm).
