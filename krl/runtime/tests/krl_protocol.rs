@@ -36,9 +36,10 @@ use kuka_kinematics::{Pose, RobotModel};
 use kuka_krl::{DatFile, Expr, Program, SrcFile, Stmt, StmtKind, parse_dat, parse_src};
 use kuka_krl_runtime::interp::{Globals, Start, run_with_files};
 use kuka_protocol::{
-    COMMAND_FILE, Command, CommandFile, ControllerStatus, Frame, IoState, MotionParams,
-    MotionRecord, OperatingMode, OutputRecord, PathChunk, RESULT_FILE, ResultCode, ResultFile,
-    ResultRecord, STATE_FILE, SafetyState, SpeedRecord, StateFile, checksum,
+    AnalogOutputRecord, AnalogState, COMMAND_FILE, Command, CommandFile, ControllerStatus, Frame,
+    IoState, MotionParams, MotionRecord, OperatingMode, OutputRecord, PathChunk, RESULT_FILE,
+    ResultCode, ResultFile, ResultRecord, STATE_FILE, SafetyState, SpeedRecord, StateFile,
+    checksum,
 };
 
 // ---------------------------------------------------------------- the program
@@ -498,6 +499,20 @@ fn sample_commands() -> Vec<CommandFile> {
                 pulse_ms: 0,
             }),
         ),
+        c(
+            34,
+            Command::SetAnalogOutput(AnalogOutputRecord {
+                index: 32,
+                value: -1.0,
+            }),
+        ),
+        c(
+            35,
+            Command::SetAnalogOutput(AnalogOutputRecord {
+                index: 1,
+                value: 0.001,
+            }),
+        ),
         c(23, Command::Home),
         c(24, Command::GetTool),
         c(26, Command::GetBase),
@@ -684,6 +699,9 @@ fn command_records(cmd: &CommandFile) -> Vec<(&'static str, Vec<Val>)> {
             ],
         )),
         Command::Run(n) => body.push(("PRG", vec![Val::I(i64::from(*n))])),
+        Command::SetAnalogOutput(a) => {
+            body.push(("ANO", vec![Val::I(i64::from(a.index)), Val::R(a.value)]))
+        }
         Command::SetOutput(o) => body.push((
             "OUT",
             vec![
@@ -879,8 +897,8 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(
         tags,
         [
-            "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP", "SCI",
-            "SLN", "SOT", "SPD", "SPL", "SPT", "WIN"
+            "ANO", "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP",
+            "SCI", "SLN", "SOT", "SPD", "SPL", "SPT", "WIN"
         ],
         "the samples cover every command record"
     );
@@ -906,6 +924,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(formats["SOT"], one(4, 0));
     assert_eq!(formats["WIN"], one(4, 0));
     assert_eq!(formats["DWL"], one(2, 0));
+    assert_eq!(formats["ANO"], one(2, 0b10));
     // The files the KRL program reads back at start (KsRecover) in the
     // shapes the Rust encoder writes them.
     let results = sample_results(3).encode().expect("encodes");
@@ -931,8 +950,8 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(
         tags,
         BTreeSet::from([
-            "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP", "RES",
-            "RSL", "SCI", "SLN", "SOT", "SPD", "SPL", "SPT", "STA", "WIN"
+            "ANO", "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP",
+            "RES", "RSL", "SCI", "SLN", "SOT", "SPD", "SPL", "SPT", "STA", "WIN"
         ]),
         "kb_submit.src parses exactly the protocol's records"
     );
@@ -1203,6 +1222,11 @@ fn sample_state() -> StateFile {
             stop_message: false,
             program_state: 0,
         }),
+        // Full scale both ways, the smallest steps, values between.
+        analog: Some(AnalogState {
+            inputs: [1.0, -1.0, 0.0, 0.001, -0.001, 0.5, -0.25, 0.999],
+            outputs: [-0.999, 0.123, -0.456, 0.0, 1.0, -1.0, 0.002, 0.75],
+        }),
     }
 }
 
@@ -1286,7 +1310,7 @@ fn state_driver(s: &StateFile, mode: &str, ov_pro: i64) -> String {
   $AXIS_ACT = {axes}
   kb_tool_act = {tool}
   kb_base_act = {base}
-  KsWriteState(4711)
+{analog}  KsWriteState(4711)
 END
 ",
         seq = i64::from(s.seq) - 1,
@@ -1299,7 +1323,23 @@ END
         axes = krl_axes(&s.axes),
         tool = krl_frame(&s.tool),
         base = krl_frame(&s.base),
+        analog = analog_setup(s.analog.as_ref()),
     )
+}
+
+/// KRL statements that set `$ANIN[1..8]` and `$ANOUT[1..8]` to `a`'s
+/// values (nothing for `None`: they stay 0.0).
+fn analog_setup(a: Option<&AnalogState>) -> String {
+    let mut out = String::new();
+    if let Some(a) = a {
+        for (k, v) in a.inputs.iter().enumerate() {
+            out.push_str(&format!("  $ANIN[{}] = {}\n", k + 1, krl_real(*v)));
+        }
+        for (k, v) in a.outputs.iter().enumerate() {
+            out.push_str(&format!("  $ANOUT[{}] = {}\n", k + 1, krl_real(*v)));
+        }
+    }
+    out
 }
 
 #[test]
@@ -1374,6 +1414,46 @@ fn state_files_written_by_krl_decode_in_rust() {
     let mut files = BTreeMap::new();
     run_driver(&d, "", &mut files);
     assert_eq!(StateFile::decode(&files[STATE_FILE]), Ok(wrapped));
+
+    // Analog readings past full scale are reported as +-1.000 (the
+    // decoder refuses anything beyond, which would make the whole state
+    // file invalid), others rounded to the nearest thousandth.
+    let d = state_driver(&idle, "T1", 30)
+        .replace("$ANIN[1] = 1.000", "$ANIN[1] = 1.5")
+        .replace("$ANIN[2] = -1.000", "$ANIN[2] = -1.0004")
+        .replace("$ANIN[8] = 0.999", "$ANIN[8] = 0.9994")
+        .replace("$ANOUT[2] = 0.123", "$ANOUT[2] = 0.1225001");
+    assert_eq!(
+        ["$ANIN[1] = 1.5", "-1.0004", "0.9994", "0.1225001"].map(|t| d.contains(t)),
+        [true; 4],
+        "{d}"
+    );
+    for text_mode in [Text::Native, Text::Chars] {
+        let mut files = BTreeMap::new();
+        run_driver(&in_mode(&d, text_mode), "", &mut files);
+        assert_eq!(
+            StateFile::decode(&files[STATE_FILE]),
+            Ok(idle),
+            "{text_mode:?}: {}",
+            files[STATE_FILE]
+        );
+    }
+    // kb_an_on = FALSE (a controller whose Submit interpreter may not
+    // read the analog channels): no ANS line, the file still decodes.
+    let d = state_driver(&idle, "T1", 30).replace(
+        "  KsWriteState(4711)",
+        "  kb_an_on = FALSE\n  KsWriteState(4711)",
+    );
+    let mut files = BTreeMap::new();
+    run_driver(&d, "", &mut files);
+    assert!(!files[STATE_FILE].contains("ANS "), "{}", files[STATE_FILE]);
+    assert_eq!(
+        StateFile::decode(&files[STATE_FILE]),
+        Ok(StateFile {
+            analog: None,
+            ..idle
+        })
+    );
 }
 
 // ---------------------------------------------------------------- b. the Submit side's own cycle
@@ -1700,6 +1780,23 @@ fn commands_answered_by_the_submit_side_decode_in_rust() {
         ),
         (Command::Stop, "EX", answer(21, ResultCode::Ok, pose)),
         (Command::Reset, "EX", answer(28, ResultCode::Ok, pose)),
+        // SETANOUT: $ANOUT now, answered with the current TCP (as SETOUT).
+        (
+            Command::SetAnalogOutput(AnalogOutputRecord {
+                index: 3,
+                value: -0.625,
+            }),
+            "T1",
+            answer(34, ResultCode::Ok, pose),
+        ),
+        (
+            Command::SetAnalogOutput(AnalogOutputRecord {
+                index: 32,
+                value: 1.0,
+            }),
+            "EX",
+            answer(35, ResultCode::Ok, pose),
+        ),
         // RUN selects programs with $CMD: EXT mode only.
         (
             Command::Run(30),
@@ -1730,6 +1827,17 @@ fn commands_answered_by_the_submit_side_decode_in_rust() {
             assert_eq!(g.real("kb_def_ptpa", &[]), Some(sp.ptp_acceleration_pct));
             assert_eq!(g.real("kb_def_cpv", &[]), Some(sp.cp_velocity));
             assert_eq!(g.real("kb_def_cpa", &[]), Some(sp.cp_acceleration_pct));
+        }
+        if let Command::SetAnalogOutput(a) = cmd.command {
+            let i = i64::from(a.index);
+            assert_eq!(g.real("$ANOUT", &[i]), Some(a.value), "{ctx}");
+            // The state file written after it shows channels 1..8.
+            let analog = s.analog.expect("an ANS line");
+            let mut outputs = [0.0; 8];
+            if let Some(o) = outputs.get_mut(usize::from(a.index) - 1) {
+                *o = a.value;
+            }
+            assert_eq!(analog.outputs, outputs, "{ctx}");
         }
     }
 
@@ -1847,6 +1955,39 @@ fn stale_damaged_and_foreign_commands() {
             [answer(19, ResultCode::BadCommand, pose)],
             "{text}"
         );
+    }
+
+    // SETANOUT with a channel or a value outside the decoder's ranges
+    // (index 1..32, value -1.000..1.000), or the wrong body count:
+    // BAD_COMMAND, $ANOUT untouched.
+    for (index, value, n) in [
+        (0, 0.5, 1),
+        (33, 0.5, 1),
+        (-1, 0.5, 1),
+        (1, 1.001, 1),
+        (1, -1.001, 1),
+        (8, 9999.999, 1),
+        (8, 0.5, 2),
+    ] {
+        let cid = 41;
+        let ano = line("ANO", &[Val::I(index), Val::R(value)]);
+        let text = format!(
+            "{}{}{}",
+            line("CMD", &[Val::I(2), Val::I(cid), Val::I(15), Val::I(n)]),
+            ano.repeat(n as usize),
+            line("END", &[Val::I(cid), Val::I(n)]),
+        );
+        assert!(CommandFile::decode(&text).is_err(), "{text}");
+        let mut files = channel(&text);
+        let g = submit(&mut files, &setup, 1);
+        assert_eq!(
+            results(&files),
+            [answer(41, ResultCode::BadCommand, pose)],
+            "{text}"
+        );
+        for k in 1..=32 {
+            assert_eq!(g.real("$ANOUT", &[k]), Some(0.0), "{text}");
+        }
     }
 
     // Another protocol version, or an unknown op, with an intact header:
