@@ -277,6 +277,7 @@ fn scripted_controller(
             base: Frame::default(),
             io: None,
             safety: None,
+            analog: None,
         };
         let text = state.encode().expect("state");
         kuka_protocol::files::atomic_write(dir, STATE_FILE, "fake", &text).expect("write state");

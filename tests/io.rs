@@ -4,7 +4,7 @@
 //! (nothing reaches the channel for another output), pulses, simulated
 //! inputs pushed as `io` events, and hostile signal names and bodies.
 
-use kuka_bridge::io::{IoConfig, SignalConfig};
+use kuka_bridge::io::{AnalogConfig, IoConfig, SignalConfig};
 use kuka_bridge_tests::{Options, TestService, WAIT, wait_for};
 use serde_json::{Value, json};
 
@@ -29,6 +29,14 @@ async fn plant() -> TestService {
                     signal("gripper_close", 1, 0, true),
                     signal("blow_off", 2, 300, true),
                 ],
+                analog_inputs: vec![AnalogConfig {
+                    name: "force".into(),
+                    index: 2,
+                }],
+                analog_outputs: vec![AnalogConfig {
+                    name: "spindle_speed".into(),
+                    index: 1,
+                }],
             };
         }),
         ..Options::default()
@@ -484,4 +492,128 @@ async fn the_state_reports_the_controllers_safety_and_program() {
         ),
         "{s}"
     );
+}
+
+/// The analog channel `k` (0-based) of `GET /api/v1/io/analog`.
+async fn analog(t: &TestService, output: bool, k: usize) -> Value {
+    let (s, v) = t.get("/api/v1/io/analog").await;
+    assert_eq!(s, 200, "{v}");
+    v[if output { "outputs" } else { "inputs" }][k].clone()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn analog_values_round_trip_within_the_protocols_resolution() {
+    let t = plant().await;
+    let out = analog(&t, true, 0).await;
+    assert_eq!(
+        (
+            out["name"].as_str(),
+            out["writable"].as_bool(),
+            out["value"].as_f64()
+        ),
+        (Some("spindle_speed"), Some(true), Some(0.0)),
+        "{out}"
+    );
+    for (sent, want) in [(0.5, 0.5), (-0.12345, -0.123), (1.0, 1.0), (0.0004, 0.0)] {
+        let (s, v) = put(
+            &t,
+            "/api/v1/io/analog-outputs/spindle_speed",
+            &json!({"value": sent}),
+        )
+        .await;
+        assert_eq!(s, 200, "{v}");
+        wait_for(WAIT, &format!("$ANOUT[1] to read {want}"), async || {
+            let o = analog(&t, true, 0).await;
+            match o["value"].as_f64() {
+                Some(v) if (v - want).abs() <= 0.0005 => Ok(()),
+                _ => Err(o.to_string()),
+            }
+        })
+        .await;
+    }
+    // A simulated sensor on $ANIN[2] ("force").
+    let (s, v) = put(&t, "/api/v1/sim/analog-inputs/2", &json!({"value": -0.25})).await;
+    assert_eq!(s, 204, "{v}");
+    wait_for(WAIT, "$ANIN[2] to read -0.25", async || {
+        let i = analog(&t, false, 1).await;
+        if i["value"] == -0.25 && i["name"] == "force" {
+            Ok(())
+        } else {
+            Err(i.to_string())
+        }
+    })
+    .await;
+    // Refused before the channel: not on the list, out of range, not a
+    // name, not a value.
+    let before = last_cid(&t).await;
+    for (path, body, status, code) in [
+        (
+            "/api/v1/io/analog-outputs/2",
+            json!({"value": 0.5}),
+            403,
+            "output_not_allowed",
+        ),
+        (
+            "/api/v1/io/analog-outputs/33",
+            json!({"value": 0.5}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/analog-outputs/0",
+            json!({"value": 0.5}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/analog-outputs/force",
+            json!({"value": 0.5}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            "/api/v1/io/analog-outputs/%24ANOUT%5B1%5D",
+            json!({"value": 0.5}),
+            404,
+            "unknown_signal",
+        ),
+        (
+            "/api/v1/io/analog-outputs/1",
+            json!({"value": 1.5}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/analog-outputs/1",
+            json!({"value": -1.001}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/analog-outputs/1",
+            json!({"value": "0.5"}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/analog-outputs/1",
+            json!({"value": 1e308}),
+            422,
+            "invalid_input",
+        ),
+        (
+            "/api/v1/io/analog-outputs/1",
+            json!({"value": 0.5, "volts": 5}),
+            422,
+            "invalid_input",
+        ),
+    ] {
+        let (s, v) = put(&t, path, &body).await;
+        assert_eq!(
+            (s, v["code"].as_str()),
+            (status, Some(code)),
+            "{path} {body}: {v}"
+        );
+    }
+    assert_eq!(last_cid(&t).await, before, "nothing reached the channel");
 }

@@ -579,6 +579,7 @@ async fn a_state_file_older_than_the_first_result_does_not_set_the_position_back
         base: kuka_protocol::Frame::default(),
         io: None,
         safety: None,
+        analog: None,
     };
     // A heartbeat every 20 ms with the home state while `beat` holds true.
     let state = Arc::new(Mutex::new((home, true)));

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use crate::error::{BridgeError, ErrorCode, Result};
-use kuka_protocol::{IoState, MAX_IO_INDEX, MAX_PULSE_MS};
+use kuka_protocol::{AnalogState, IoState, MAX_ANALOG_INDEX, MAX_IO_INDEX, MAX_PULSE_MS};
 
 /// Inputs or outputs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
@@ -59,6 +59,49 @@ pub struct IoConfig {
     /// The outputs clients may write, by name and number (reading needs
     /// no entry).
     pub outputs: Vec<SignalConfig>,
+    /// Named analog inputs (`$ANIN[1..=32]`).
+    pub analog_inputs: Vec<AnalogConfig>,
+    /// The analog outputs clients may write (`$ANOUT[1..=32]`).
+    pub analog_outputs: Vec<AnalogConfig>,
+}
+
+/// One named analog channel of the site.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AnalogConfig {
+    /// Its name, as for digital signals (`spindle_speed`).
+    pub name: String,
+    /// `$ANIN`/`$ANOUT` index, 1..=32.
+    #[schema(minimum = 1, maximum = 32)]
+    pub index: u8,
+}
+
+/// The analog channels the controller reported in its last state file
+/// (`$ANIN`/`$ANOUT[1..=8]`, normalised −1..=1).
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct AnalogWindow {
+    /// `$ANIN[1..=8]`.
+    pub inputs: Vec<f64>,
+    /// `$ANOUT[1..=8]`.
+    pub outputs: Vec<f64>,
+}
+
+impl From<&AnalogState> for AnalogWindow {
+    fn from(a: &AnalogState) -> Self {
+        AnalogWindow {
+            inputs: a.inputs.to_vec(),
+            outputs: a.outputs.to_vec(),
+        }
+    }
+}
+
+/// An analog output to set.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AnalogOutputRequest {
+    /// `$ANOUT` index, 1..=32.
+    pub index: u8,
+    /// Normalised value, −1..=1.
+    pub value: f64,
 }
 
 impl IoConfig {
@@ -102,7 +145,106 @@ impl IoConfig {
                 }
             }
         }
+        self.validate_analog()
+    }
+
+    /// Checks the analog channels (names as for digital signals, unique
+    /// over every list; indices 1..=32).
+    fn validate_analog(&self) -> std::result::Result<(), String> {
+        let mut names: std::collections::HashSet<&str> = self
+            .inputs
+            .iter()
+            .chain(&self.outputs)
+            .map(|s| s.name.as_str())
+            .collect();
+        for (kind, list) in [
+            ("analog_inputs", &self.analog_inputs),
+            ("analog_outputs", &self.analog_outputs),
+        ] {
+            let mut indices = std::collections::HashSet::new();
+            for a in list {
+                let ok_name = a.name.len() <= 32
+                    && a.name.starts_with(|c: char| c.is_ascii_lowercase())
+                    && a.name
+                        .chars()
+                        .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+                if !ok_name {
+                    return Err(format!(
+                        "io.{kind}: name {:?} must be a lower-case letter, then lower-case letters, digits or _, at most 32 characters",
+                        a.name
+                    ));
+                }
+                if !names.insert(a.name.as_str()) {
+                    return Err(format!(
+                        "io.{kind}: the name {:?} is used twice (names are unique over all signals)",
+                        a.name
+                    ));
+                }
+                if a.index == 0 || a.index > MAX_ANALOG_INDEX {
+                    return Err(format!(
+                        "io.{kind}: {:?} has index {}, not in 1..={MAX_ANALOG_INDEX}",
+                        a.name, a.index
+                    ));
+                }
+                if !indices.insert(a.index) {
+                    return Err(format!("io.{kind}: index {} is named twice", a.index));
+                }
+            }
+        }
         Ok(())
+    }
+
+    /// The analog channel a client's `signal` (a number 1..=32 or a
+    /// configured name) stands for, with its name.
+    pub fn resolve_analog(&self, output: bool, signal: &str) -> Result<(u8, Option<&str>)> {
+        let list = if output {
+            &self.analog_outputs
+        } else {
+            &self.analog_inputs
+        };
+        let krl = if output { "$ANOUT" } else { "$ANIN" };
+        if let Some(a) = list.iter().find(|a| a.name == signal) {
+            return Ok((a.index, Some(a.name.as_str())));
+        }
+        if !signal.is_empty() && signal.len() <= 3 && signal.bytes().all(|b| b.is_ascii_digit()) {
+            let index: u8 = signal
+                .parse()
+                .ok()
+                .filter(|i| (1..=MAX_ANALOG_INDEX).contains(i))
+                .ok_or_else(|| {
+                    BridgeError::invalid(format!(
+                        "{krl}[{signal}] does not exist: indices are 1..={MAX_ANALOG_INDEX}"
+                    ))
+                })?;
+            let name = list
+                .iter()
+                .find(|a| a.index == index)
+                .map(|a| a.name.as_str());
+            return Ok((index, name));
+        }
+        let shown: String = signal.chars().take(40).collect();
+        Err(BridgeError::new(
+            ErrorCode::UnknownSignal,
+            format!(
+                "no analog {} is named {shown:?}: use a number (1..={MAX_ANALOG_INDEX}) or a name from the site's [io] configuration",
+                if output { "output" } else { "input" }
+            ),
+        ))
+    }
+
+    /// The analog output's entry if clients may write it.
+    pub fn analog_writable(&self, index: u8) -> Result<&AnalogConfig> {
+        self.analog_outputs
+            .iter()
+            .find(|a| a.index == index)
+            .ok_or_else(|| {
+                BridgeError::new(
+                    ErrorCode::OutputNotAllowed,
+                    format!(
+                        "$ANOUT[{index}] is not on the site's list of analog outputs clients may write ([io] analog_outputs in the configuration)"
+                    ),
+                )
+            })
     }
 
     fn list(&self, kind: IoKind) -> &[SignalConfig] {

@@ -137,10 +137,7 @@ impl Variables {
         let client = self.client()?;
         // The value must fit the variable as it is now: a number for a
         // number, the components a structure has, ...
-        let now = client
-            .read(name)
-            .await
-            .map_err(|e| Self::error(name, e))?;
+        let now = client.read(name).await.map_err(|e| Self::error(name, e))?;
         if let Some(now) = KrlValue::parse(&now) {
             fits(&now, &v).map_err(|why| {
                 BridgeError::invalid(format!("{name} is {}: {why}", now.type_name()))

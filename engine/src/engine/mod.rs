@@ -192,6 +192,7 @@ impl Engine {
                 "no heartbeat from the controller yet",
             )],
             io: None,
+            analog: None,
         };
         let (state, _) = watch::channel(initial);
         let job_ids = JobIdStore::open(&settings.data_dir);
@@ -378,6 +379,15 @@ impl Engine {
                     "pulse_ms = {} is above {} ms",
                     o.pulse_ms,
                     kuka_protocol::MAX_PULSE_MS
+                )));
+            }
+        }
+        if let Operation::SetAnalogOutput(a) = &op {
+            self.shared.io.analog_writable(a.index)?;
+            if !(a.value.is_finite() && (-1.0..=1.0).contains(&a.value)) {
+                return Err(BridgeError::invalid(format!(
+                    "value = {} is not in -1..=1 (the normalised analog range)",
+                    a.value
                 )));
             }
         }

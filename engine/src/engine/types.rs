@@ -164,6 +164,8 @@ pub enum Operation {
     Path(PathOptions),
     /// Set a digital output (only one on the site's allow-list).
     SetOutput(crate::io::OutputRequest),
+    /// Set an analog output (only one on the site's allow-list).
+    SetAnalogOutput(crate::io::AnalogOutputRequest),
 }
 
 /// How an open path treats the motions appended to it.
@@ -221,6 +223,7 @@ impl Operation {
             Operation::RunProgram(_) => "run_program",
             Operation::Path(_) => "path",
             Operation::SetOutput(_) => "set_output",
+            Operation::SetAnalogOutput(_) => "set_analog_output",
         }
     }
 }
@@ -469,6 +472,9 @@ pub struct RobotState {
     /// Digital I/O as the controller last reported it (31 inputs and
     /// outputs from `base`); none from a controller program without it.
     pub io: Option<crate::io::IoWindow>,
+    /// Analog I/O as the controller last reported it (`$ANIN`/`$ANOUT[1..8]`,
+    /// normalised −1..1); none from a controller program without it.
+    pub analog: Option<crate::io::AnalogWindow>,
 }
 
 /// The robot's position as the controller last reported it while moving.

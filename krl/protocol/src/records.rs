@@ -1641,7 +1641,11 @@ impl StateFile {
             for v in a.inputs.iter_mut().chain(a.outputs.iter_mut()) {
                 *v = l.real();
             }
-            if a.inputs.iter().chain(&a.outputs).any(|v| !(-1.0..=1.0).contains(v)) {
+            if a.inputs
+                .iter()
+                .chain(&a.outputs)
+                .any(|v| !(-1.0..=1.0).contains(v))
+            {
                 return Err(l.invalid("analog values must be within -1..1"));
             }
             Some(a)

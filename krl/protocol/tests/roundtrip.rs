@@ -197,6 +197,10 @@ fn sample_state() -> StateFile {
             stop_message: true,
             program_state: 3,
         }),
+        analog: Some(AnalogState {
+            inputs: [0.0, 0.5, -0.25, 1.0, -1.0, 0.001, 0.0, 0.0],
+            outputs: [0.123, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.999],
+        }),
     }
 }
 

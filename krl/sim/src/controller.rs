@@ -162,6 +162,10 @@ pub(crate) struct Controller {
     pub(crate) outputs: Vec<bool>,
     /// The running output pulse: output, the value it returns to, when.
     pulse: Option<(u16, bool, Instant)>,
+    /// `$ANIN[1..=32]` (index 0 unused), normalised −1..=1.
+    pub(crate) analog_inputs: Vec<f64>,
+    /// `$ANOUT[1..=32]` (index 0 unused).
+    pub(crate) analog_outputs: Vec<f64>,
     /// `TOOL_DATA[1..=16]` (read and written through KUKAVARPROXY only).
     pub(crate) tool_data: Vec<Pose>,
     /// `BASE_DATA[1..=32]`.
@@ -244,6 +248,8 @@ impl Controller {
             inputs: vec![false; usize::from(kuka_protocol::MAX_IO_INDEX) + 1],
             outputs: vec![false; usize::from(kuka_protocol::MAX_IO_INDEX) + 1],
             pulse: None,
+            analog_inputs: vec![0.0; usize::from(kuka_protocol::MAX_ANALOG_INDEX) + 1],
+            analog_outputs: vec![0.0; usize::from(kuka_protocol::MAX_ANALOG_INDEX) + 1],
             tool_data: vec![Pose::IDENTITY; TOOLS],
             base_data: vec![Pose::IDENTITY; BASES],
         }
@@ -280,6 +286,16 @@ impl Controller {
                 self.pulse = Some((index, !value, at));
             }
         }
+    }
+
+    /// The state file's analog channels (`$ANIN`/`$ANOUT[1..=8]`).
+    pub(crate) fn analog_state(&self) -> kuka_protocol::AnalogState {
+        let mut a = kuka_protocol::AnalogState::default();
+        a.inputs
+            .copy_from_slice(&self.analog_inputs[1..=kuka_protocol::AnalogState::WIDTH]);
+        a.outputs
+            .copy_from_slice(&self.analog_outputs[1..=kuka_protocol::AnalogState::WIDTH]);
+        a
     }
 
     /// Ends an output pulse that is due.
@@ -434,6 +450,11 @@ impl Controller {
                 self.push_result(cid, ResultCode::Ok, 0, 0, None);
             }
             Command::GetPosition => self.push_result(cid, ResultCode::Ok, 0, 0, None),
+            Command::SetAnalogOutput(a) => {
+                // (The decoder checked the ranges.)
+                self.analog_outputs[usize::from(a.index)] = a.value;
+                self.push_result(cid, ResultCode::Ok, 0, 0, None);
+            }
             Command::SetOutput(o) => {
                 // (The decoder checked the ranges.)
                 self.switch_outputs(vec![(o.index, o.value, o.pulse_ms)], now);
@@ -966,6 +987,7 @@ impl Controller {
             tool: pose_to_frame(&self.tool),
             base: pose_to_frame(&self.base),
             io: Some(self.io_state()),
+            analog: Some(self.analog_state()),
             // Drives on, fence closed, no emergency stop; an error is a
             // stop message, and the robot program stops meanwhile.
             safety: Some(kuka_protocol::SafetyState {

@@ -302,6 +302,39 @@ impl SimController {
         self.lock().write_krl(path, text)
     }
 
+    /// Sets the analog input `$ANIN[index]` (1..=32) to `value`
+    /// (−1..=1), as a sensor would; false when out of range.
+    pub fn set_analog_input(&self, index: u8, value: f64) -> bool {
+        if !(value.is_finite() && (-1.0..=1.0).contains(&value)) {
+            return false;
+        }
+        let mut c = self.lock();
+        match c
+            .analog_inputs
+            .get_mut(usize::from(index))
+            .filter(|_| index > 0)
+        {
+            Some(slot) => {
+                *slot = value;
+                drop(c);
+                let _ = self.shared.wake.send(());
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// `$ANIN[index]` or `$ANOUT[index]` (1..=32).
+    pub fn analog(&self, output: bool, index: u8) -> Option<f64> {
+        let c = self.lock();
+        let v = if output {
+            &c.analog_outputs
+        } else {
+            &c.analog_inputs
+        };
+        v.get(usize::from(index)).filter(|_| index > 0).copied()
+    }
+
     /// `$IN[index]` or `$OUT[index]` (1..=4096).
     pub fn io(&self, output: bool, index: u16) -> Option<bool> {
         let c = self.lock();

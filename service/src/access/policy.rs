@@ -118,6 +118,8 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("GET", "/api/v1/io/inputs/{signal}", READ),
     ("GET", "/api/v1/io/outputs/{signal}", READ),
     ("PUT", "/api/v1/io/outputs/{signal}", OPERATE),
+    ("GET", "/api/v1/io/analog", READ),
+    ("PUT", "/api/v1/io/analog-outputs/{signal}", OPERATE),
     ("GET", "/api/v1/variables/{name}", READ),
     ("PUT", "/api/v1/variables/{name}", OPERATE),
     ("GET", "/api/v1/tools/{number}", READ),
@@ -167,6 +169,7 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("DELETE", "/api/v1/sim/trace", OPERATE),
     ("POST", "/api/v1/sim/acknowledge", OPERATE),
     ("PUT", "/api/v1/sim/inputs/{index}", OPERATE),
+    ("PUT", "/api/v1/sim/analog-inputs/{index}", OPERATE),
     // Documentation.
     ("GET", "/openapi.json", PUBLIC),
     ("GET", "/errors", PUBLIC),

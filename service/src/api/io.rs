@@ -14,7 +14,7 @@ use super::problem::{JsonBody, PROBLEM_JSON, Problem, ProblemDetails};
 use super::{AppState, ok_json};
 use crate::engine::{Connection, Operation};
 use crate::error::{BridgeError, ErrorCode};
-use crate::io::{IoKind, IoWindow, OutputRequest};
+use crate::io::{AnalogOutputRequest, IoKind, IoWindow, OutputRequest};
 
 /// One digital signal and its value.
 #[derive(Debug, Clone, Serialize, ToSchema)]
@@ -211,8 +211,146 @@ async fn put_output(
     }))
 }
 
+/// One analog channel and its value.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+#[schema(example = json!({"index": 1, "name": "spindle_speed", "value": 0.5, "writable": true}))]
+pub struct AnalogSignal {
+    /// `$ANIN`/`$ANOUT` index.
+    #[schema(minimum = 1, maximum = 32)]
+    pub index: u8,
+    /// Its name in the site's `[io]` configuration.
+    pub name: Option<String>,
+    /// Normalised value, −1..1 (±1 = the channel's full scale, ±10 V on
+    /// the usual cards), 3 decimals: as last reported, or as written.
+    pub value: f64,
+    /// Clients may write it (an analog output on the site's list).
+    pub writable: bool,
+}
+
+/// The analog I/O the controller reports.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct AnalogView {
+    /// `$ANIN[1..8]`.
+    pub inputs: Vec<AnalogSignal>,
+    /// `$ANOUT[1..8]`.
+    pub outputs: Vec<AnalogSignal>,
+}
+
+/// The body of an analog output write.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"value": 0.5}))]
+pub struct AnalogWrite {
+    /// Normalised value, −1..=1; the protocol carries 3 decimals.
+    #[schema(minimum = -1.0, maximum = 1.0)]
+    pub value: f64,
+}
+
+fn analog_window(app: &AppState) -> Result<crate::io::AnalogWindow, BridgeError> {
+    let state = app.engine.state();
+    if state.connection == Connection::Offline {
+        return Err(BridgeError::new(
+            ErrorCode::ControllerOffline,
+            "the controller is offline (no heartbeat): its I/O is not known",
+        ));
+    }
+    state.analog.ok_or_else(|| {
+        BridgeError::new(
+            ErrorCode::SignalNotReported,
+            "the controller program reports no analog I/O (its state file has no ANS line: update the KRL program)",
+        )
+    })
+}
+
+/// The analog inputs and outputs the controller reports.
+///
+/// `$ANIN[1..8]` and `$ANOUT[1..8]` from the controller's state file
+/// (live, no round trip), normalised −1..1, with the names of the site's
+/// `[io] analog_inputs`/`analog_outputs` and which outputs clients may
+/// write.
+#[utoipa::path(get, path = "/api/v1/io/analog", tag = "io",
+    responses((status = 200, body = AnalogView),
+        (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_analog(State(app): State<AppState>) -> Result<Response, Problem> {
+    let w = analog_window(&app)?;
+    let io = app.engine.io_config();
+    let list = |output: bool, values: &[f64]| -> Vec<AnalogSignal> {
+        values
+            .iter()
+            .enumerate()
+            .map(|(k, v)| {
+                let index = k as u8 + 1;
+                let named = if output {
+                    &io.analog_outputs
+                } else {
+                    &io.analog_inputs
+                };
+                AnalogSignal {
+                    index,
+                    name: named
+                        .iter()
+                        .find(|a| a.index == index)
+                        .map(|a| a.name.clone()),
+                    value: *v,
+                    writable: output && io.analog_writable(index).is_ok(),
+                }
+            })
+            .collect()
+    };
+    Ok(ok_json(&AnalogView {
+        inputs: list(false, &w.inputs),
+        outputs: list(true, &w.outputs),
+    }))
+}
+
+/// Set an analog output the site allows.
+///
+/// Only the analog outputs in `[io] analog_outputs` (by number 1..32 or
+/// name); any other is refused with 403 `output_not_allowed` and nothing
+/// reaches the controller. Queued like every command. The value is
+/// normalised −1..1 and sent with 3 decimals.
+#[utoipa::path(put, path = "/api/v1/io/analog-outputs/{signal}", tag = "io",
+    params(("signal" = String, Path, description = "A number (1..=32) or a configured name")),
+    request_body = AnalogWrite,
+    responses((status = 200, body = AnalogSignal),
+        (status = 403, description = "`output_not_allowed`: not on the site's list", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = 404, description = "`unknown_signal`", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn put_analog_output(
+    State(app): State<AppState>,
+    who: Who,
+    Path(name): Path<String>,
+    JsonBody(body): JsonBody<AnalogWrite>,
+) -> Result<Response, Problem> {
+    let io = app.engine.io_config();
+    let (index, _) = io.resolve_analog(true, &name)?;
+    let entry = io.analog_writable(index)?;
+    let value = (body.value * 1000.0).round() / 1000.0;
+    app.engine
+        .execute(
+            Operation::SetAnalogOutput(AnalogOutputRequest {
+                index,
+                value: body.value,
+            }),
+            None,
+            app.request_timeout,
+            who.caller(),
+        )
+        .await?;
+    Ok(ok_json(&AnalogSignal {
+        index,
+        name: Some(entry.name.clone()),
+        value,
+        writable: true,
+    }))
+}
+
 pub(super) fn router() -> OpenApiRouter<AppState> {
     OpenApiRouter::new()
+        .routes(routes!(get_analog))
+        .routes(routes!(put_analog_output))
         .routes(routes!(get_io))
         .routes(routes!(get_input))
         .routes(routes!(get_output, put_output))

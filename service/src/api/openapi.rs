@@ -86,6 +86,16 @@ pub(crate) const OPERATION_IDS: &[(&str, &str, &str)] = &[
     ("get", "/api/v1/io/outputs/{signal}", "getOutput"),
     ("put", "/api/v1/io/outputs/{signal}", "setOutput"),
     ("put", "/api/v1/variables/{name}", "setVariable"),
+    (
+        "put",
+        "/api/v1/io/analog-outputs/{signal}",
+        "setAnalogOutput",
+    ),
+    (
+        "put",
+        "/api/v1/sim/analog-inputs/{index}",
+        "setSimAnalogInput",
+    ),
 ];
 
 /// The motion kinds: the `type` tag and the schema name of each.

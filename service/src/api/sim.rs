@@ -4,7 +4,7 @@
 use axum::extract::State;
 use axum::response::Response;
 use serde::Deserialize;
-use utoipa::IntoParams;
+use utoipa::{IntoParams, ToSchema};
 use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
@@ -189,10 +189,68 @@ async fn put_input(
     }
 }
 
+/// The body of a simulated analog input.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"value": 0.25}))]
+pub struct AnalogInputValue {
+    /// `$ANIN[index]`, normalised −1..=1.
+    #[schema(minimum = -1.0, maximum = 1.0)]
+    pub value: f64,
+}
+
+/// Set an analog input of the simulated controller (`$ANIN[index]`,
+/// 1..=32), as a sensor would; the next state file reports it
+/// (`GET /api/v1/io/analog`).
+#[utoipa::path(put, path = "/api/v1/sim/analog-inputs/{index}", tag = "simulator",
+    params(("index" = u8, Path, minimum = 1, maximum = 32, description = "1..=32")),
+    request_body = AnalogInputValue,
+    responses((status = 204, description = "Set"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON), (status = 422, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn put_analog_input(
+    State(app): State<AppState>,
+    axum::extract::Path(index): axum::extract::Path<String>,
+    JsonBody(v): JsonBody<AnalogInputValue>,
+) -> Result<axum::http::StatusCode, Problem> {
+    let max = kuka_protocol::MAX_ANALOG_INDEX;
+    let index: u8 = index
+        .parse()
+        .ok()
+        .filter(|i| (1..=max).contains(i))
+        .ok_or_else(|| {
+            BridgeError::invalid(format!(
+                "$ANIN[{}] does not exist: a simulated analog input is given by its number, 1..={max}",
+                index.chars().take(12).collect::<String>()
+            ))
+        })?;
+    if !(v.value.is_finite() && (-1.0..=1.0).contains(&v.value)) {
+        return Err(BridgeError::invalid(format!(
+            "value = {} is not in -1..=1 (the normalised analog range)",
+            v.value
+        ))
+        .into());
+    }
+    let set = match sim(&app)? {
+        Simulated::Native(sim) => sim.set_analog_input(index, v.value),
+        Simulated::Krc(krc) => krc
+            .write_krl(&format!("$ANIN[{index}]"), &format!("{:.6}", v.value))
+            .is_ok(),
+    };
+    if set {
+        Ok(axum::http::StatusCode::NO_CONTENT)
+    } else {
+        Err(BridgeError::new(
+            ErrorCode::NotFound,
+            format!("the simulated controller has no $ANIN[{index}]"),
+        )
+        .into())
+    }
+}
+
 pub(super) fn router() -> OpenApiRouter<AppState> {
     OpenApiRouter::new()
         .routes(routes!(snapshot))
         .routes(routes!(trace, clear_trace))
         .routes(routes!(acknowledge))
         .routes(routes!(put_input))
+        .routes(routes!(put_analog_input))
 }

@@ -792,6 +792,12 @@ impl Actor {
             Operation::GetBase => Command::GetBase,
             Operation::SetSpeed(s) => Command::SetSpeed((*s).into()),
             Operation::Reset => Command::Reset,
+            Operation::SetAnalogOutput(a) => {
+                Command::SetAnalogOutput(kuka_protocol::AnalogOutputRecord {
+                    index: a.index,
+                    value: (a.value * 1000.0).round() / 1000.0,
+                })
+            }
             Operation::SetOutput(o) => Command::SetOutput(kuka_protocol::OutputRecord {
                 index: o.index,
                 value: o.value,
@@ -928,6 +934,7 @@ impl Actor {
             model: self.shared.safety.model().map(|m| m.name.clone()),
             degraded: self.degraded(),
             io: s.and_then(|s| s.io.as_ref()).map(Into::into),
+            analog: s.and_then(|s| s.analog.as_ref()).map(Into::into),
         };
         let changed = self.shared.state.send_if_modified(|cur| {
             // The heartbeat age changes every call; publish only real changes.
