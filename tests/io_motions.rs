@@ -27,6 +27,7 @@ async fn cell() -> TestService {
             c.io = IoConfig {
                 inputs: vec![signal("part_present", 3, true)],
                 outputs: vec![signal("gripper_close", 1, true)],
+                ..IoConfig::default()
             };
         }),
         ..Options::default()

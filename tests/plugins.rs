@@ -1339,6 +1339,7 @@ async fn pick_and_place_cell_with(links: Vec<kuka_bridge::sim_plant::InputLink>)
             c.io = IoConfig {
                 inputs: vec![signal("part_present", 3)],
                 outputs: vec![signal("gripper_close", 1)],
+                ..IoConfig::default()
             };
             c.simulator.links = links;
         }),
