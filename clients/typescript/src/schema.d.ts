@@ -227,6 +227,56 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/io/analog": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The analog inputs and outputs the controller reports.
+         * @description `$ANIN[1..8]` and `$ANOUT[1..8]` from the controller's state file
+         *     (live, no round trip), normalised −1..1, with the names of the site's
+         *     `[io] analog_inputs`/`analog_outputs` and which outputs clients may
+         *     write.
+         *
+         *     **Access:** role `viewer` or higher.
+         */
+        get: operations["getAnalog"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/io/analog-outputs/{signal}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        /**
+         * Set an analog output the site allows.
+         * @description Only the analog outputs in `[io] analog_outputs` (by number 1..32 or
+         *     name); any other is refused with 403 `output_not_allowed` and nothing
+         *     reaches the controller. Queued like every command. The value is
+         *     normalised −1..1 and sent with 3 decimals.
+         *
+         *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        put: operations["setAnalogOutput"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/io/inputs/{signal}": {
         parameters: {
             query?: never;
@@ -685,6 +735,28 @@ export interface paths {
          *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
          */
         post: operations["acknowledgeSimStop"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/sim/analog-inputs/{index}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        /**
+         * Set an analog input of the simulated controller (`$ANIN[index]`,
+         *     1..=32), as a sensor would; the next state file reports it
+         *     (`GET /api/v1/io/analog`).
+         * @description **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        put: operations["setSimAnalogInput"];
+        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -1205,6 +1277,75 @@ export interface paths {
 export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
+        /**
+         * @description The body of a simulated analog input.
+         * @example {
+         *       "value": 0.25
+         *     }
+         */
+        AnalogInputValue: {
+            /**
+             * Format: double
+             * @description `$ANIN[index]`, normalised −1..=1.
+             */
+            value: number;
+        };
+        /**
+         * @description One analog channel and its value.
+         * @example {
+         *       "index": 1,
+         *       "name": "spindle_speed",
+         *       "value": 0.5,
+         *       "writable": true
+         *     }
+         */
+        AnalogSignal: {
+            /**
+             * Format: int32
+             * @description `$ANIN`/`$ANOUT` index.
+             */
+            index: number;
+            /** @description Its name in the site's `[io]` configuration. */
+            name?: string | null;
+            /**
+             * Format: double
+             * @description Normalised value, −1..1 (±1 = the channel's full scale, ±10 V on
+             *     the usual cards), 3 decimals: as last reported, or as written.
+             */
+            value: number;
+            /** @description Clients may write it (an analog output on the site's list). */
+            writable: boolean;
+        };
+        /** @description The analog I/O the controller reports. */
+        AnalogView: {
+            /** @description `$ANIN[1..8]`. */
+            inputs: components["schemas"]["AnalogSignal"][];
+            /** @description `$ANOUT[1..8]`. */
+            outputs: components["schemas"]["AnalogSignal"][];
+        };
+        /**
+         * @description The analog channels the controller reported in its last state file
+         *     (`$ANIN`/`$ANOUT[1..=8]`, normalised −1..=1).
+         */
+        AnalogWindow: {
+            /** @description `$ANIN[1..=8]`. */
+            inputs: number[];
+            /** @description `$ANOUT[1..=8]`. */
+            outputs: number[];
+        };
+        /**
+         * @description The body of an analog output write.
+         * @example {
+         *       "value": 0.5
+         *     }
+         */
+        AnalogWrite: {
+            /**
+             * Format: double
+             * @description Normalised value, −1..=1; the protocol carries 3 decimals.
+             */
+            value: number;
+        };
         /**
          * @description Motions to append.
          * @example {
@@ -2703,6 +2844,7 @@ export interface components {
          *     }
          */
         RobotState: {
+            analog?: components["schemas"]["AnalogWindow"] | null;
             axes?: components["schemas"]["AxisAngles"] | null;
             base?: components["schemas"]["CartesianFrame"] | null;
             /** @description A job is on the controller. */
@@ -4474,6 +4616,161 @@ export interface operations {
             };
             /** @description The token's role is too low (`forbidden`) */
             403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getAnalog: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["AnalogView"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    setAnalogOutput: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description A number (1..=32) or a configured name */
+                signal: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["AnalogWrite"];
+            };
+        };
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["AnalogSignal"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `unknown_signal` */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6501,6 +6798,103 @@ export interface operations {
             };
             /** @description Another client holds control (`control_held`), or the controller refused */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, … */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    setSimAnalogInput: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description 1..=32 */
+                index: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["AnalogInputValue"];
+            };
+        };
+        responses: {
+            /** @description Set */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };

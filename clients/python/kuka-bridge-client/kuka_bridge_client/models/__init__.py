@@ -2,6 +2,11 @@
 
 from .alarm_event import AlarmEvent
 from .alarm_event_type import AlarmEventType
+from .analog_input_value import AnalogInputValue
+from .analog_signal import AnalogSignal
+from .analog_view import AnalogView
+from .analog_window import AnalogWindow
+from .analog_write import AnalogWrite
 from .append_body import AppendBody
 from .append_outcome import AppendOutcome
 from .audit_record import AuditRecord
@@ -109,6 +114,11 @@ from .workspace_info import WorkspaceInfo
 __all__ = (
     "AlarmEvent",
     "AlarmEventType",
+    "AnalogInputValue",
+    "AnalogSignal",
+    "AnalogView",
+    "AnalogWindow",
+    "AnalogWrite",
     "AppendBody",
     "AppendOutcome",
     "AuditRecord",

@@ -13,6 +13,7 @@ from ..types import UNSET, Unset
 from typing import cast
 
 if TYPE_CHECKING:
+  from ..models.analog_window import AnalogWindow
   from ..models.axis_angles import AxisAngles
   from ..models.bridge_error import BridgeError
   from ..models.cartesian_frame import CartesianFrame
@@ -54,6 +55,7 @@ class RobotState:
             queue_length (int): Jobs waiting.
             speed (SpeedSettings): The current default speeds (settable through the API). Example: {'override_pct': 100.0,
                 'ptp_velocity_pct': 20.0, 'ptp_acceleration_pct': 100.0, 'cp_velocity_m_s': 0.25, 'cp_acceleration_pct': 100.0}.
+            analog (AnalogWindow | None | Unset):
             axes (AxisAngles | None | Unset):
             base (CartesianFrame | None | Unset):
             current_job (int | None | Unset):
@@ -69,6 +71,7 @@ class RobotState:
     degraded: list[BridgeError]
     queue_length: int
     speed: SpeedSettings
+    analog: AnalogWindow | None | Unset = UNSET
     axes: AxisAngles | None | Unset = UNSET
     base: CartesianFrame | None | Unset = UNSET
     current_job: int | None | Unset = UNSET
@@ -83,6 +86,7 @@ class RobotState:
 
 
     def to_dict(self) -> dict[str, Any]:
+        from ..models.analog_window import AnalogWindow # noqa: PLC0415
         from ..models.axis_angles import AxisAngles # noqa: PLC0415
         from ..models.bridge_error import BridgeError # noqa: PLC0415
         from ..models.cartesian_frame import CartesianFrame # noqa: PLC0415
@@ -106,6 +110,14 @@ class RobotState:
         queue_length = self.queue_length
 
         speed = self.speed.to_dict()
+
+        analog: dict[str, Any] | None | Unset
+        if isinstance(self.analog, Unset):
+            analog = UNSET
+        elif isinstance(self.analog, AnalogWindow):
+            analog = self.analog.to_dict()
+        else:
+            analog = self.analog
 
         axes: dict[str, Any] | None | Unset
         if isinstance(self.axes, Unset):
@@ -170,6 +182,8 @@ class RobotState:
             "queue_length": queue_length,
             "speed": speed,
         })
+        if analog is not UNSET:
+            field_dict["analog"] = analog
         if axes is not UNSET:
             field_dict["axes"] = axes
         if base is not UNSET:
@@ -191,6 +205,7 @@ class RobotState:
 
     @classmethod
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        from ..models.analog_window import AnalogWindow # noqa: PLC0415
         from ..models.axis_angles import AxisAngles # noqa: PLC0415
         from ..models.bridge_error import BridgeError # noqa: PLC0415
         from ..models.cartesian_frame import CartesianFrame # noqa: PLC0415
@@ -226,6 +241,26 @@ class RobotState:
         speed = SpeedSettings.from_dict(d.pop("speed"))
 
 
+
+
+        def _parse_analog(data: object) -> AnalogWindow | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            try:
+                if not isinstance(data, dict):
+                    raise TypeError()
+                analog_type_0 = AnalogWindow.from_dict(data)
+
+
+
+                return analog_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(AnalogWindow | None | Unset, data)
+
+        analog = _parse_analog(d.pop("analog", UNSET))
 
 
         def _parse_axes(data: object) -> AxisAngles | None | Unset:
@@ -355,6 +390,7 @@ class RobotState:
             degraded=degraded,
             queue_length=queue_length,
             speed=speed,
+            analog=analog,
             axes=axes,
             base=base,
             current_job=current_job,
