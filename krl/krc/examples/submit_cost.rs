@@ -2,7 +2,7 @@
 //! KRC-like runtime: statements per pass of the Submit loop, file
 //! operations per motion, standstill before a MOVE (1 and 4 motions, the
 //! most the service sends as a MOVE) starts to move, round trip per
-//! command, a MOVE with I/O actions (SOT, DWL). The figures go to
+//! command (GETPOS, SETANOUT), a MOVE with I/O actions (SOT, DWL). The figures go to
 //! docs/BENCHMARKS.md §8.
 //!
 //! ```text
@@ -20,8 +20,8 @@ use anyhow::{Context, bail};
 use kuka_krc::{KrcConfig, KrcController, KrcStats};
 use kuka_protocol::files::{WriteError, atomic_write};
 use kuka_protocol::{
-    COMMAND_FILE, Command, CommandFile, Frame, MotionParams, MotionRecord, RESULT_FILE, ResultCode,
-    ResultFile,
+    AnalogOutputRecord, COMMAND_FILE, Command, CommandFile, Frame, MotionParams, MotionRecord,
+    RESULT_FILE, ResultCode, ResultFile,
 };
 
 fn arg(name: &str, default: u64) -> anyhow::Result<u64> {
@@ -126,6 +126,33 @@ fn main() -> anyhow::Result<()> {
         trips[0],
         trips[trips.len() / 2],
         trips[trips.len() - 1]
+    );
+
+    // SETANOUT (op 15): answered by the Submit side, which writes the
+    // result and then the state file with its ANS line in the same pass.
+    let before = krc.stats();
+    let mut trips = Vec::new();
+    for cid in 22..42 {
+        let command = Command::SetAnalogOutput(AnalogOutputRecord {
+            index: (cid % 8 + 1) as u8,
+            value: f64::from(cid - 32) * 0.1,
+        });
+        let t = send(&krc, dir.path(), cid, command)?;
+        let (seen, code) = result(&krc, dir.path(), cid)?;
+        if code != ResultCode::Ok {
+            bail!("SETANOUT answered {code:?}");
+        }
+        trips.push(seen - t);
+    }
+    trips.sort_unstable();
+    let after = krc.stats();
+    println!(
+        "SETANOUT round trip (20): min {} ms, median {} ms, max {} ms; longest Submit pass {} statements (before {})",
+        trips[0],
+        trips[trips.len() / 2],
+        trips[trips.len() - 1],
+        after.pass_statements_max,
+        before.pass_statements_max,
     );
 
     // Batches: LINs of 5 mm back and forth, approximated 2 mm, 0.2 m/s.

@@ -1434,3 +1434,177 @@ fn a_malformed_action_is_a_bad_command() {
     assert_eq!(krc.bool_element("$OUT", 1), Some(false));
     krc.shutdown();
 }
+
+// ------------------------------------------------------------------
+// Analog I/O: SETANOUT (op 15) and the state file's ANS line
+
+/// Waits (in simulated time) for a state file whose analog channels
+/// satisfy `ok`; the channels then.
+fn wait_analog(
+    krc: &KrcController,
+    dir: &Path,
+    ok: impl Fn(&kuka_protocol::AnalogState) -> bool,
+) -> kuka_protocol::AnalogState {
+    let mut seen = None;
+    let done = krc.wait_until(Duration::from_secs(10), |_| {
+        seen = read_state(dir).and_then(|s| s.analog).filter(|a| ok(a));
+        seen.is_some()
+    });
+    assert!(
+        done,
+        "no such ANS line: {:?}\n{:?}",
+        read_state(dir),
+        krc.snapshot()
+    );
+    seen.expect("seen")
+}
+
+fn set_anout(index: u8, value: f64) -> Command {
+    Command::SetAnalogOutput(kuka_protocol::AnalogOutputRecord { index, value })
+}
+
+/// A SETANOUT sets `$ANOUT[index]` from the Submit side and is answered
+/// OK with the current TCP, like SETOUT; the next state file's ANS line
+/// shows the output (channels 1..8) within the protocol's 0.001. A
+/// channel above 8 is set but not reported.
+#[test]
+fn an_analog_output_set_by_setanout_shows_in_the_state_file() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    // At start every channel reads 0.0.
+    let a = wait_analog(&krc, dir.path(), |_| true);
+    assert_eq!(a, kuka_protocol::AnalogState::default());
+    let home = round_trip(&krc, dir.path(), 1, Command::GetPosition, 2);
+    for (cid, index, value) in [(2, 2, -0.375), (3, 8, 1.0), (4, 20, 0.25), (5, 1, 0.001)] {
+        let r = round_trip(&krc, dir.path(), cid, set_anout(index, value), 2);
+        assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+        assert!(
+            (r.position.x - home.position.x).abs() < 1e-3
+                && (r.position.z - home.position.z).abs() < 1e-3,
+            "the current TCP: {r:?}"
+        );
+        let v = krc.real_element("$ANOUT", i64::from(index));
+        assert!(v.is_some_and(|v| (v - value).abs() < 1e-9), "{v:?}");
+    }
+    let a = wait_analog(&krc, dir.path(), |a| a.outputs[0] != 0.0);
+    let want = [0.001, -0.375, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+    for (got, want) in a.outputs.iter().zip(want) {
+        assert!((got - want).abs() < 0.001, "{a:?}");
+    }
+    assert_eq!(a.inputs, [0.0; 8], "{a:?}");
+    assert_eq!(krc.real_element("$ANOUT", 20), Some(0.25));
+    krc.shutdown();
+}
+
+/// A simulated analog input (`set_real_element("$ANIN", ...)`) shows in
+/// the next state file; only REAL elements that exist can be set.
+#[test]
+fn a_simulated_analog_input_shows_in_the_state_file() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    assert!(krc.set_real_element("$ANIN", 4, 0.8125));
+    assert!(krc.set_real_element("$anin", 8, -0.5));
+    assert!(krc.set_real_element("$ANIN", 32, 0.1));
+    assert_eq!(krc.real_element("$ANIN", 4), Some(0.8125));
+    // Out of range, unknown, or not a REAL array.
+    assert!(!krc.set_real_element("$ANIN", 33, 0.1));
+    assert!(!krc.set_real_element("$ANIN", 0, 0.1));
+    assert!(!krc.set_real_element("$NO_SUCH", 1, 0.1));
+    assert!(!krc.set_real_element("$IN", 1, 1.0));
+    assert_eq!(krc.real_element("$ANIN", 33), None);
+    let a = wait_analog(&krc, dir.path(), |a| a.inputs[3] != 0.0);
+    let want = [0.0, 0.0, 0.0, 0.8125, 0.0, 0.0, 0.0, -0.5];
+    for (got, want) in a.inputs.iter().zip(want) {
+        assert!((got - want).abs() <= 0.0005 + 1e-9, "{a:?}");
+    }
+    assert_eq!(a.outputs, [0.0; 8], "{a:?}");
+    // A reading past full scale is reported as full scale (the state
+    // file stays valid).
+    assert!(krc.set_real_element("$ANIN", 1, 1.7));
+    let a = wait_analog(&krc, dir.path(), |a| a.inputs[0] != 0.0);
+    assert_eq!(a.inputs[0], 1.0, "{a:?}");
+    krc.shutdown();
+}
+
+/// ANO lines outside the decoder's ranges (index 1..32, value
+/// -1.000..1.000), written by hand as the Rust encoder refuses them, are
+/// answered BAD_COMMAND and change no output.
+#[test]
+fn an_analog_output_out_of_range_is_a_bad_command() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let line = |tag: &str, fields: &[&str]| rechecksum(&format!("{tag} {} 0", fields.join(" ")));
+    let cases: [(&str, &str); 6] = [
+        ("0", "0.500"),
+        ("33", "0.500"),
+        ("-1", "0.500"),
+        ("1", "1.001"),
+        ("1", "-1.001"),
+        ("2", "9999.999"),
+    ];
+    for (k, (index, value)) in cases.iter().enumerate() {
+        let cid = 10 + k as i32;
+        let c = cid.to_string();
+        let text = format!(
+            "{}\n{}\n{}\n",
+            line("CMD", &["2", &c, "15", "1"]),
+            line("ANO", &[index, value]),
+            line("END", &[&c, "1"]),
+        );
+        assert!(CommandFile::decode(&text).is_err(), "{text}");
+        let r = round_trip_text(&krc, dir.path(), cid, &text, 2);
+        assert_eq!(r.code, ResultCode::BadCommand, "{text}\n{r:?}");
+    }
+    // The same lines within range are accepted: the texts above differ
+    // only in the out-of-range field.
+    let text = format!(
+        "{}\n{}\n{}\n",
+        line("CMD", &["2", "20", "15", "1"]),
+        line("ANO", &["32", "-1.000"]),
+        line("END", &["20", "1"]),
+    );
+    assert_eq!(
+        CommandFile::decode(&text).map(|c| c.command),
+        Ok(set_anout(32, -1.0))
+    );
+    let r = round_trip_text(&krc, dir.path(), 20, &text, 2);
+    assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+    for k in 1..=31 {
+        assert_eq!(krc.real_element("$ANOUT", k), Some(0.0), "$ANOUT[{k}]");
+    }
+    assert_eq!(krc.real_element("$ANOUT", 32), Some(-1.0));
+    krc.shutdown();
+}
+
+/// Analog outputs set and inputs changing while the state file (with its
+/// ANS line) is rewritten every heartbeat and after every answer: no
+/// Submit pass runs over a budget of 5,000 statements.
+#[test]
+fn analog_io_stays_within_the_submit_budget() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start_with(dir.path(), |c| c.submit_budget = 5000);
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    for cid in 1..=16 {
+        let index = ((cid - 1) % 8 + 1) as u8;
+        let value = -1.0 + f64::from(cid) * 0.123;
+        assert!(krc.set_real_element("$ANIN", i64::from(index), -value));
+        let r = round_trip(&krc, dir.path(), cid, set_anout(index, value), 2);
+        assert_eq!(r.code, ResultCode::Ok, "{r:?}");
+    }
+    // A few heartbeats more.
+    let t0 = krc.snapshot().time_ms;
+    assert!(krc.wait_until(Duration::from_secs(5), |s| s.time_ms > t0 + 500));
+    let a = wait_analog(&krc, dir.path(), |a| a.outputs[7] != 0.0);
+    for k in 0..8 {
+        let value = -1.0 + (k + 9) as f64 * 0.123;
+        assert!((a.outputs[k] - value).abs() < 0.001, "{a:?}");
+        assert!((a.inputs[k] + value).abs() < 0.001, "{a:?}");
+    }
+    let s = krc.stats();
+    assert_eq!(s.passes_overrun, 0, "passes over the budget: {s:?}");
+    assert!(s.pass_statements_max <= 5000, "{s:?}");
+    krc.shutdown();
+}
