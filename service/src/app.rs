@@ -176,8 +176,8 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
     })?;
     let (closing, closing_rx) = watch::channel(false);
     let wired = match (&sim, &krc) {
-        (Some(s), _) => Some(crate::sim_plant::Wired::Native(s.clone())),
-        (None, Some(k)) => Some(crate::sim_plant::Wired::Krc(k.clone())),
+        (Some(s), _) => Some(crate::sim_plant::Wired::native(s)),
+        (None, Some(k)) => Some(crate::sim_plant::Wired::krc(k)),
         (None, None) => None,
     };
     if let Some(wired) = wired

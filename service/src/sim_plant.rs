@@ -46,26 +46,40 @@ impl InputLink {
 }
 
 /// The simulated controller the plant is wired to.
+/// (Weak: the plant never keeps a stopped simulator, and its channel
+/// lock, alive.)
 #[derive(Clone)]
 pub enum Wired {
     /// The native simulator.
-    Native(Arc<kuka_sim::SimController>),
+    Native(std::sync::Weak<kuka_sim::SimController>),
     /// The KRC-like runtime.
-    Krc(Arc<kuka_krc::KrcController>),
+    Krc(std::sync::Weak<kuka_krc::KrcController>),
 }
 
 impl Wired {
+    /// The plant of a running simulated controller.
+    pub fn native(s: &Arc<kuka_sim::SimController>) -> Self {
+        Wired::Native(Arc::downgrade(s))
+    }
+
+    /// The plant of the KRC-like runtime.
+    pub fn krc(k: &Arc<kuka_krc::KrcController>) -> Self {
+        Wired::Krc(Arc::downgrade(k))
+    }
+
     fn output(&self, index: u16) -> Option<bool> {
         match self {
-            Wired::Native(s) => s.io(true, index),
-            Wired::Krc(k) => k.bool_element("$OUT", i64::from(index)),
+            Wired::Native(s) => s.upgrade()?.io(true, index),
+            Wired::Krc(k) => k.upgrade()?.bool_element("$OUT", i64::from(index)),
         }
     }
 
     fn set_input(&self, index: u16, value: bool) {
         let set = match self {
-            Wired::Native(s) => s.set_input(index, value),
-            Wired::Krc(k) => k.set_bool_element("$IN", i64::from(index), value),
+            Wired::Native(s) => s.upgrade().is_some_and(|s| s.set_input(index, value)),
+            Wired::Krc(k) => k
+                .upgrade()
+                .is_some_and(|k| k.set_bool_element("$IN", i64::from(index), value)),
         };
         if !set {
             tracing::warn!(index, "the simulated plant could not set the input");

@@ -5,7 +5,7 @@
 //! leave the service, writes only reach the site's allow-list, and values
 //! are built from typed JSON, never taken from a client as KRL text.
 
-use std::sync::Arc;
+use std::sync::{Arc, Weak};
 use std::time::Duration;
 
 use kuka_kvp::{KrlValue, KvpClient, KvpError, KvpServer, VarStore, check_name};
@@ -179,28 +179,29 @@ fn fits(now: &KrlValue, new: &KrlValue) -> Result<(), String> {
     }
 }
 
-/// The native simulator as a KUKAVARPROXY store.
-struct NativeStore(Arc<kuka_sim::SimController>);
+/// The native simulator as a KUKAVARPROXY store. (Weak: the stand-in
+/// never keeps a stopped simulator, and its channel lock, alive.)
+struct NativeStore(Weak<kuka_sim::SimController>);
 
 impl VarStore for NativeStore {
     fn read(&self, name: &str) -> Option<String> {
-        self.0.read_krl(name)
+        self.0.upgrade()?.read_krl(name)
     }
     fn write(&self, name: &str, value: &str) -> Option<String> {
-        self.0.write_krl(name, value)
+        self.0.upgrade()?.write_krl(name, value)
     }
 }
 
 /// The KRC-like runtime as a KUKAVARPROXY store: every variable of the
 /// shipped program and the runtime's system variables.
-struct KrcStore(Arc<kuka_krc::KrcController>);
+struct KrcStore(Weak<kuka_krc::KrcController>);
 
 impl VarStore for KrcStore {
     fn read(&self, name: &str) -> Option<String> {
-        self.0.read_krl(name)
+        self.0.upgrade()?.read_krl(name)
     }
     fn write(&self, name: &str, value: &str) -> Option<String> {
-        self.0.write_krl(name, value).ok()
+        self.0.upgrade()?.write_krl(name, value).ok()
     }
 }
 
@@ -212,8 +213,8 @@ pub fn simulated(
     timeout: Duration,
 ) -> std::io::Result<Option<(KvpServer, KvpClient)>> {
     let store: Arc<dyn VarStore> = match (sim, krc) {
-        (Some(s), _) => Arc::new(NativeStore(s)),
-        (None, Some(k)) => Arc::new(KrcStore(k)),
+        (Some(s), _) => Arc::new(NativeStore(Arc::downgrade(&s))),
+        (None, Some(k)) => Arc::new(KrcStore(Arc::downgrade(&k))),
         (None, None) => return Ok(None),
     };
     let server = KvpServer::start("127.0.0.1:0", store)?;
