@@ -216,8 +216,16 @@ fn cycle_steps(c: &CycleRequest, orientation: &Pose) -> Vec<Step> {
             value: true,
             timeout_ms: c.part_timeout_ms,
         }),
-        lin(pose(&c.pick, up, orientation), c.speed_m_s, TRANSFER_APPROX_MM),
-        lin(pose(&c.place, up, orientation), c.speed_m_s, TRANSFER_APPROX_MM),
+        lin(
+            pose(&c.pick, up, orientation),
+            c.speed_m_s,
+            TRANSFER_APPROX_MM,
+        ),
+        lin(
+            pose(&c.place, up, orientation),
+            c.speed_m_s,
+            TRANSFER_APPROX_MM,
+        ),
         lin(pose(&c.place, 0.0, orientation), c.approach_speed_m_s, 0.0),
         gripper(c, false),
         Step::Dwell(c.release_ms),
