@@ -934,7 +934,13 @@ impl Actor {
             model: self.shared.safety.model().map(|m| m.name.clone()),
             degraded: self.degraded(),
             io: s.and_then(|s| s.io.as_ref()).map(Into::into),
-            analog: s.and_then(|s| s.analog.as_ref()).map(Into::into),
+            // A controller program may write the ANS line with only some
+            // state files (the shipped one, parsing by characters): the
+            // last values read stay until the next line.
+            analog: s
+                .and_then(|s| s.analog.as_ref())
+                .map(Into::into)
+                .or_else(|| self.shared.state.borrow().analog.clone()),
         };
         let changed = self.shared.state.send_if_modified(|cur| {
             // The heartbeat age changes every call; publish only real changes.
