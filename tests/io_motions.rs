@@ -127,11 +127,14 @@ async fn a_pick_switches_the_gripper_where_planned_and_waits_for_the_part() {
         })
         .await;
     assert_eq!(job["state"], "done", "{job}");
-    // The gripper opened again after the last motion.
-    let (_, s) = t.get("/api/v1/state").await;
-    let (p, out1) = pose_and_gripper(&s).expect("state");
-    assert!(!out1, "the last set_output ran: {s}");
-    assert!((p[2] - p0[2]).abs() < 0.5, "back up: {p:?} vs {p0:?}");
+    // The gripper opened again after the last motion (the state file
+    // written with the answer may still show the end of the motion).
+    let s = t
+        .wait_state("the gripper open again, the robot back up", |s| {
+            pose_and_gripper(s).is_some_and(|(p, out1)| !out1 && (p[2] - p0[2]).abs() < 0.5)
+        })
+        .await;
+    assert_eq!(s["controller"]["error"], Value::Null, "{s}");
     // The two LINs blended across the set_output: no stop at the end of
     // motion 0 (the only stops: the bottom, before the wait, and the end).
     let cid = job["cid"].as_i64().expect("cid");
@@ -417,7 +420,11 @@ async fn actions_stream_into_a_path_and_a_timeout_ends_it() {
         (Some("failed"), Some("input_timeout"), Some(3)),
         "{j}"
     );
-    let (_, s) = t.get("/api/v1/state").await;
+    let s = t
+        .wait_state("the controller idle", |s| {
+            s["controller"]["status"] == "idle"
+        })
+        .await;
     let (p, out1) = pose_and_gripper(&s).expect("state");
     assert!(out1, "the set_output ran: {s}");
     // Back where the path started (the second LIN ran), not lifted.
@@ -461,4 +468,37 @@ async fn an_action_refused_in_a_path_ends_it_before_anything_is_sent() {
     assert_eq!(j["error"]["code"], "output_not_allowed", "{j}");
     let (_, io) = t.get("/api/v1/io/outputs/7").await;
     assert_eq!(io["value"], false, "{io}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_batch_of_long_waits_does_not_hold_up_stop() {
+    // 1000 dwells of the longest time: planned without sampling ten
+    // minutes each, so the service stays responsive and Stop goes out at
+    // once (before, planning them held the engine for ~20 s).
+    let t = cell().await;
+    let dwells: Vec<Value> = (0..1000)
+        .map(|_| json!({"type": "dwell", "ms": 600000}))
+        .collect();
+    let (s, v) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"wait": false, "motions": dwells}),
+        )
+        .await;
+    assert_eq!(s, 202, "{v}");
+    let id = v["id"].as_u64().expect("job id");
+    t.wait_job(id, "the job to run", |j| j["state"] == "executing")
+        .await;
+    let started = std::time::Instant::now();
+    let (s, v) = t.post("/api/v1/stop").await;
+    assert_eq!(s, 200, "{v}");
+    let job = wait_end(&t, id).await;
+    assert_eq!(job["state"], "cancelled", "{job}");
+    assert!(
+        started.elapsed() < std::time::Duration::from_secs(5),
+        "stop took {:?}",
+        started.elapsed()
+    );
+    let (s, _) = t.get("/api/v1/position").await;
+    assert_eq!(s, 200);
 }

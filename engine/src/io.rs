@@ -206,14 +206,15 @@ impl IoConfig {
         if let Some(a) = list.iter().find(|a| a.name == signal) {
             return Ok((a.index, Some(a.name.as_str())));
         }
-        if !signal.is_empty() && signal.len() <= 3 && signal.bytes().all(|b| b.is_ascii_digit()) {
+        if !signal.is_empty() && signal.bytes().all(|b| b.is_ascii_digit()) {
             let index: u8 = signal
                 .parse()
                 .ok()
                 .filter(|i| (1..=MAX_ANALOG_INDEX).contains(i))
                 .ok_or_else(|| {
                     BridgeError::invalid(format!(
-                        "{krl}[{signal}] does not exist: indices are 1..={MAX_ANALOG_INDEX}"
+                        "{krl}[{}] does not exist: indices are 1..={MAX_ANALOG_INDEX}",
+                        signal.chars().take(12).collect::<String>()
                     ))
                 })?;
             let name = list
@@ -261,15 +262,16 @@ impl IoConfig {
         if let Some(s) = list.iter().find(|s| s.name == signal) {
             return Ok((s.index, Some(s)));
         }
-        if signal.bytes().all(|b| b.is_ascii_digit()) && !signal.is_empty() && signal.len() <= 5 {
+        if signal.bytes().all(|b| b.is_ascii_digit()) && !signal.is_empty() {
             let index: u16 = signal
                 .parse()
                 .ok()
                 .filter(|i| (1..=MAX_IO_INDEX).contains(i))
                 .ok_or_else(|| {
                     BridgeError::invalid(format!(
-                        "{}[{signal}] does not exist: indices are 1..={MAX_IO_INDEX}",
-                        kind.krl()
+                        "{}[{}] does not exist: indices are 1..={MAX_IO_INDEX}",
+                        kind.krl(),
+                        signal.chars().take(12).collect::<String>()
                     ))
                 })?;
             return Ok((index, list.iter().find(|s| s.index == index)));

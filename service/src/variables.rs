@@ -26,7 +26,7 @@ pub struct Variable {
     pub kind: String,
     /// The value: a number, a boolean, a string, `{"enum": "T1"}`, or an
     /// object of a structure's components.
-    #[schema(value_type = Object)]
+    #[schema(value_type = Value)]
     pub value: serde_json::Value,
     /// The value as KRL text, as the controller showed it.
     pub krl: String,

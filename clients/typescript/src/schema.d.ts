@@ -3250,7 +3250,7 @@ export interface components {
              * @description The value: a number, a boolean, a string, `{"enum": "T1"}`, or an
              *     object of a structure's components.
              */
-            value: Record<string, never>;
+            value: unknown;
         };
         /**
          * @description The body of a variable write.
@@ -3264,7 +3264,7 @@ export interface components {
              *     without `"`, at most 128), `{"enum": "NAME"}`, or an object of
              *     components (`{"X": 0, "Y": 0, "Z": 120}` sets those of a FRAME).
              */
-            value: Record<string, never>;
+            value: unknown;
         };
         /** @description An axis-aligned box in the base frame (mm). */
         WorkspaceBox: {

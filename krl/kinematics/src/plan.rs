@@ -1088,10 +1088,12 @@ impl<'a> Planner<'a> {
         self.entry_speed = 0.0;
         let t_end = self.t + seconds;
         let pose = self.pose(&self.axes);
-        let mut times = self.grid_until(t_end);
-        if times.last().is_none_or(|t| *t < t_end - 1e-9) && seconds > 0.0 {
-            // Its end is a sample too: a caller cutting the hold short
-            // finds where it ends.
+        // Two samples, whatever its length (a wait of ten minutes is not
+        // 50,000 grid points): where it starts, so that a caller sees the
+        // robot reach it, and where it ends, so that a caller cutting it
+        // short finds its end.
+        let mut times = vec![self.t];
+        if seconds > 0.0 {
             times.push(t_end);
         }
         for t in times {
@@ -1102,6 +1104,9 @@ impl<'a> Planner<'a> {
                 pose,
             });
         }
+        // The grid goes on after the standstill.
+        let dt = self.settings.sample_period_s;
+        self.next_k = self.next_k.max((t_end / dt).floor() as u64 + 1);
         self.t = t_end;
         self.motion = index;
     }

@@ -816,6 +816,30 @@ impl Controller {
                 * time_scale
         };
         let mut switched = Vec::new();
+        // Inside a wait (its start played, its end ahead) whose input has
+        // come since the last look: the robot leaves now.
+        if let Some(prev) = active
+            .next_sample
+            .checked_sub(1)
+            .and_then(|k| active.execution.samples.get(k))
+            .copied()
+            && let Some(&next) = active.execution.samples.get(active.next_sample)
+            && next.motion == prev.motion
+            && let Some((index, value)) = active.actions.wait(prev.motion)
+            && self.inputs[usize::from(index)] == value
+        {
+            let e = &mut active.execution;
+            let leave = elapsed.min(next.t).max(prev.t);
+            let dt = next.t - leave;
+            e.samples.remove(active.next_sample);
+            for x in &mut e.samples[active.next_sample..] {
+                x.t -= dt;
+            }
+            for j in e.junctions.iter_mut().filter(|j| j.t > prev.t) {
+                j.t -= dt;
+            }
+            e.duration_s -= dt;
+        }
         while let Some(&s) = active.execution.samples.get(active.next_sample) {
             if s.t > elapsed {
                 break;

@@ -200,6 +200,24 @@ impl PathRun {
     pub(crate) fn play(&mut self, until: f64, inputs: &[bool]) -> (Vec<Sample>, Vec<OutputAction>) {
         let mut out = Vec::new();
         let mut switched = Vec::new();
+        // Inside a wait (its start played, its end ahead) whose input has
+        // come since the last look: the robot leaves now.
+        if let Some(&end) = self.samples.front()
+            && end.motion == self.current
+            && end.t > until
+            && let Some((index, value)) = self.actions.wait(self.current)
+            && inputs.get(usize::from(index)) == Some(&value)
+        {
+            let dt = end.t - until.max(self.t);
+            self.samples.pop_front();
+            for x in &mut self.samples {
+                x.t -= dt;
+            }
+            for j in self.junctions.iter_mut().filter(|j| j.t > until) {
+                j.t -= dt;
+            }
+            self.end_t -= dt;
+        }
         while let Some(s) = self.samples.front() {
             if s.t > until + 1e-12 {
                 break;

@@ -24,7 +24,7 @@ pub struct VariableWrite {
     /// The new value: a number, a boolean, a string (printable ASCII
     /// without `"`, at most 128), `{"enum": "NAME"}`, or an object of
     /// components (`{"X": 0, "Y": 0, "Z": 120}` sets those of a FRAME).
-    #[schema(value_type = Object)]
+    #[schema(value_type = Value)]
     pub value: serde_json::Value,
 }
 

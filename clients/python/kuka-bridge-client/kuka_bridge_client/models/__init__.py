@@ -103,9 +103,7 @@ from .token_info import TokenInfo
 from .trace_sample import TraceSample
 from .upload_form import UploadForm
 from .variable import Variable
-from .variable_value import VariableValue
 from .variable_write import VariableWrite
-from .variable_write_value import VariableWriteValue
 from .wait_input_action import WaitInputAction
 from .wait_input_action_type import WaitInputActionType
 from .workspace_box import WorkspaceBox
@@ -215,9 +213,7 @@ __all__ = (
     "TraceSample",
     "UploadForm",
     "Variable",
-    "VariableValue",
     "VariableWrite",
-    "VariableWriteValue",
     "WaitInputAction",
     "WaitInputActionType",
     "WorkspaceBox",

@@ -8,10 +8,7 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
-from typing import cast
 
-if TYPE_CHECKING:
-  from ..models.variable_value import VariableValue
 
 
 
@@ -33,14 +30,14 @@ class Variable:
             name (str): The name as asked.
             type_ (str): `INT`, `REAL`, `BOOL`, `CHAR`, `ENUM`, or a structure's type
                 (`E6POS`, `FRAME`, ...; `STRUC` when the controller did not name it).
-            value (VariableValue): The value: a number, a boolean, a string, `{"enum": "T1"}`, or an
+            value (Any): The value: a number, a boolean, a string, `{"enum": "T1"}`, or an
                 object of a structure's components.
      """
 
     krl: str
     name: str
     type_: str
-    value: VariableValue
+    value: Any
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
 
@@ -48,14 +45,13 @@ class Variable:
 
 
     def to_dict(self) -> dict[str, Any]:
-        from ..models.variable_value import VariableValue # noqa: PLC0415
         krl = self.krl
 
         name = self.name
 
         type_ = self.type_
 
-        value = self.value.to_dict()
+        value = self.value
 
 
         field_dict: dict[str, Any] = {}
@@ -73,7 +69,6 @@ class Variable:
 
     @classmethod
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
-        from ..models.variable_value import VariableValue # noqa: PLC0415
         d = dict(src_dict)
         krl = d.pop("krl")
 
@@ -81,10 +76,7 @@ class Variable:
 
         type_ = d.pop("type")
 
-        value = VariableValue.from_dict(d.pop("value"))
-
-
-
+        value = d.pop("value")
 
         variable = cls(
             krl=krl,

@@ -8,10 +8,7 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
-from typing import cast
 
-if TYPE_CHECKING:
-  from ..models.variable_write_value import VariableWriteValue
 
 
 
@@ -29,20 +26,19 @@ class VariableWrite:
             {'value': 50}
 
         Attributes:
-            value (VariableWriteValue): The new value: a number, a boolean, a string (printable ASCII
+            value (Any): The new value: a number, a boolean, a string (printable ASCII
                 without `"`, at most 128), `{"enum": "NAME"}`, or an object of
                 components (`{"X": 0, "Y": 0, "Z": 120}` sets those of a FRAME).
      """
 
-    value: VariableWriteValue
+    value: Any
 
 
 
 
 
     def to_dict(self) -> dict[str, Any]:
-        from ..models.variable_write_value import VariableWriteValue # noqa: PLC0415
-        value = self.value.to_dict()
+        value = self.value
 
 
         field_dict: dict[str, Any] = {}
@@ -57,12 +53,8 @@ class VariableWrite:
 
     @classmethod
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
-        from ..models.variable_write_value import VariableWriteValue # noqa: PLC0415
         d = dict(src_dict)
-        value = VariableWriteValue.from_dict(d.pop("value"))
-
-
-
+        value = d.pop("value")
 
         variable_write = cls(
             value=value,
