@@ -4778,6 +4778,15 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
+            /** @description `invalid_input`: a number or value out of range, or a body of the wrong shape */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
             /** @description Too many failed token attempts from this address (`too_many_attempts`) */
             429: {
                 headers: {
@@ -5033,6 +5042,15 @@ export interface operations {
             };
             /** @description Another client holds control (`control_held`), or the controller refused */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `invalid_input`: a number or value out of range, or a body of the wrong shape */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };

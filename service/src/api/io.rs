@@ -182,6 +182,7 @@ async fn get_output(
     responses((status = 200, body = Signal),
         (status = 403, description = "`output_not_allowed`: not on the site's list", body = ProblemDetails, content_type = PROBLEM_JSON),
         (status = 404, description = "`unknown_signal`", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = 422, description = "`invalid_input`: a number or value out of range, or a body of the wrong shape", body = ProblemDetails, content_type = PROBLEM_JSON),
         (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON),
         (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn put_output(
@@ -316,6 +317,7 @@ async fn get_analog(State(app): State<AppState>) -> Result<Response, Problem> {
     responses((status = 200, body = AnalogSignal),
         (status = 403, description = "`output_not_allowed`: not on the site's list", body = ProblemDetails, content_type = PROBLEM_JSON),
         (status = 404, description = "`unknown_signal`", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = 422, description = "`invalid_input`: a number or value out of range, or a body of the wrong shape", body = ProblemDetails, content_type = PROBLEM_JSON),
         (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON),
         (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn put_analog_output(
