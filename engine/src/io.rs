@@ -104,6 +104,16 @@ pub struct AnalogOutputRequest {
     pub value: f64,
 }
 
+/// A signal name: a lower-case letter, then lower-case letters, digits
+/// and `_`, at most 32 characters (digital and analog alike).
+fn signal_name(name: &str) -> bool {
+    name.len() <= 32
+        && name.starts_with(|c: char| c.is_ascii_lowercase())
+        && name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+}
+
 impl IoConfig {
     /// Checks names, numbers and pulses; the sentence names the entry.
     pub fn validate(&self) -> std::result::Result<(), String> {
@@ -111,12 +121,7 @@ impl IoConfig {
         for (kind, list) in [("inputs", &self.inputs), ("outputs", &self.outputs)] {
             let mut indices = std::collections::HashSet::new();
             for s in list {
-                let ok_name = s.name.len() <= 32
-                    && s.name.starts_with(|c: char| c.is_ascii_lowercase())
-                    && s.name
-                        .chars()
-                        .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
-                if !ok_name {
+                if !signal_name(s.name.as_str()) {
                     return Err(format!(
                         "io.{kind}: name {:?} must be a lower-case letter, then lower-case letters, digits or _, at most 32 characters",
                         s.name
@@ -163,12 +168,7 @@ impl IoConfig {
         ] {
             let mut indices = std::collections::HashSet::new();
             for a in list {
-                let ok_name = a.name.len() <= 32
-                    && a.name.starts_with(|c: char| c.is_ascii_lowercase())
-                    && a.name
-                        .chars()
-                        .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
-                if !ok_name {
+                if !signal_name(a.name.as_str()) {
                     return Err(format!(
                         "io.{kind}: name {:?} must be a lower-case letter, then lower-case letters, digits or _, at most 32 characters",
                         a.name
