@@ -718,3 +718,185 @@ async fn a_version_1_controller_is_named_and_refused() {
         "nothing was written for a version 1 controller"
     );
 }
+
+/// `controller.safety` of `GET /api/v1/state`.
+async fn safety(t: &TestService) -> Value {
+    let (_, s) = t.get("/api/v1/state").await;
+    s["controller"]["safety"].clone()
+}
+
+/// A safety stop on the simulated cell (`PUT /api/v1/sim/safety`), as on a
+/// KRC: an emergency stop pressed during a motion stops the robot on its
+/// path and switches the drives off; the job fails `controller_error`
+/// saying why; nothing moves and the acknowledgement is refused while the
+/// button is pressed; released, acknowledged and reset, the robot moves
+/// again. An operator safety opened while idle makes the controller not
+/// ready until it is closed and acknowledged (no RESET needed).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_emergency_stop_stops_the_robot_until_released_and_acknowledged() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        ..Options::default()
+    })
+    .await;
+    t.wait_online().await;
+    let (s, v) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a1": 0, "a2": -80, "a3": 80, "a4": 0, "a5": 30, "a6": 0}}]))
+        .await;
+    assert_eq!((s, &v["state"]), (200, &json!("done")), "{v}");
+    let from = t.controller_axes();
+    // A slow axis motion (several seconds), not waited for.
+    let (s, job) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"motions": [{"type": "ptp_axes", "axes": {"a1": 90}, "velocity_pct": 5}], "wait": false}),
+        )
+        .await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    wait_for(WAIT, "the robot moving", async || {
+        let a1 = t.controller_axes()[0];
+        if a1 > from[0] + 2.0 {
+            Ok(a1)
+        } else {
+            Err(format!("A1 = {a1}"))
+        }
+    })
+    .await;
+    let (s, v) = t
+        .put_json("/api/v1/sim/safety", &json!({"emergency_stop": true}))
+        .await;
+    assert_eq!(s, 204, "{v}");
+    let job = t
+        .wait_job(id, "the job ended by the emergency stop", |j| {
+            j["state"] == "failed"
+        })
+        .await;
+    assert_eq!(job["error"]["code"], "controller_error", "{job}");
+    // The robot stands where it was stopped, short of its target.
+    let stopped = t.controller_axes()[0];
+    assert!(stopped > from[0] + 2.0 && stopped < 89.0, "A1 = {stopped}");
+    let s = t
+        .wait_state("the emergency stop in the state", |s| {
+            s["controller"]["safety"]["emergency_stop"] == true
+                && s["controller"]["safety"]["drives_ready"] == false
+                && s["controller"]["status"] == "error"
+        })
+        .await;
+    assert_eq!(s["controller"]["safety"]["stop_message"], true, "{s}");
+    // Nothing moves: refused, with the reason.
+    let (st, v) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a1": 0}}]))
+        .await;
+    assert_eq!(
+        (st, v["code"].as_str()),
+        (409, Some("controller_error")),
+        "{v}"
+    );
+    assert!(
+        v["detail"]
+            .as_str()
+            .is_some_and(|d| d.contains("emergency stop is pressed")),
+        "{v}"
+    );
+    assert_close(t.controller_axes()[0], stopped, 0.001, "A1 while stopped");
+    // The operator cannot acknowledge while the button is pressed.
+    let (st, v) = t.post("/api/v1/sim/acknowledge").await;
+    assert_eq!(
+        (st, v["code"].as_str()),
+        (409, Some("controller_error")),
+        "{v}"
+    );
+    let (st, v) = t
+        .put_json("/api/v1/sim/safety", &json!({"emergency_stop": false}))
+        .await;
+    assert_eq!(st, 204, "{v}");
+    let s = t
+        .wait_state("the emergency stop released", |s| {
+            s["controller"]["safety"]["emergency_stop"] == false
+        })
+        .await;
+    assert_eq!(
+        s["controller"]["safety"]["drives_ready"], false,
+        "released, the drives stay off until acknowledged: {s}"
+    );
+    let (st, v) = t.post("/api/v1/sim/acknowledge").await;
+    assert_eq!(st, 204, "{v}");
+    let (st, v) = t.post("/api/v1/reset").await;
+    assert_eq!(st, 200, "{v}");
+    t.wait_state("ready again", |s| {
+        s["controller"]["status"] == "idle"
+            && s["controller"]["safety"]["drives_ready"] == true
+            && s["controller"]["safety"]["stop_message"] == false
+    })
+    .await;
+    let (st, v) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a1": 5}}]))
+        .await;
+    assert_eq!((st, &v["state"]), (200, &json!("done")), "{v}");
+    assert_close(t.controller_axes()[0], 5.0, 0.01, "A1 after the restart");
+
+    // The operator safety opened while idle: not ready until closed and
+    // acknowledged.
+    let (st, v) = t
+        .put_json("/api/v1/sim/safety", &json!({"user_safety": false}))
+        .await;
+    assert_eq!(st, 204, "{v}");
+    t.wait_state("the operator safety open", |s| {
+        s["controller"]["safety"]["user_safety"] == false && s["controller"]["status"] == "error"
+    })
+    .await;
+    let (st, v) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a1": 0}}]))
+        .await;
+    assert_eq!(
+        (st, v["code"].as_str()),
+        (409, Some("controller_error")),
+        "{v}"
+    );
+    let (st, v) = t.post("/api/v1/sim/acknowledge").await;
+    assert_eq!(
+        (st, v["code"].as_str()),
+        (409, Some("controller_error")),
+        "{v}"
+    );
+    let (st, v) = t
+        .put_json("/api/v1/sim/safety", &json!({"user_safety": true}))
+        .await;
+    assert_eq!(st, 204, "{v}");
+    let (st, v) = t.post("/api/v1/sim/acknowledge").await;
+    assert_eq!(st, 204, "{v}");
+    t.wait_state("ready without RESET", |s| {
+        s["controller"]["status"] == "idle" && s["controller"]["safety"]["drives_ready"] == true
+    })
+    .await;
+    let (st, v) = t
+        .motions(json!([{"type": "ptp_axes", "axes": {"a1": 0}}]))
+        .await;
+    assert_eq!((st, &v["state"]), (200, &json!("done")), "{v}");
+    assert!(
+        safety(&t).await["emergency_stop"] == false,
+        "{}",
+        safety(&t).await
+    );
+
+    // Bodies that change nothing or are not the documented shape.
+    for bad in [
+        json!({}),
+        json!({"emergency_stop": "yes"}),
+        json!({"emergency_stop": 1}),
+        json!({"e_stop": true}),
+        json!({"user_safety": null, "emergency_stop": null}),
+        json!(true),
+        json!("emergency_stop"),
+    ] {
+        let (st, v) = t.put_json("/api/v1/sim/safety", &bad).await;
+        assert_eq!(
+            (st, v["code"].as_str()),
+            (422, Some("invalid_input")),
+            "{bad}: {v}"
+        );
+    }
+    assert_eq!(safety(&t).await["drives_ready"], true);
+    t.service.shutdown().await.expect("shutdown");
+}

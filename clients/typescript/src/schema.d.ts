@@ -723,14 +723,17 @@ export interface paths {
         get?: never;
         put?: never;
         /**
-         * The operator acknowledges the controller's stop message and starts the
-         *     bridge's program again (KRC-like runtime only).
-         * @description After an error stop (a program that failed, a motion stopped on its
-         *     path) a KRC waits for the operator: the message is acknowledged on the
-         *     teach pendant (or by the PLC) and `kb_main` selected and started again.
-         *     Until then the state reports `controller_error` ("not ready") and RESET
-         *     does not help. This does what the operator would, on the simulated
-         *     controller. 404 with the native simulator, which has no stop messages.
+         * The operator acknowledges the controller's stop message, switches the
+         *     drives on and (KRC-like runtime) starts the bridge's program again.
+         * @description After a safety stop (`PUT /api/v1/sim/safety`) or an error stop (a
+         *     program that failed, a motion stopped on its path) a KRC waits for the
+         *     operator: the message is acknowledged on the teach pendant (or by the
+         *     PLC), the drives are switched on and `kb_main` selected and started
+         *     again. Until then the state reports `controller_error` ("not ready").
+         *     This does what the operator would, on the simulated controller. A job
+         *     the stop ended leaves the controller in its error state until
+         *     `POST /api/v1/reset`, as on a KRC. 409 `controller_error` while the
+         *     emergency stop is still pressed or the operator safety still open.
          *
          *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
          */
@@ -778,6 +781,35 @@ export interface paths {
          * @description **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
          */
         put: operations["setSimInput"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/sim/safety": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        /**
+         * Press or release the simulated emergency stop, open or close the
+         *     operator safety (`--simulate` only; either simulator).
+         * @description Opening the circuit does what a KRC does: the robot stops where it is
+         *     (here without a braking distance), the drives switch off, a stop
+         *     message appears, the running job fails with `controller_error` and
+         *     every motion is refused until the operator acknowledges
+         *     (`POST /api/v1/sim/acknowledge`) — which a KRC allows only once the
+         *     circuit is closed again — and, if a job was ended, `POST
+         *     /api/v1/reset`. `GET /api/v1/state` shows it in `controller.safety`.
+         *
+         *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         */
+        put: operations["setSimSafety"];
         post?: never;
         delete?: never;
         options?: never;
@@ -2886,6 +2918,24 @@ export interface components {
             timeout_ms?: number | null;
             /** @description Wait for the program to end (default true); false answers 202 with the job. */
             wait?: boolean | null;
+        };
+        /**
+         * @description A change of the simulated cell's safety circuit.
+         * @example {
+         *       "emergency_stop": true
+         *     }
+         */
+        SafetyChange: {
+            /**
+             * @description Press (`true`) or release (`false`) the emergency stop
+             *     (`$ALARM_STOP`); absent: unchanged.
+             */
+            emergency_stop?: boolean | null;
+            /**
+             * @description Close (`true`) or open (`false`) the operator safety: the fence
+             *     door, the enabling device (`$USER_SAF`); absent: unchanged.
+             */
+            user_safety?: boolean | null;
         };
         /** @description One place where a request does not match a JSON schema. */
         SchemaViolation: {
@@ -6780,7 +6830,7 @@ export interface operations {
         };
         requestBody?: never;
         responses: {
-            /** @description Acknowledged; kb_main restarted */
+            /** @description Acknowledged; drives on (and kb_main restarted on the KRC-like runtime) */
             204: {
                 headers: {
                     [name: string]: unknown;
@@ -6814,7 +6864,7 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
-            /** @description Another client holds control (`control_held`), or the controller refused */
+            /** @description Rejected: problem+json with a stable code and a sentence */
             409: {
                 headers: {
                     [name: string]: unknown;
@@ -6966,6 +7016,100 @@ export interface operations {
         };
         responses: {
             /** @description Set */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Another client holds control (`control_held`), or the controller refused */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, … */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    setSimSafety: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["SafetyChange"];
+            };
+        };
+        responses: {
+            /** @description Changed */
             204: {
                 headers: {
                     [name: string]: unknown;

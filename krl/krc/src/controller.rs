@@ -102,6 +102,15 @@ struct Shared {
     paused: AtomicBool,
 }
 
+/// Why [`KrcController::acknowledge`] could not switch the drives on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AcknowledgeRefused {
+    /// The emergency stop is still pressed (`$ALARM_STOP` FALSE).
+    EmergencyStop,
+    /// The operator safety is still open (`$USER_SAF` FALSE).
+    UserSafety,
+}
+
 /// A running KRC-like runtime. Dropping it stops the thread.
 pub struct KrcController {
     shared: Arc<Shared>,
@@ -330,6 +339,31 @@ impl KrcController {
     /// program, select and start kb_main.
     pub fn operator_restart(&self) {
         self.lock().operator_restart();
+    }
+
+    /// The safety circuit changes, as on a real cell: an emergency stop
+    /// pressed (`Some(true)`) or released, the operator safety closed
+    /// (`Some(true)`) or opened; `None` leaves that part as it is. Opening
+    /// it stops the robot where it is, switches the drives off and posts a
+    /// stop message; the KRL program then ends the running command.
+    pub fn set_safety(&self, emergency_stop: Option<bool>, user_safety: Option<bool>) {
+        self.lock().set_safety(emergency_stop, user_safety);
+    }
+
+    /// What the operator does after a safety stop: acknowledge the stop
+    /// message, switch the drives on and start kb_main again. Refused while
+    /// the circuit is still open.
+    pub fn acknowledge(&self) -> Result<(), AcknowledgeRefused> {
+        let mut s = self.lock();
+        match s.safety_closed() {
+            (false, _) => Err(AcknowledgeRefused::EmergencyStop),
+            (_, false) => Err(AcknowledgeRefused::UserSafety),
+            (true, true) => {
+                s.drives_on();
+                s.operator_restart();
+                Ok(())
+            }
+        }
     }
 
     /// Whether a stop message waits for acknowledgement (`$STOPMESS`).

@@ -569,6 +569,59 @@ impl Scheduler {
         }
     }
 
+    /// The safety circuit changes: an emergency stop pressed (`Some(true)`)
+    /// or released, the operator safety closed (`Some(true)`) or opened;
+    /// `None` leaves that part as it is. Opening the circuit stops the
+    /// robot where it is (a STOP 0 here: no braking distance), switches the
+    /// drives off (`$PERI_RDY`), posts a stop message (`$STOPMESS`) and
+    /// stops the robot program, as a KRC does; closing it changes nothing
+    /// else until the operator acknowledges.
+    pub(crate) fn set_safety(&mut self, emergency_stop: Option<bool>, user_safety: Option<bool>) {
+        let Some(v) = self.vars.as_mut() else {
+            return;
+        };
+        let closed = |v: &Globals| {
+            v.bool("$ALARM_STOP", &[]).unwrap_or(true) && v.bool("$USER_SAF", &[]).unwrap_or(true)
+        };
+        let was_closed = closed(v);
+        if let Some(pressed) = emergency_stop {
+            v.set_bool("$ALARM_STOP", !pressed);
+        }
+        if let Some(ok) = user_safety {
+            v.set_bool("$USER_SAF", ok);
+        }
+        if was_closed && !closed(v) {
+            v.set_bool("$PERI_RDY", false);
+            self.exec.discard();
+            self.stopmess = true;
+            self.end_pending = false;
+            if self.pro_state == ProState::Active {
+                self.pro_state = ProState::Stop;
+            }
+            tracing::info!(program = %self.pro_name, "KRC runtime: safety stop, drives off");
+        }
+    }
+
+    /// Whether the safety circuit is closed (no emergency stop, operator
+    /// safety closed).
+    pub(crate) fn safety_closed(&self) -> (bool, bool) {
+        let get = |name: &str| {
+            self.vars
+                .as_ref()
+                .and_then(|v| v.bool(name, &[]))
+                .unwrap_or(true)
+        };
+        (get("$ALARM_STOP"), get("$USER_SAF"))
+    }
+
+    /// Switches the drives on (`$PERI_RDY`), as the operator or the PLC
+    /// does once the circuit is closed.
+    pub(crate) fn drives_on(&mut self) {
+        if let Some(v) = self.vars.as_mut() {
+            v.set_bool("$PERI_RDY", true);
+        }
+    }
+
     /// What the operator (or the PLC's AUTOEXT fold) does after an error
     /// stop: acknowledge the messages, select and start kb_main.
     pub(crate) fn operator_restart(&mut self) {

@@ -170,6 +170,46 @@ pub(crate) struct Controller {
     pub(crate) tool_data: Vec<Pose>,
     /// `BASE_DATA[1..=32]`.
     pub(crate) base_data: Vec<Pose>,
+    /// The safety circuit and drives as a teach pendant shows them.
+    pub(crate) safety: SafetyCircuit,
+    /// Results pushed outside a command or a motion step (an emergency
+    /// stop ended the running command): the next [`Controller::advance`]
+    /// reports them so that the runner writes the result file.
+    results_pending: bool,
+}
+
+/// The simulated controller's safety circuit: what `$ALARM_STOP`,
+/// `$USER_SAF`, `$PERI_RDY` and `$STOPMESS` say on a KRC.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct SafetyCircuit {
+    /// `$ALARM_STOP`: TRUE while no emergency stop is pressed.
+    pub(crate) alarm_stop: bool,
+    /// `$USER_SAF`: the operator safety (fence, enabling device) closed.
+    pub(crate) user_safety: bool,
+    /// `$PERI_RDY`: the drives are on.
+    pub(crate) drives: bool,
+    /// `$STOPMESS`: a safety stop's message waits for acknowledgement.
+    pub(crate) stop_message: bool,
+}
+
+impl Default for SafetyCircuit {
+    fn default() -> Self {
+        SafetyCircuit {
+            alarm_stop: true,
+            user_safety: true,
+            drives: true,
+            stop_message: false,
+        }
+    }
+}
+
+/// Why [`Controller::acknowledge`] could not switch the drives on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AcknowledgeRefused {
+    /// The emergency stop is still pressed.
+    EmergencyStop,
+    /// The operator safety is still open.
+    UserSafety,
 }
 
 /// Entries of `TOOL_DATA`.
@@ -252,7 +292,84 @@ impl Controller {
             analog_outputs: vec![0.0; usize::from(kuka_protocol::MAX_ANALOG_INDEX) + 1],
             tool_data: vec![Pose::IDENTITY; TOOLS],
             base_data: vec![Pose::IDENTITY; BASES],
+            safety: SafetyCircuit::default(),
+            results_pending: false,
         }
+    }
+
+    /// Brakes where the robot is now and ends whatever runs (a path, a
+    /// program being prepared, a batch) with `code`.
+    fn brake_all(&mut self, code: ResultCode) {
+        if let Some((run, _, _)) = self.path.take() {
+            self.sim_time += run.t;
+            self.push_result(run.cid, code, run.current as u32, 0, None);
+        }
+        if let Some(p) = self.preparing.take() {
+            // Nothing moved yet; the program thread's answer is dropped.
+            self.push_result(p.cid, code, 0, 0, None);
+        }
+        if let Some(active) = self.active.take() {
+            // Brake where the robot is now (the sample reached last).
+            let elapsed = active
+                .execution
+                .samples
+                .get(active.next_sample.saturating_sub(1))
+                .map_or(0.0, |s| s.t);
+            self.sim_time += elapsed;
+            self.push_result(active.cid, code, active.progress() as u32, 0, None);
+        }
+    }
+
+    /// The safety circuit changes: an emergency stop pressed or released,
+    /// the operator safety opened or closed (`None`: unchanged). Opening it
+    /// stops the robot where it is (a STOP 0 here, no braking distance),
+    /// switches the drives off and posts a stop message: the running
+    /// command ends CONTROLLER_ERROR and the controller stays in its error
+    /// state until RESET; an idle controller is NOT_READY until the
+    /// message is acknowledged. Closing it changes nothing else: the
+    /// drives stay off until [`acknowledge`](Self::acknowledge).
+    pub(crate) fn set_safety(&mut self, emergency_stop: Option<bool>, user_safety: Option<bool>) {
+        let was_closed = self.safety.alarm_stop && self.safety.user_safety;
+        if let Some(pressed) = emergency_stop {
+            self.safety.alarm_stop = !pressed;
+        }
+        if let Some(closed) = user_safety {
+            self.safety.user_safety = closed;
+        }
+        let closed = self.safety.alarm_stop && self.safety.user_safety;
+        if was_closed && !closed {
+            let running = self.is_busy();
+            self.brake_all(ResultCode::ControllerError);
+            self.results_pending |= running;
+            self.safety.drives = false;
+            self.safety.stop_message = true;
+            if self.error.is_none() {
+                self.error = Some(if running {
+                    (ResultCode::ControllerError, 0)
+                } else {
+                    (ResultCode::NotReady, 0)
+                });
+            }
+        }
+    }
+
+    /// The operator acknowledges the stop message and switches the drives
+    /// on; refused while the safety circuit is open. An idle controller is
+    /// ready again; one whose command was ended by the stop keeps its
+    /// error state until RESET (as the KRL program).
+    pub(crate) fn acknowledge(&mut self) -> Result<(), AcknowledgeRefused> {
+        if !self.safety.alarm_stop {
+            return Err(AcknowledgeRefused::EmergencyStop);
+        }
+        if !self.safety.user_safety {
+            return Err(AcknowledgeRefused::UserSafety);
+        }
+        self.safety.stop_message = false;
+        self.safety.drives = true;
+        if matches!(self.error, Some((ResultCode::NotReady, _))) {
+            self.error = None;
+        }
+        Ok(())
     }
 
     /// The state file's I/O window.
@@ -419,34 +536,14 @@ impl Controller {
                 return Changes::default();
             }
             Command::Stop => {
-                if let Some((run, _, _)) = self.path.take() {
-                    self.sim_time += run.t;
-                    self.push_result(run.cid, ResultCode::Cancelled, run.current as u32, 0, None);
-                }
-                if let Some(p) = self.preparing.take() {
-                    // Nothing moved yet; the program thread's answer is dropped.
-                    self.push_result(p.cid, ResultCode::Cancelled, 0, 0, None);
-                }
-                if let Some(active) = self.active.take() {
-                    // Brake where the robot is now (the sample reached last).
-                    let elapsed = active
-                        .execution
-                        .samples
-                        .get(active.next_sample.saturating_sub(1))
-                        .map_or(0.0, |s| s.t);
-                    self.sim_time += elapsed;
-                    self.push_result(
-                        active.cid,
-                        ResultCode::Cancelled,
-                        active.progress() as u32,
-                        0,
-                        None,
-                    );
-                }
+                self.brake_all(ResultCode::Cancelled);
                 self.push_result(cid, ResultCode::Ok, 0, 0, None);
             }
             Command::Reset => {
-                self.error = None;
+                // A stop message RESET cannot acknowledge leaves the
+                // controller NOT_READY (as the KRL program's KsErrWatch).
+                self.error = (self.safety.stop_message || !self.safety.drives)
+                    .then_some((ResultCode::NotReady, 0));
                 self.push_result(cid, ResultCode::Ok, 0, 0, None);
             }
             Command::GetPosition => self.push_result(cid, ResultCode::Ok, 0, 0, None),
@@ -787,6 +884,9 @@ impl Controller {
     /// up to `now`; returns what changed.
     pub(crate) fn advance(&mut self, now: Instant, time_scale: f64) -> Changes {
         self.end_pulse(now);
+        if std::mem::take(&mut self.results_pending) {
+            return Changes::results();
+        }
         if self.path.is_some() {
             return self.advance_path(now, time_scale);
         }
@@ -964,14 +1064,14 @@ impl Controller {
 
     /// What the service must learn at once rather than at the next
     /// heartbeat: idle/busy/error and the command being executed.
-    pub(crate) fn status_key(&self) -> (Cid, bool, IoState) {
+    pub(crate) fn status_key(&self) -> (Cid, bool, IoState, SafetyCircuit) {
         let cid = match (&self.active, &self.preparing, &self.path) {
             (Some(a), _, _) => a.cid,
             (None, Some(p), _) => p.cid,
             (None, None, Some((r, _, _))) => r.cid,
             (None, None, None) => 0,
         };
-        (cid, self.error.is_some(), self.io_state())
+        (cid, self.error.is_some(), self.io_state(), self.safety)
     }
 
     /// The heartbeat record (increments the sequence number).
@@ -1012,13 +1112,13 @@ impl Controller {
             base: pose_to_frame(&self.base),
             io: Some(self.io_state()),
             analog: Some(self.analog_state()),
-            // Drives on, fence closed, no emergency stop; an error is a
-            // stop message, and the robot program stops meanwhile.
+            // The safety circuit ([`Controller::set_safety`]); an error is
+            // a stop message too, and the robot program stops meanwhile.
             safety: Some(kuka_protocol::SafetyState {
-                drives_ready: true,
-                user_safety: true,
-                alarm_stop: true,
-                stop_message: self.error.is_some(),
+                drives_ready: self.safety.drives,
+                user_safety: self.safety.user_safety,
+                alarm_stop: self.safety.alarm_stop,
+                stop_message: self.safety.stop_message || self.error.is_some(),
                 program_state: if self.error.is_some() { 3 } else { 2 },
             }),
         }

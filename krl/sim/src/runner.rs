@@ -17,7 +17,7 @@ use kuka_protocol::{
 };
 use notify::{RecursiveMode, Watcher};
 
-use crate::controller::{Changes, Controller, TraceSample};
+use crate::controller::{AcknowledgeRefused, Changes, Controller, TraceSample};
 
 /// Errors starting the simulator.
 #[derive(Debug, thiserror::Error)]
@@ -342,6 +342,25 @@ impl SimController {
         v.get(usize::from(index)).filter(|_| index > 0).copied()
     }
 
+    /// The safety circuit changes, as on a real cell: an emergency stop
+    /// pressed (`Some(true)`) or released, the operator safety closed
+    /// (`Some(true)`) or opened; `None` leaves that part as it is. Opening
+    /// the circuit stops the robot where it is, switches the drives off and
+    /// ends the running command CONTROLLER_ERROR (details:
+    /// docs/RELIABILITY.md, "Safety stops").
+    pub fn set_safety(&self, emergency_stop: Option<bool>, user_safety: Option<bool>) {
+        self.lock().set_safety(emergency_stop, user_safety);
+        let _ = self.shared.wake.send(());
+    }
+
+    /// What the operator does after a safety stop: acknowledge the message
+    /// and switch the drives on. Refused while the circuit is still open.
+    pub fn acknowledge(&self) -> Result<(), AcknowledgeRefused> {
+        let r = self.lock().acknowledge();
+        let _ = self.shared.wake.send(());
+        r
+    }
+
     /// Puts the controller into an error state (as an acknowledgeable KRC
     /// message would) until a RESET command.
     pub fn inject_error(&self, code: ResultCode, axis: u8) {
@@ -437,7 +456,12 @@ struct Runner {
     pending_results: bool,
     pending_state: bool,
     next_heartbeat: Instant,
-    status_key: (kuka_protocol::Cid, bool, kuka_protocol::IoState),
+    status_key: (
+        kuka_protocol::Cid,
+        bool,
+        kuka_protocol::IoState,
+        crate::controller::SafetyCircuit,
+    ),
 }
 
 impl Runner {
@@ -452,7 +476,12 @@ impl Runner {
             pending_results: false,
             pending_state: true,
             next_heartbeat: Instant::now(),
-            status_key: (0, false, kuka_protocol::IoState::default()),
+            status_key: (
+                0,
+                false,
+                kuka_protocol::IoState::default(),
+                crate::controller::SafetyCircuit::default(),
+            ),
         }
     }
 

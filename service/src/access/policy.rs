@@ -169,6 +169,7 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("DELETE", "/api/v1/sim/trace", OPERATE),
     ("POST", "/api/v1/sim/acknowledge", OPERATE),
     ("PUT", "/api/v1/sim/inputs/{index}", OPERATE),
+    ("PUT", "/api/v1/sim/safety", OPERATE),
     ("PUT", "/api/v1/sim/analog-inputs/{index}", OPERATE),
     // Documentation.
     ("GET", "/openapi.json", PUBLIC),

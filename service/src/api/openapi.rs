@@ -81,6 +81,7 @@ pub(crate) const OPERATION_IDS: &[(&str, &str, &str)] = &[
     ("delete", "/api/v1/sim/trace", "clearSimTrace"),
     ("post", "/api/v1/sim/acknowledge", "acknowledgeSimStop"),
     ("put", "/api/v1/sim/inputs/{index}", "setSimInput"),
+    ("put", "/api/v1/sim/safety", "setSimSafety"),
     ("get", "/api/v1/io", "getIo"),
     ("get", "/api/v1/io/inputs/{signal}", "getInput"),
     ("get", "/api/v1/io/outputs/{signal}", "getOutput"),

@@ -117,29 +117,94 @@ async fn clear_trace(State(app): State<AppState>) -> Result<axum::http::StatusCo
     Ok(axum::http::StatusCode::NO_CONTENT)
 }
 
-/// The operator acknowledges the controller's stop message and starts the
-/// bridge's program again (KRC-like runtime only).
+/// The operator acknowledges the controller's stop message, switches the
+/// drives on and (KRC-like runtime) starts the bridge's program again.
 ///
-/// After an error stop (a program that failed, a motion stopped on its
-/// path) a KRC waits for the operator: the message is acknowledged on the
-/// teach pendant (or by the PLC) and `kb_main` selected and started again.
-/// Until then the state reports `controller_error` ("not ready") and RESET
-/// does not help. This does what the operator would, on the simulated
-/// controller. 404 with the native simulator, which has no stop messages.
+/// After a safety stop (`PUT /api/v1/sim/safety`) or an error stop (a
+/// program that failed, a motion stopped on its path) a KRC waits for the
+/// operator: the message is acknowledged on the teach pendant (or by the
+/// PLC), the drives are switched on and `kb_main` selected and started
+/// again. Until then the state reports `controller_error` ("not ready").
+/// This does what the operator would, on the simulated controller. A job
+/// the stop ended leaves the controller in its error state until
+/// `POST /api/v1/reset`, as on a KRC. 409 `controller_error` while the
+/// emergency stop is still pressed or the operator safety still open.
 #[utoipa::path(post, path = "/api/v1/sim/acknowledge", tag = "simulator",
-    responses((status = 204, description = "Acknowledged; kb_main restarted"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+    responses((status = 204, description = "Acknowledged; drives on (and kb_main restarted on the KRC-like runtime)"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON), (status = 409, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn acknowledge(State(app): State<AppState>) -> Result<axum::http::StatusCode, Problem> {
-    match sim(&app)? {
-        Simulated::Native(_) => Err(BridgeError::new(
-            ErrorCode::NotFound,
-            "the native simulator has no stop messages to acknowledge (this is for `--simulate krc`)",
+    let refused = match sim(&app)? {
+        Simulated::Native(sim) => sim.acknowledge().err().map(|r| match r {
+            kuka_sim::AcknowledgeRefused::EmergencyStop => true,
+            kuka_sim::AcknowledgeRefused::UserSafety => false,
+        }),
+        Simulated::Krc(krc) => krc.acknowledge().err().map(|r| match r {
+            kuka_krc::AcknowledgeRefused::EmergencyStop => true,
+            kuka_krc::AcknowledgeRefused::UserSafety => false,
+        }),
+    };
+    match refused {
+        None => Ok(axum::http::StatusCode::NO_CONTENT),
+        Some(true) => Err(BridgeError::new(
+            ErrorCode::ControllerError,
+            "the emergency stop is still pressed: release it first (PUT /api/v1/sim/safety {\"emergency_stop\": false})",
         )
         .into()),
-        Simulated::Krc(krc) => {
-            krc.operator_restart();
-            Ok(axum::http::StatusCode::NO_CONTENT)
-        }
+        Some(false) => Err(BridgeError::new(
+            ErrorCode::ControllerError,
+            "the operator safety is still open: close it first (PUT /api/v1/sim/safety {\"user_safety\": true})",
+        )
+        .into()),
     }
+}
+
+/// A change of the simulated cell's safety circuit.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(example = json!({"emergency_stop": true}))]
+pub struct SafetyChange {
+    /// Press (`true`) or release (`false`) the emergency stop
+    /// (`$ALARM_STOP`); absent: unchanged.
+    #[serde(default)]
+    pub emergency_stop: Option<bool>,
+    /// Close (`true`) or open (`false`) the operator safety: the fence
+    /// door, the enabling device (`$USER_SAF`); absent: unchanged.
+    #[serde(default)]
+    pub user_safety: Option<bool>,
+}
+
+/// Press or release the simulated emergency stop, open or close the
+/// operator safety (`--simulate` only; either simulator).
+///
+/// Opening the circuit does what a KRC does: the robot stops where it is
+/// (here without a braking distance), the drives switch off, a stop
+/// message appears, the running job fails with `controller_error` and
+/// every motion is refused until the operator acknowledges
+/// (`POST /api/v1/sim/acknowledge`) — which a KRC allows only once the
+/// circuit is closed again — and, if a job was ended, `POST
+/// /api/v1/reset`. `GET /api/v1/state` shows it in `controller.safety`.
+#[utoipa::path(put, path = "/api/v1/sim/safety", tag = "simulator",
+    request_body = SafetyChange,
+    responses((status = 204, description = "Changed"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON), (status = 422, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn put_safety(
+    State(app): State<AppState>,
+    JsonBody(v): JsonBody<SafetyChange>,
+) -> Result<axum::http::StatusCode, Problem> {
+    if v.emergency_stop.is_none() && v.user_safety.is_none() {
+        return Err(BridgeError::invalid(
+            "nothing to change: give emergency_stop, user_safety or both",
+        )
+        .into());
+    }
+    match sim(&app)? {
+        Simulated::Native(sim) => sim.set_safety(v.emergency_stop, v.user_safety),
+        Simulated::Krc(krc) => krc.set_safety(v.emergency_stop, v.user_safety),
+    }
+    tracing::warn!(
+        emergency_stop = ?v.emergency_stop,
+        user_safety = ?v.user_safety,
+        "simulated safety circuit changed"
+    );
+    Ok(axum::http::StatusCode::NO_CONTENT)
 }
 
 /// The value of a simulated digital input.
@@ -251,6 +316,7 @@ pub(super) fn router() -> OpenApiRouter<AppState> {
         .routes(routes!(snapshot))
         .routes(routes!(trace, clear_trace))
         .routes(routes!(acknowledge))
+        .routes(routes!(put_safety))
         .routes(routes!(put_input))
         .routes(routes!(put_analog_input))
 }

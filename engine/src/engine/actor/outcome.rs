@@ -125,6 +125,43 @@ pub(super) fn program_result_error(e: BridgeError, r: &ResultRecord, program: &s
     }
 }
 
+/// A controller error's detail completed with what the controller's
+/// safety state says (an emergency stop, the operator safety, the drives,
+/// a stop message), so that a client whose job failed learns why and
+/// what clears it. Other errors are returned as they are.
+pub(super) fn explain_safety(
+    mut e: BridgeError,
+    safety: Option<&kuka_protocol::SafetyState>,
+) -> BridgeError {
+    let Some(s) = safety else { return e };
+    if e.code != ErrorCode::ControllerError {
+        return e;
+    }
+    let mut why = Vec::new();
+    if !s.alarm_stop {
+        why.push("an emergency stop is pressed");
+    }
+    if !s.user_safety {
+        why.push("the operator safety (fence, enabling device) is open");
+    }
+    if !s.drives_ready {
+        why.push("the drives are off");
+    }
+    if s.stop_message {
+        why.push("a stop message waits for acknowledgement");
+    }
+    if why.is_empty() {
+        return e;
+    }
+    let clear = if !s.alarm_stop || !s.user_safety {
+        "release it, acknowledge the messages on the teach pendant, switch the drives on, then POST /api/v1/reset"
+    } else {
+        "acknowledge the messages on the teach pendant, switch the drives on, then POST /api/v1/reset"
+    };
+    e.detail = format!("{}: {}; {clear}", e.detail, why.join(", "));
+    e
+}
+
 pub(super) fn state_error(s: &StateFile) -> Option<BridgeError> {
     let code = s.error?;
     let r = ResultRecord {
@@ -139,7 +176,7 @@ pub(super) fn state_error(s: &StateFile) -> Option<BridgeError> {
     };
     result_error(&r).map(|mut e| {
         e.motion = None;
-        e
+        explain_safety(e, s.safety.as_ref())
     })
 }
 

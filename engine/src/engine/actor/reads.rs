@@ -288,7 +288,8 @@ impl Actor {
             op if !is_frame_op(op) => self.ctl.pose = Some((r.position, r.s, r.t)),
             _ => {}
         }
-        let mut error = result_error(&r);
+        let mut error = result_error(&r)
+            .map(|e| explain_safety(e, self.ctl.state.as_ref().and_then(|s| s.safety.as_ref())));
         if error.is_none()
             && let Some(refused) = self
                 .path
@@ -364,7 +365,9 @@ impl Actor {
                     ResultCode::Cancelled => JobState::Cancelled,
                     _ => JobState::Failed,
                 };
-                let mut error = result_error(&r);
+                let mut error = result_error(&r).map(|e| {
+                    explain_safety(e, self.ctl.state.as_ref().and_then(|s| s.safety.as_ref()))
+                });
                 if job.operation != "move"
                     && job.operation != "path"
                     && let Some(e) = &mut error

@@ -76,6 +76,7 @@ from .recent_event_data import RecentEventData
 from .robot_state import RobotState
 from .role import Role
 from .run_request import RunRequest
+from .safety_change import SafetyChange
 from .schema_violation import SchemaViolation
 from .scirc_motion import ScircMotion
 from .scirc_motion_type import ScircMotionType
@@ -186,6 +187,7 @@ __all__ = (
     "RobotState",
     "Role",
     "RunRequest",
+    "SafetyChange",
     "SchemaViolation",
     "ScircMotion",
     "ScircMotionType",

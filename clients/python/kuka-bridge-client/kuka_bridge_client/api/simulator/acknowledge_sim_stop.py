@@ -106,15 +106,18 @@ def sync_detailed(
     client: AuthenticatedClient,
 
 ) -> Response[Any | ProblemDetails]:
-    """ The operator acknowledges the controller's stop message and starts the
-    bridge's program again (KRC-like runtime only).
+    """ The operator acknowledges the controller's stop message, switches the
+    drives on and (KRC-like runtime) starts the bridge's program again.
 
-     After an error stop (a program that failed, a motion stopped on its
-    path) a KRC waits for the operator: the message is acknowledged on the
-    teach pendant (or by the PLC) and `kb_main` selected and started again.
-    Until then the state reports `controller_error` ("not ready") and RESET
-    does not help. This does what the operator would, on the simulated
-    controller. 404 with the native simulator, which has no stop messages.
+     After a safety stop (`PUT /api/v1/sim/safety`) or an error stop (a
+    program that failed, a motion stopped on its path) a KRC waits for the
+    operator: the message is acknowledged on the teach pendant (or by the
+    PLC), the drives are switched on and `kb_main` selected and started
+    again. Until then the state reports `controller_error` ("not ready").
+    This does what the operator would, on the simulated controller. A job
+    the stop ended leaves the controller in its error state until
+    `POST /api/v1/reset`, as on a KRC. 409 `controller_error` while the
+    emergency stop is still pressed or the operator safety still open.
 
     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds
     control.
@@ -143,15 +146,18 @@ def sync(
     client: AuthenticatedClient,
 
 ) -> Any | ProblemDetails | None:
-    """ The operator acknowledges the controller's stop message and starts the
-    bridge's program again (KRC-like runtime only).
+    """ The operator acknowledges the controller's stop message, switches the
+    drives on and (KRC-like runtime) starts the bridge's program again.
 
-     After an error stop (a program that failed, a motion stopped on its
-    path) a KRC waits for the operator: the message is acknowledged on the
-    teach pendant (or by the PLC) and `kb_main` selected and started again.
-    Until then the state reports `controller_error` ("not ready") and RESET
-    does not help. This does what the operator would, on the simulated
-    controller. 404 with the native simulator, which has no stop messages.
+     After a safety stop (`PUT /api/v1/sim/safety`) or an error stop (a
+    program that failed, a motion stopped on its path) a KRC waits for the
+    operator: the message is acknowledged on the teach pendant (or by the
+    PLC), the drives are switched on and `kb_main` selected and started
+    again. Until then the state reports `controller_error` ("not ready").
+    This does what the operator would, on the simulated controller. A job
+    the stop ended leaves the controller in its error state until
+    `POST /api/v1/reset`, as on a KRC. 409 `controller_error` while the
+    emergency stop is still pressed or the operator safety still open.
 
     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds
     control.
@@ -175,15 +181,18 @@ async def asyncio_detailed(
     client: AuthenticatedClient,
 
 ) -> Response[Any | ProblemDetails]:
-    """ The operator acknowledges the controller's stop message and starts the
-    bridge's program again (KRC-like runtime only).
+    """ The operator acknowledges the controller's stop message, switches the
+    drives on and (KRC-like runtime) starts the bridge's program again.
 
-     After an error stop (a program that failed, a motion stopped on its
-    path) a KRC waits for the operator: the message is acknowledged on the
-    teach pendant (or by the PLC) and `kb_main` selected and started again.
-    Until then the state reports `controller_error` ("not ready") and RESET
-    does not help. This does what the operator would, on the simulated
-    controller. 404 with the native simulator, which has no stop messages.
+     After a safety stop (`PUT /api/v1/sim/safety`) or an error stop (a
+    program that failed, a motion stopped on its path) a KRC waits for the
+    operator: the message is acknowledged on the teach pendant (or by the
+    PLC), the drives are switched on and `kb_main` selected and started
+    again. Until then the state reports `controller_error` ("not ready").
+    This does what the operator would, on the simulated controller. A job
+    the stop ended leaves the controller in its error state until
+    `POST /api/v1/reset`, as on a KRC. 409 `controller_error` while the
+    emergency stop is still pressed or the operator safety still open.
 
     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds
     control.
@@ -212,15 +221,18 @@ async def asyncio(
     client: AuthenticatedClient,
 
 ) -> Any | ProblemDetails | None:
-    """ The operator acknowledges the controller's stop message and starts the
-    bridge's program again (KRC-like runtime only).
+    """ The operator acknowledges the controller's stop message, switches the
+    drives on and (KRC-like runtime) starts the bridge's program again.
 
-     After an error stop (a program that failed, a motion stopped on its
-    path) a KRC waits for the operator: the message is acknowledged on the
-    teach pendant (or by the PLC) and `kb_main` selected and started again.
-    Until then the state reports `controller_error` ("not ready") and RESET
-    does not help. This does what the operator would, on the simulated
-    controller. 404 with the native simulator, which has no stop messages.
+     After a safety stop (`PUT /api/v1/sim/safety`) or an error stop (a
+    program that failed, a motion stopped on its path) a KRC waits for the
+    operator: the message is acknowledged on the teach pendant (or by the
+    PLC), the drives are switched on and `kb_main` selected and started
+    again. Until then the state reports `controller_error` ("not ready").
+    This does what the operator would, on the simulated controller. A job
+    the stop ended leaves the controller in its error state until
+    `POST /api/v1/reset`, as on a KRC. 409 `controller_error` while the
+    emergency stop is still pressed or the operator safety still open.
 
     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds
     control.
