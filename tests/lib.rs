@@ -642,6 +642,7 @@ fn build_rust_plugins(out: &Path) {
         ("misbehave.wasm", "misbehave.wasm"),
         ("bad_describe.wasm", "bad-describe.wasm"),
         ("other_world.wasm", "other-world.wasm"),
+        ("old_contract.wasm", "old-contract.wasm"),
     ] {
         copy(from, to);
     }

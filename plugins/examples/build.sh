@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the example and fixture plugins into OUT_DIR:
 #   draw-circle.wasm, draw-circle-0.2.0.wasm, draw-smiley.wasm, pick-and-place.wasm,
-#   misbehave.wasm, bad-describe.wasm, other-world.wasm
+#   misbehave.wasm, bad-describe.wasm, other-world.wasm, old-contract.wasm
 #   and, with --python, py-square.wasm.
 #
 # usage: plugins/examples/build.sh OUT_DIR [--python]
@@ -62,6 +62,7 @@ install "$wasm/pick_and_place.wasm" pick-and-place.wasm
 install "$wasm/misbehave.wasm" misbehave.wasm
 install "$wasm/bad_describe.wasm" bad-describe.wasm
 install "$wasm/other_world.wasm" other-world.wasm
+install "$wasm/old_contract.wasm" old-contract.wasm
 
 if (( python )); then
     venv="${KB_PY_VENV:-$HOME/.cache/kuka-bridge/venv}"

@@ -1,6 +1,7 @@
-//! What a plugin may call: the `host` interface of the WIT, implemented by
-//! forwarding to a [`BridgeApi`] that the service provides through the same
-//! validation, safety checks and queue as its HTTP endpoints. Also the
+//! What a plugin may call: the `host`, `paths`, `io` and `splines`
+//! interfaces of the WIT, implemented by forwarding to a [`BridgeApi`] that
+//! the service provides through the same validation, safety checks and
+//! queue as its HTTP endpoints. Also the
 //! per-request store state (empty WASI, captured stderr, memory limiter,
 //! time spent in host calls, motions asked for).
 
@@ -15,7 +16,7 @@ use wasmtime_wasi::p2::pipe::MemoryOutputPipe;
 use wasmtime_wasi::{WasiCtx, WasiCtxBuilder, WasiCtxView, WasiView};
 
 use crate::PluginLimits;
-use crate::bindings::{Done, HostError, LogLevel, Motion, Pose, Position, Step};
+use crate::bindings::{AnyMotion, Done, HostError, LogLevel, Motion, Pose, Position, Step};
 
 /// A boxed future, as [`BridgeApi::run_motions`] returns it.
 pub type BoxFuture<'a, T> = Pin<Box<dyn Future<Output = T> + Send + 'a>>;
@@ -115,6 +116,28 @@ pub trait BridgeApi: Send + Sync + 'static {
         let _ = (ctx, signal, value, pulse_ms);
         Box::pin(async { Err(io_unavailable()) })
     }
+    /// Validates the motions of either family (conventional and spline)
+    /// and runs them as one continuous batch; resolves when the batch has
+    /// ended.
+    fn run_spline_motions<'a>(
+        &'a self,
+        ctx: &'a CallContext,
+        motions: Vec<AnyMotion>,
+    ) -> BoxFuture<'a, Result<Done, HostError>> {
+        let _ = (ctx, motions);
+        Box::pin(async { Err(splines_unavailable()) })
+    }
+    /// Appends motions of either family to a path (all or none, waiting
+    /// while it is full); how many it holds now.
+    fn append_spline_motions<'a>(
+        &'a self,
+        ctx: &'a CallContext,
+        path: u64,
+        motions: Vec<AnyMotion>,
+    ) -> BoxFuture<'a, Result<u32, HostError>> {
+        let _ = (ctx, path, motions);
+        Box::pin(async { Err(splines_unavailable()) })
+    }
     /// A path the plugin's request left open when it ended (returned,
     /// trapped, timed out): closed in the background, so the robot ends at
     /// its last appended motion and the controller is free again.
@@ -127,6 +150,14 @@ fn paths_unavailable() -> HostError {
     host_error(
         "not_allowed",
         "paths are not available in this bridge",
+        None,
+    )
+}
+
+fn splines_unavailable() -> HostError {
+    host_error(
+        "not_allowed",
+        "spline motions are not available in this bridge",
         None,
     )
 }
@@ -206,6 +237,23 @@ impl RequestState {
             motions_left: limits.max_motions,
             open_paths: Vec::new(),
         }
+    }
+
+    /// Takes `count` motions (or steps) from the request's allowance
+    /// (`max_motions`), or refuses them all with `plugin_motion_limit`.
+    fn take_motions(&mut self, count: usize) -> Result<(), HostError> {
+        if count > self.motions_left {
+            return Err(host_error(
+                "plugin_motion_limit",
+                format!(
+                    "this request may run {} more motions, the plugin asked for {count}",
+                    self.motions_left,
+                ),
+                None,
+            ));
+        }
+        self.motions_left -= count;
+        Ok(())
     }
 
     fn api(&self, what: &str) -> Result<Arc<dyn BridgeApi>, HostError> {
@@ -366,18 +414,9 @@ impl crate::bindings::kuka_bridge::plugin::io::Host for RequestState {
             Ok(api) => api,
             Err(e) => return Ok(Err(e)),
         };
-        if steps.len() > self.motions_left {
-            return Ok(Err(host_error(
-                "plugin_motion_limit",
-                format!(
-                    "this request may run {} more motions, the plugin asked for {}",
-                    self.motions_left,
-                    steps.len()
-                ),
-                None,
-            )));
+        if let Err(e) = self.take_motions(steps.len()) {
+            return Ok(Err(e));
         }
-        self.motions_left -= steps.len();
         tracing::debug!(plugin = %self.ctx.plugin, steps = steps.len(), "plugin runs steps");
         let started = Instant::now();
         let result = api.run_steps(&self.ctx, steps).await;
@@ -414,6 +453,41 @@ impl crate::bindings::kuka_bridge::plugin::io::Host for RequestState {
     }
 }
 
+impl crate::bindings::kuka_bridge::plugin::splines::Host for RequestState {
+    async fn run_spline_motions(
+        &mut self,
+        motions: Vec<AnyMotion>,
+    ) -> wasmtime::Result<Result<Done, HostError>> {
+        let api = match self.api("run-spline-motions") {
+            Ok(api) => api,
+            Err(e) => return Ok(Err(e)),
+        };
+        if let Err(e) = self.take_motions(motions.len()) {
+            return Ok(Err(e));
+        }
+        tracing::debug!(plugin = %self.ctx.plugin, motions = motions.len(), "plugin runs spline motions");
+        let started = Instant::now();
+        let result = api.run_spline_motions(&self.ctx, motions).await;
+        self.host_time += started.elapsed();
+        Ok(result)
+    }
+
+    async fn append_spline_motions(
+        &mut self,
+        path: u64,
+        motions: Vec<AnyMotion>,
+    ) -> wasmtime::Result<Result<u32, HostError>> {
+        let api = match self.own_path(path) {
+            Ok(api) => api,
+            Err(e) => return Ok(Err(e)),
+        };
+        let started = Instant::now();
+        let result = api.append_spline_motions(&self.ctx, path, motions).await;
+        self.host_time += started.elapsed();
+        Ok(result)
+    }
+}
+
 impl crate::bindings::kuka_bridge::plugin::host::Host for RequestState {
     async fn run_motions(
         &mut self,
@@ -423,18 +497,9 @@ impl crate::bindings::kuka_bridge::plugin::host::Host for RequestState {
             Ok(api) => api,
             Err(e) => return Ok(Err(e)),
         };
-        if motions.len() > self.motions_left {
-            return Ok(Err(host_error(
-                "plugin_motion_limit",
-                format!(
-                    "this request may run {} more motions, the plugin asked for {}",
-                    self.motions_left,
-                    motions.len()
-                ),
-                None,
-            )));
+        if let Err(e) = self.take_motions(motions.len()) {
+            return Ok(Err(e));
         }
-        self.motions_left -= motions.len();
         tracing::debug!(plugin = %self.ctx.plugin, motions = motions.len(), "plugin runs motions");
         let started = Instant::now();
         let result = api.run_motions(&self.ctx, motions).await;

@@ -32,8 +32,9 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pub use bindings::{
-    Axes, CircMotion, Description, Done, HostError, LinMotion, LogLevel, Motion, MotionParams,
-    Point, Pose, Position, PtpAxesMotion, PtpMotion, Request, Response, SetOutput, Step, WaitInput,
+    AnyMotion, Axes, CircMotion, Description, Done, HostError, LinMotion, LogLevel, Motion,
+    MotionParams, Point, Pose, Position, PtpAxesMotion, PtpMotion, Request, Response, ScircMotion,
+    SetOutput, SlinMotion, SplPoint, SptpMotion, Step, WaitInput,
 };
 pub use cache::sha256_hex;
 pub use describe::{METHODS, RouteSpec, check_name};
@@ -53,7 +54,8 @@ pub struct PluginLimits {
     pub cpu_time: Duration,
     /// Wall time per request, host calls (motions) included.
     pub request_time: Duration,
-    /// Most motions one request may run, over all its `run-motions` calls.
+    /// Most motions one request may run, over all its `run-motions`,
+    /// `run-steps` and `run-spline-motions` calls.
     pub max_motions: usize,
     /// Largest response body, in bytes.
     pub max_response_bytes: usize,

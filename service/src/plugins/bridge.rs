@@ -89,6 +89,51 @@ pub fn motion_request(m: host::Motion) -> MotionRequest {
     }
 }
 
+/// A plugin motion of either family (the `splines` interface) as the REST
+/// API's motion request: the spline motions become the REST API's `spl`,
+/// `slin`, `scirc` and `sptp`, so the engine forms their spline blocks and
+/// checks them exactly as for `POST /api/v1/motions`.
+pub fn any_motion_request(m: host::AnyMotion) -> MotionRequest {
+    match m {
+        host::AnyMotion::Motion(m) => motion_request(m),
+        host::AnyMotion::Spl(m) => MotionRequest::Spl {
+            target: target(&m.target, None, None),
+            relative: false,
+            velocity_m_s: m.params.velocity,
+            acceleration_pct: m.params.acceleration_pct,
+            approx_mm: m.params.approx_mm,
+        },
+        host::AnyMotion::Slin(m) => MotionRequest::Slin {
+            target: target(&m.target, None, None),
+            relative: false,
+            velocity_m_s: m.params.velocity,
+            acceleration_pct: m.params.acceleration_pct,
+            approx_mm: m.params.approx_mm,
+        },
+        host::AnyMotion::Scirc(m) => MotionRequest::Scirc {
+            aux: AuxPoint {
+                x: Some(m.aux.x),
+                y: Some(m.aux.y),
+                z: Some(m.aux.z),
+            },
+            target: target(&m.target, None, None),
+            relative: false,
+            velocity_m_s: m.params.velocity,
+            acceleration_pct: m.params.acceleration_pct,
+            approx_mm: m.params.approx_mm,
+        },
+        host::AnyMotion::Sptp(m) => MotionRequest::Sptp {
+            target: target(&m.target, m.s, m.t),
+            relative: false,
+            velocity_pct: m.params.velocity,
+            acceleration_pct: m.params.acceleration_pct,
+            approx_mm: m.params.approx_mm,
+            // The site's motion.configuration, as for a plugin's PTP.
+            config: None,
+        },
+    }
+}
+
 /// A plugin step (a motion or an I/O action) as the REST API's request.
 pub fn step_request(s: host::Step) -> MotionRequest {
     match s {
@@ -185,6 +230,23 @@ impl EngineBridge {
             position: position(&at, job.axes.as_ref().or(state.axes.as_ref())),
         })
     }
+
+    /// Appends to a path for a plugin (all or none, as a JSON append of the
+    /// REST API); how many motions the path holds now.
+    async fn append_requests(
+        &self,
+        ctx: &host::CallContext,
+        path: u64,
+        requests: Vec<MotionRequest>,
+    ) -> Result<u32, host::HostError> {
+        // Waiting for room is the plugin's back-pressure, within its request time.
+        let o = self
+            .engine
+            .append(path, requests, false, ctx.request_time)
+            .await
+            .map_err(host_error)?;
+        Ok(u32::try_from(o.total).unwrap_or(u32::MAX))
+    }
 }
 
 impl host::BridgeApi for EngineBridge {
@@ -204,6 +266,25 @@ impl host::BridgeApi for EngineBridge {
     ) -> host::BoxFuture<'a, Result<host::Done, host::HostError>> {
         let requests: Vec<MotionRequest> = steps.into_iter().map(step_request).collect();
         Box::pin(self.run_batch(ctx, requests))
+    }
+
+    fn run_spline_motions<'a>(
+        &'a self,
+        ctx: &'a host::CallContext,
+        motions: Vec<host::AnyMotion>,
+    ) -> host::BoxFuture<'a, Result<host::Done, host::HostError>> {
+        let requests: Vec<MotionRequest> = motions.into_iter().map(any_motion_request).collect();
+        Box::pin(self.run_batch(ctx, requests))
+    }
+
+    fn append_spline_motions<'a>(
+        &'a self,
+        ctx: &'a host::CallContext,
+        path: u64,
+        motions: Vec<host::AnyMotion>,
+    ) -> host::BoxFuture<'a, Result<u32, host::HostError>> {
+        let requests: Vec<MotionRequest> = motions.into_iter().map(any_motion_request).collect();
+        Box::pin(self.append_requests(ctx, path, requests))
     }
 
     fn read_signal(&self, output: bool, signal: &str) -> Result<bool, host::HostError> {
@@ -338,16 +419,8 @@ impl host::BridgeApi for EngineBridge {
         path: u64,
         motions: Vec<host::Motion>,
     ) -> host::BoxFuture<'a, Result<u32, host::HostError>> {
-        Box::pin(async move {
-            let requests: Vec<MotionRequest> = motions.into_iter().map(motion_request).collect();
-            // Waiting for room is the plugin's back-pressure, within its request time.
-            let o = self
-                .engine
-                .append(path, requests, false, ctx.request_time)
-                .await
-                .map_err(host_error)?;
-            Ok(u32::try_from(o.total).unwrap_or(u32::MAX))
-        })
+        let requests: Vec<MotionRequest> = motions.into_iter().map(motion_request).collect();
+        Box::pin(self.append_requests(ctx, path, requests))
     }
 
     fn finish_path<'a>(

@@ -2,15 +2,18 @@
 //!
 //! `POST /api/v1/plugins/draw-circle/circle` with
 //! `{"x": 200, "y": 0, "z": 70, "radius": 40}` (mm, the centre and the height;
-//! optional `"speed_m_s"`, `"mode": "circ" | "lin"` and `"segments"`) reads the
-//! robot's position, keeps its orientation (A, B, C) and runs ONE blended batch:
-//! a PTP to the start point (x + radius, y, z), then the circle — two CIRC half
-//! circles, or `segments` LINs in `lin` mode — back to the start point.
+//! optional `"speed_m_s"`, `"mode": "circ" | "lin" | "spl"` and `"segments"`)
+//! reads the robot's position, keeps its orientation (A, B, C) and runs ONE
+//! blended batch: a PTP to the start point (x + radius, y, z), then the circle
+//! — two CIRC half circles, `segments` LINs in `lin` mode, or `segments` SPL
+//! points in `spl` mode (spline blocks of 8 points, through the `splines`
+//! interface) — back to the start point.
 //!
-//! With `"turns": n` (lin mode, 2..=1000) it draws the circle n times as ONE
-//! path that never stops: it opens a path (the `paths` interface) and appends
-//! one turn at a time, so it never holds more than one turn in memory,
-//! however many turns are asked for.
+//! With `"turns": n` (lin or spl mode, 2..=1000) it draws the circle n times as
+//! ONE path that never stops: it opens a path (the `paths` interface) and
+//! appends one turn at a time (in spl mode with `splines.append-spline-motions`),
+//! so it never holds more than one turn in memory, however many turns are asked
+//! for.
 //!
 //! Every motion goes through the bridge's own checks (reachability, limits,
 //! singularities, speed caps), exactly as a `POST /api/v1/motions` would.
@@ -29,6 +32,7 @@ wit_bindgen::generate!({
 use exports::kuka_bridge::plugin::plugin::{Description, Guest, Request, Response, Route};
 use kuka_bridge::plugin::host::{self, LogLevel};
 use kuka_bridge::plugin::paths;
+use kuka_bridge::plugin::splines::{self, AnyMotion, SplPoint};
 use kuka_bridge::plugin::types::{
     CircMotion, HostError, LinMotion, Motion, MotionParams, Point, Pose, Position, PtpMotion,
 };
@@ -54,6 +58,8 @@ enum Mode {
     Circ,
     /// `segments` LIN motions (a regular polygon).
     Lin,
+    /// `segments` SPL points (spline blocks: a smooth curve through them).
+    Spl,
 }
 
 /// The request body of `POST /circle`.
@@ -71,13 +77,14 @@ struct CircleRequest {
     /// Path speed of the circle (m/s).
     #[serde(default = "default_speed")]
     speed_m_s: f64,
-    /// `circ` (default) or `lin`.
+    /// `circ` (default), `lin` or `spl`.
     #[serde(default)]
     mode: Mode,
-    /// Number of LINs in `lin` mode, 8..=720.
+    /// Number of LINs (`lin` mode) or SPL points (`spl` mode), 8..=720.
     #[serde(default = "default_segments")]
     segments: u32,
-    /// Times round, 1..=1000 (more than 1: `lin` mode, streamed as a path).
+    /// Times round, 1..=1000 (more than 1: `lin` or `spl` mode, streamed as
+    /// a path).
     #[serde(default = "default_turns")]
     turns: u32,
 }
@@ -105,8 +112,8 @@ impl Guest for DrawCircle {
             routes: vec![Route {
                 method: "POST".into(),
                 path: "/circle".into(),
-                summary: "Draw a horizontal circle (PTP to its start, then 2 CIRCs or n LINs), \
-                          keeping the current orientation"
+                summary: "Draw a horizontal circle (PTP to its start, then 2 CIRCs, n LINs \
+                          or n SPL points), keeping the current orientation"
                     .into(),
                 request_schema: request_schema().to_string(),
                 response_schema: response_schema().to_string(),
@@ -130,6 +137,9 @@ impl Guest for DrawCircle {
         };
         if circle.turns > 1 {
             return stream_turns(&circle, &here.pose);
+        }
+        if circle.mode == Mode::Spl {
+            return run_spline_circle(&circle, &here.pose);
         }
         let motions = circle_motions(&circle, &here.pose);
         host::log(
@@ -181,10 +191,10 @@ fn parse(body: &str) -> Result<CircleRequest, String> {
             c.turns
         ));
     }
-    if c.turns > 1 && c.mode != Mode::Lin {
-        return Err("turns above 1 need \"mode\": \"lin\".".into());
+    if c.turns > 1 && c.mode == Mode::Circ {
+        return Err("turns above 1 need \"mode\": \"lin\" or \"spl\".".into());
     }
-    if c.mode == Mode::Lin && !(8..=720).contains(&c.segments) {
+    if c.mode != Mode::Circ && !(8..=720).contains(&c.segments) {
         return Err(format!(
             "segments must be between 8 and 720, not {}.",
             c.segments
@@ -193,19 +203,23 @@ fn parse(body: &str) -> Result<CircleRequest, String> {
     Ok(c)
 }
 
+/// The point of the circle at `deg` degrees (from +X towards +Y), with the
+/// kept orientation.
+fn circle_point(c: &CircleRequest, orientation: &Pose, deg: f64) -> Pose {
+    let rad = deg.to_radians();
+    Pose {
+        x: c.x + c.radius * rad.cos(),
+        y: c.y + c.radius * rad.sin(),
+        z: c.z,
+        ..*orientation
+    }
+}
+
 /// The batch: a PTP to the start point (angle 0°, that is +X of the centre),
 /// then the circle counter-clockwise seen from above (from +X towards +Y).
+/// In spl mode only the PTP: the circle's points are [`spline_points`].
 fn circle_motions(c: &CircleRequest, orientation: &Pose) -> Vec<Motion> {
-    // The point of the circle at `deg` degrees, with the kept orientation.
-    let at = |deg: f64| {
-        let rad = deg.to_radians();
-        Pose {
-            x: c.x + c.radius * rad.cos(),
-            y: c.y + c.radius * rad.sin(),
-            z: c.z,
-            ..*orientation
-        }
-    };
+    let at = |deg: f64| circle_point(c, orientation, deg);
     let aux = |deg: f64| {
         let p = at(deg);
         Point {
@@ -249,6 +263,8 @@ fn circle_motions(c: &CircleRequest, orientation: &Pose) -> Vec<Motion> {
                 params: exact,
             }));
         }
+        // Not drawn with conventional motions: see `spline_motions`.
+        Mode::Spl => {}
         Mode::Lin => {
             let n = c.segments;
             for i in 1..n {
@@ -268,8 +284,60 @@ fn circle_motions(c: &CircleRequest, orientation: &Pose) -> Vec<Motion> {
     motions
 }
 
+/// One turn of the circle as `segments` SPL points after the start point,
+/// back to it; every point blends (`approx_mm` 1) unless `stop_at_end`,
+/// which ends the last block there with an exact stop. The bridge forms
+/// the spline blocks (8 points at most), as for `POST /api/v1/motions`.
+fn spline_points(c: &CircleRequest, orientation: &Pose, stop_at_end: bool) -> Vec<AnyMotion> {
+    let n = c.segments;
+    (1..=n)
+        .map(|i| {
+            let last = i == n;
+            AnyMotion::Spl(SplPoint {
+                // The last point is the start point exactly (no rounding of 360°).
+                target: circle_point(c, orientation, 360.0 * f64::from(i % n) / f64::from(n)),
+                params: MotionParams {
+                    velocity: Some(c.speed_m_s),
+                    approx_mm: Some(if last && stop_at_end { 0.0 } else { APPROX_MM }),
+                    ..Default::default()
+                },
+            })
+        })
+        .collect()
+}
+
+/// Spl mode, one turn: the PTP to the start and the SPL points in ONE
+/// `run-spline-motions` batch.
+fn run_spline_circle(c: &CircleRequest, orientation: &Pose) -> Response {
+    let mut motions: Vec<AnyMotion> = circle_motions(c, orientation)
+        .into_iter()
+        .map(AnyMotion::Motion)
+        .collect();
+    motions.extend(spline_points(c, orientation, true));
+    host::log(
+        LogLevel::Info,
+        &format!(
+            "circle r={} mm at ({}, {}, {}) through {} spline points",
+            c.radius, c.x, c.y, c.z, c.segments
+        ),
+    );
+    match splines::run_spline_motions(&motions) {
+        Ok(done) => Response {
+            status: 200,
+            body: json!({
+                "completed": done.completed,
+                "motions": motions.len(),
+                "position": position_json(&done.position),
+            })
+            .to_string(),
+        },
+        Err(e) => host_error(&e),
+    }
+}
+
 /// `turns` times round as one path: the PTP to the start, then one turn of
-/// LINs per append (blended into each other), closed at the start point.
+/// LINs (or, in spl mode, of SPL points) per append, blended into each
+/// other, closed at the start point.
 fn stream_turns(c: &CircleRequest, orientation: &Pose) -> Response {
     let one = circle_motions(c, orientation);
     let (ptp, turn) = one.split_at(1);
@@ -293,24 +361,35 @@ fn stream_turns(c: &CircleRequest, orientation: &Pose) -> Response {
     };
     host::log(
         LogLevel::Info,
-        &format!("{} turns of {} LINs as path {path}", c.turns, turn.len()),
+        &format!("{} turns ({:?} mode) as path {path}", c.turns, c.mode),
     );
     if let Err(e) = paths::append(path, ptp) {
         let _ = paths::cancel(path);
         return host_error(&e);
     }
+    let spline_turn = spline_points(c, orientation, false);
     for _ in 0..c.turns {
-        if let Err(e) = paths::append(path, &blended) {
+        let appended = if c.mode == Mode::Spl {
+            splines::append_spline_motions(path, &spline_turn)
+        } else {
+            paths::append(path, &blended)
+        };
+        if let Err(e) = appended {
             let _ = paths::cancel(path);
             return host_error(&e);
         }
     }
+    let per_turn = if c.mode == Mode::Spl {
+        spline_turn.len()
+    } else {
+        turn.len()
+    };
     match paths::finish(path) {
         Ok(done) => Response {
             status: 200,
             body: json!({
                 "completed": done.completed,
-                "motions": 1 + turn.len() * c.turns as usize,
+                "motions": 1 + per_turn * c.turns as usize,
                 "path": path,
                 "position": position_json(&done.position),
             })
@@ -362,12 +441,12 @@ fn request_schema() -> serde_json::Value {
             "radius": {"type": "number", "exclusiveMinimum": 0, "maximum": 500, "description": "mm"},
             "speed_m_s": {"type": "number", "exclusiveMinimum": 0, "default": 0.1,
                           "description": "path speed (m/s)"},
-            "mode": {"enum": ["circ", "lin"], "default": "circ",
-                     "description": "two CIRC half circles, or `segments` LINs"},
+            "mode": {"enum": ["circ", "lin", "spl"], "default": "circ",
+                     "description": "two CIRC half circles, `segments` LINs, or `segments` SPL points (spline blocks of 8)"},
             "segments": {"type": "integer", "minimum": 8, "maximum": 720, "default": 36,
-                         "description": "number of LINs in lin mode"},
+                         "description": "number of LINs (lin mode) or SPL points (spl mode)"},
             "turns": {"type": "integer", "minimum": 1, "maximum": 1000, "default": 1,
-                      "description": "times round; more than 1 needs lin mode and runs as one path that never stops"}
+                      "description": "times round; more than 1 needs lin or spl mode and runs as one path that never stops"}
         },
         "examples": [{"x": 200, "y": 0, "z": 70, "radius": 40}]
     })
