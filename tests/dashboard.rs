@@ -2209,6 +2209,32 @@ async fn the_io_panel_switches_an_allowed_output_and_shows_inputs() {
     // A second click switches it off again.
     browser.click("#io-outputs button[data-index='1']").await;
     wait_for_value(&t, "/api/v1/io/outputs/1", false).await;
+    // An emergency stop on the simulated cell: the pill says so, in red.
+    let (s, v) = t
+        .put_json("/api/v1/sim/safety", &json!({"emergency_stop": true}))
+        .await;
+    assert_eq!(s, 204, "{v}");
+    browser
+        .wait_js(
+            "document.getElementById('safety').textContent.startsWith('EMERGENCY STOP · drives off') && document.getElementById('safety').classList.contains('error')",
+            WAIT,
+            "the emergency stop in the safety pill",
+        )
+        .await;
+    browser.screenshot("emergency-stop").await;
+    let (s, v) = t
+        .put_json("/api/v1/sim/safety", &json!({"emergency_stop": false}))
+        .await;
+    assert_eq!(s, 204, "{v}");
+    let (s, v) = t.post("/api/v1/sim/acknowledge").await;
+    assert_eq!(s, 204, "{v}");
+    browser
+        .wait_js(
+            "document.getElementById('safety').textContent === 'drives on · program active'",
+            WAIT,
+            "the pill back to normal after the acknowledgement",
+        )
+        .await;
     assert!(browser.page_errors().await.is_empty());
 }
 

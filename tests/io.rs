@@ -32,10 +32,14 @@ async fn plant() -> TestService {
                 analog_inputs: vec![AnalogConfig {
                     name: "force".into(),
                     index: 2,
+                    watch: true,
+                    deadband: 0.05,
                 }],
                 analog_outputs: vec![AnalogConfig {
                     name: "spindle_speed".into(),
                     index: 1,
+                    watch: false,
+                    deadband: 0.01,
                 }],
             };
         }),
@@ -616,4 +620,76 @@ async fn analog_values_round_trip_within_the_protocols_resolution() {
         );
     }
     assert_eq!(last_cid(&t).await, before, "nothing reached the channel");
+}
+
+/// `analog` events held by the service, oldest first.
+async fn analog_events(t: &TestService) -> Vec<Value> {
+    let (s, v) = t.get("/api/v1/events/recent?types=analog&limit=1000").await;
+    assert_eq!(s, 200, "{v}");
+    v.as_array()
+        .expect("events")
+        .iter()
+        .map(|e| e["data"].clone())
+        .collect()
+}
+
+/// Sets the simulated `$ANIN[2]` and waits until the service reports it.
+async fn set_force(t: &TestService, value: f64) {
+    let (s, v) = put(t, "/api/v1/sim/analog-inputs/2", &json!({"value": value})).await;
+    assert_eq!(s, 204, "{v}");
+    wait_for(WAIT, &format!("$ANIN[2] to read {value}"), async || {
+        let i = analog(t, false, 1).await;
+        if i["value"].as_f64() == Some(value) {
+            Ok(())
+        } else {
+            Err(i.to_string())
+        }
+    })
+    .await;
+}
+
+/// A watched analog channel (`force`, deadband 0.05) publishes an
+/// `analog` event when it moves by its deadband from the value it last
+/// published, and only then; an unwatched one (`spindle_speed`) never.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn watched_analog_channels_publish_events_beyond_their_deadband() {
+    let t = plant().await;
+    set_force(&t, 0.0).await;
+    let values = |events: &[Value]| -> Vec<f64> {
+        events.iter().filter_map(|e| e["value"].as_f64()).collect()
+    };
+    set_force(&t, 0.2).await;
+    let events = analog_events(&t).await;
+    assert_eq!(values(&events), [0.2], "{events:?}");
+    assert_eq!(
+        events[0],
+        json!({"kind": "input", "index": 2, "name": "force", "value": 0.2})
+    );
+    // 0.03 from the last published value: below the deadband.
+    set_force(&t, 0.23).await;
+    assert_eq!(values(&analog_events(&t).await), [0.2]);
+    // 0.06 from it: published (the deadband counts from 0.2, not 0.23).
+    set_force(&t, 0.26).await;
+    set_force(&t, -0.5).await;
+    assert_eq!(values(&analog_events(&t).await), [0.2, 0.26, -0.5]);
+    // An output that is not watched.
+    let (s, v) = put(
+        &t,
+        "/api/v1/io/analog-outputs/spindle_speed",
+        &json!({"value": 0.75}),
+    )
+    .await;
+    assert_eq!(s, 200, "{v}");
+    wait_for(WAIT, "$ANOUT[1] to read 0.75", async || {
+        let o = analog(&t, true, 0).await;
+        if o["value"].as_f64() == Some(0.75) {
+            Ok(())
+        } else {
+            Err(o.to_string())
+        }
+    })
+    .await;
+    let events = analog_events(&t).await;
+    assert!(events.iter().all(|e| e["name"] == "force"), "{events:?}");
+    assert_eq!(events.len(), 3, "{events:?}");
 }

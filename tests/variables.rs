@@ -12,7 +12,7 @@ use serde_json::{Value, json};
 async fn service() -> TestService {
     TestService::start(Options {
         tweak: Box::new(|c| {
-            c.variables.writable = vec!["TOOL_DATA[3]".into()];
+            c.variables.writable = vec!["TOOL_DATA[3]".into(), "TOOL_NAME[3,]".into()];
         }),
         ..Options::default()
     })
@@ -98,6 +98,27 @@ async fn a_tool_written_and_selected_by_number_changes_the_tcp() {
     let (s, e) = t.get("/api/v1/tools/3").await;
     assert_eq!(s, 200, "{e}");
     assert_eq!(e["frame"]["z"], 120.5, "{e}");
+    assert_eq!(e["name"], Value::Null, "unnamed at first: {e}");
+    // Its name, as the teach pendant shows it (TOOL_NAME[3,], a row of a
+    // CHAR array).
+    let (s, v) = t
+        .put_json(
+            &format!("/api/v1/variables/{}", encode("TOOL_NAME[3,]")),
+            &json!({"value": "gripper"}),
+        )
+        .await;
+    assert_eq!((s, v["value"].as_str()), (200, Some("gripper")), "{v}");
+    let (s, v) = t
+        .put_json(
+            &format!("/api/v1/variables/{}", encode("TOOL_NAME[3,]")),
+            &json!({"value": "a name longer than twenty-four characters"}),
+        )
+        .await;
+    assert_eq!(s / 100, 4, "too long for CHAR[24]: {v}");
+    let (s, e) = t.get("/api/v1/tools/3").await;
+    assert_eq!((s, e["name"].as_str()), (200, Some("gripper")), "{e}");
+    let (s, e) = t.get("/api/v1/tools/4").await;
+    assert_eq!((s, &e["name"]), (200, &Value::Null), "{e}");
     let (s, e) = t.post("/api/v1/tools/3/select").await;
     assert_eq!(s, 200, "{e}");
     let (_, tool) = t.get("/api/v1/tool").await;

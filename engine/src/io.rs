@@ -74,6 +74,36 @@ pub struct AnalogConfig {
     /// `$ANIN`/`$ANOUT` index, 1..=32.
     #[schema(minimum = 1, maximum = 32)]
     pub index: u8,
+    /// Publish an `analog` event when its value moves by `deadband` or
+    /// more from the last published one (channels 1..=8: the ones the
+    /// controller reports).
+    #[serde(default)]
+    pub watch: bool,
+    /// The change (normalised, 0 < deadband ≤ 2) that makes a watched
+    /// channel publish an event; default 0.01, 1 % of full scale.
+    #[serde(default = "default_deadband")]
+    #[schema(minimum = 0.001, maximum = 2.0)]
+    pub deadband: f64,
+}
+
+fn default_deadband() -> f64 {
+    0.01
+}
+
+/// A watched analog channel moved by its deadband (an `analog` event).
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+#[schema(example = json!({"kind": "input", "index": 2, "name": "force", "value": 0.25}))]
+pub struct AnalogChange {
+    /// Input (`$ANIN`) or output (`$ANOUT`).
+    pub kind: IoKind,
+    /// Its index, 1..=8.
+    #[schema(minimum = 1, maximum = 8)]
+    pub index: u8,
+    /// Its configured name.
+    pub name: String,
+    /// The new value, normalised −1..=1 (3 decimals, as the controller
+    /// reports it).
+    pub value: f64,
 }
 
 /// The analog channels the controller reported in its last state file
@@ -188,6 +218,20 @@ impl IoConfig {
                 }
                 if !indices.insert(a.index) {
                     return Err(format!("io.{kind}: index {} is named twice", a.index));
+                }
+                if a.watch && usize::from(a.index) > AnalogState::WIDTH {
+                    return Err(format!(
+                        "io.{kind}: {:?} (index {}) cannot be watched: the controller reports channels 1..={} only",
+                        a.name,
+                        a.index,
+                        AnalogState::WIDTH
+                    ));
+                }
+                if !(a.deadband.is_finite() && a.deadband >= 0.001 && a.deadband <= 2.0) {
+                    return Err(format!(
+                        "io.{kind}: {:?} has deadband {}, not in 0.001..=2 (normalised units)",
+                        a.name, a.deadband
+                    ));
                 }
             }
         }
@@ -375,4 +419,41 @@ pub struct IoChange {
     pub name: Option<String>,
     /// The new value.
     pub value: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn analog(name: &str, index: u8, watch: bool, deadband: f64) -> AnalogConfig {
+        AnalogConfig {
+            name: name.into(),
+            index,
+            watch,
+            deadband,
+        }
+    }
+
+    #[test]
+    fn watched_analog_channels_must_be_reported_and_have_a_sane_deadband() {
+        let with = |a: AnalogConfig| IoConfig {
+            analog_inputs: vec![a],
+            ..IoConfig::default()
+        };
+        assert_eq!(with(analog("force", 8, true, 0.01)).validate(), Ok(()));
+        // Not watched: any channel 1..=32 may be named.
+        assert_eq!(with(analog("force", 32, false, 0.01)).validate(), Ok(()));
+        let e = with(analog("force", 9, true, 0.01)).validate();
+        assert!(
+            e.as_ref().is_err_and(|e| e.contains("cannot be watched")),
+            "{e:?}"
+        );
+        for bad in [0.0, -0.1, 2.5, f64::NAN, f64::INFINITY] {
+            let e = with(analog("force", 1, true, bad)).validate();
+            assert!(
+                e.as_ref().is_err_and(|e| e.contains("deadband")),
+                "{bad}: {e:?}"
+            );
+        }
+    }
 }

@@ -129,16 +129,17 @@ export interface paths {
         };
         /**
          * Live events (Server-Sent Events).
-         * @description Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+         * @description Each SSE message has `event:` = `job`, `state`, `alarm`, `plan`, `io` or `analog` and `data:` = the
          *     JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
          *     planned path of a move job (`JobPlan`, sent when its motions are written to the
-         *     controller, before they run) or a watched digital signal that changed (`IoChange`,
-         *     docs/IO.md). A state event follows each heartbeat
+         *     controller, before they run), a watched digital signal that changed (`IoChange`,
+         *     docs/IO.md) or a watched analog channel that moved by its deadband (`AnalogChange`).
+         *     A state event follows each heartbeat
          *     that changed something. A `lagged` event says the client was too slow and missed
          *     some (`data:` how many). The stream starts with the current state, and ends when the
          *     service shuts down or the caller's token is revoked.
          *
-         *     Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
+         *     Job, plan, alarm, io and analog events carry an `id:` that grows by one per event; the service
          *     keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
          *     `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
          *     missed, then the current state, then live events; if some it missed are no longer
@@ -165,8 +166,8 @@ export interface paths {
             cookie?: never;
         };
         /**
-         * Recent job, plan, alarm and io events.
-         * @description The newest events the service still holds (it keeps the last 1000 job, plan, alarm and io
+         * Recent job, plan, alarm, io and analog events.
+         * @description The newest events the service still holds (it keeps the last 1000 job, plan, alarm, io and analog
          *     events of this run; state events are not kept), oldest first, with the ids and data of
          *     the event stream: a page that reloads shows what happened before, then opens
          *     `GET /api/v1/events?last_event_id=<the last id>` to continue without a gap.
@@ -1310,6 +1311,32 @@ export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
         /**
+         * @description A watched analog channel moved by its deadband (an `analog` event).
+         * @example {
+         *       "kind": "input",
+         *       "index": 2,
+         *       "name": "force",
+         *       "value": 0.25
+         *     }
+         */
+        AnalogChange: {
+            /**
+             * Format: int32
+             * @description Its index, 1..=8.
+             */
+            index: number;
+            /** @description Input (`$ANIN`) or output (`$ANOUT`). */
+            kind: components["schemas"]["IoKind"];
+            /** @description Its configured name. */
+            name: string;
+            /**
+             * Format: double
+             * @description The new value, normalised −1..=1 (3 decimals, as the controller
+             *     reports it).
+             */
+            value: number;
+        };
+        /**
          * @description The body of a simulated analog input.
          * @example {
          *       "value": 0.25
@@ -1891,7 +1918,7 @@ export interface components {
             type: string;
         };
         /** @description A push event (Server-Sent Events on `/api/v1/events`). */
-        Event: components["schemas"]["JobEvent"] | components["schemas"]["StateEvent"] | components["schemas"]["AlarmEvent"] | components["schemas"]["PlanEvent"] | components["schemas"]["IoEvent"];
+        Event: components["schemas"]["JobEvent"] | components["schemas"]["StateEvent"] | components["schemas"]["AlarmEvent"] | components["schemas"]["PlanEvent"] | components["schemas"]["IoEvent"] | components["schemas"]["AnalogEvent"];
         /**
          * @description Service health.
          * @example {
@@ -2780,7 +2807,7 @@ export interface components {
             t: number;
         };
         /**
-         * @description A job, plan, alarm or io event as the service published it.
+         * @description A job, plan, alarm, io or analog event as the service published it.
          * @example {
          *       "id": 1795629212950,
          *       "type": "job",
@@ -2802,15 +2829,15 @@ export interface components {
             at_ms: number;
             /**
              * @description What the SSE `data:` carries: the `Job`, the `JobPlan`, the error (`code`,
-             *     `detail`, `axis`, `motion`) or the `IoChange`.
+             *     `detail`, `axis`, `motion`), the `IoChange` or the `AnalogChange`.
              */
             data: Record<string, never>;
             /**
              * Format: int64
-             * @description The event id (the SSE `id:`; grows by one per job, plan, alarm or io event).
+             * @description The event id (the SSE `id:`; grows by one per job, plan, alarm, io or analog event).
              */
             id: number;
-            /** @description `job`, `plan`, `alarm` or `io` (the SSE `event:`). */
+            /** @description `job`, `plan`, `alarm`, `io` or `analog` (the SSE `event:`). */
             type: string;
         };
         /**
@@ -3095,6 +3122,7 @@ export interface components {
          * @example {
          *       "table": "TOOL_DATA",
          *       "number": 3,
+         *       "name": "gripper",
          *       "frame": {
          *         "x": 0,
          *         "y": 0,
@@ -3108,6 +3136,12 @@ export interface components {
         TableEntry: {
             /** @description The frame it holds. */
             frame: components["schemas"]["CartesianFrame"];
+            /**
+             * @description Its name as the teach pendant shows it (`TOOL_NAME[n,]`,
+             *     `BASE_NAME[n,]`, trailing blanks removed); `null` when the
+             *     controller has none to read or the entry is unnamed.
+             */
+            name?: string | null;
             /**
              * Format: int32
              * @description The entry's number (tools 1..=16, bases 1..=32).
@@ -3427,6 +3461,22 @@ export interface components {
              * @enum {string}
              */
             type: "io";
+        };
+        /**
+         * @description A watched analog channel (`[io] analog_*` entries with
+         *     `watch = true`) moved by its deadband.
+         */
+        AnalogEvent: {
+            /**
+             * @description A watched analog channel (`[io] analog_*` entries with
+             *     `watch = true`) moved by its deadband.
+             */
+            data: components["schemas"]["AnalogChange"];
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "analog";
         };
         /**
          * @description Point-to-point (synchronous axes) to a Cartesian target.
@@ -4396,10 +4446,10 @@ export interface operations {
     streamEvents: {
         parameters: {
             query?: {
-                /** @description Comma-separated event types to receive: `job`, `state`, `alarm`, `plan`, `io` (default: all). */
+                /** @description Comma-separated event types to receive: `job`, `state`, `alarm`, `plan`, `io`, `analog` (default: all). */
                 types?: string;
                 /**
-                 * @description Replay the held job, plan, alarm and io events after this event id before the live
+                 * @description Replay the held job, plan, alarm, io and analog events after this event id before the live
                  *     ones (for clients that cannot send the `Last-Event-ID` header, such as a browser's
                  *     first `EventSource` connection); `0` replays every event held. The header wins
                  *     when both are given.
@@ -4417,7 +4467,7 @@ export interface operations {
         };
         requestBody?: never;
         responses: {
-            /** @description text/event-stream of job, state, alarm and plan events */
+            /** @description text/event-stream of job, state, alarm, plan, io and analog events */
             200: {
                 headers: {
                     [name: string]: unknown;
@@ -4487,7 +4537,7 @@ export interface operations {
             query?: {
                 /** @description How many of the newest events to list, 1 to 1000 (default 100). */
                 limit?: number;
-                /** @description Comma-separated types to list: `job`, `plan`, `alarm`, `io` (default: all four). */
+                /** @description Comma-separated types to list: `job`, `plan`, `alarm`, `io`, `analog` (default: all). */
                 types?: string;
                 /** @description Only events after this event id (for a client polling instead of streaming). */
                 after?: number;

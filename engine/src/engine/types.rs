@@ -503,6 +503,9 @@ pub enum Event {
     /// A watched digital input or output changed (`[io]` entries with
     /// `watch = true`), as the controller's state file reported it.
     Io(crate::io::IoChange),
+    /// A watched analog channel (`[io] analog_*` entries with
+    /// `watch = true`) moved by its deadband.
+    Analog(crate::io::AnalogChange),
 }
 
 /// The motions of a move job as written to the controller, with omitted

@@ -155,7 +155,7 @@ fn describe(index: usize, tried: &[Tried]) -> String {
         })
         .collect();
     format!(
-        "motion {index}: no arm configuration of this PTP lets the Cartesian motions after it run; tried {} ({})",
+        "motion {index}: no arm configuration of this PTP (or SPTP) lets the Cartesian motions after it run; tried {} ({})",
         tried.len(),
         list.join("; ")
     )

@@ -38,8 +38,9 @@ pub const KRL_FILES: [(&str, &str); 6] = [
 /// The user-level globals of a KSS 8.x `$config.dat` the program uses,
 /// with the values of real `$config.dat` files (docs/CONTROLLER.md, 14).
 /// The tool and base tables every KRC has (`TOOL_DATA[16]`,
-/// `BASE_DATA[32]`, all zero as on a fresh controller) are declared too, so
-/// that an uploaded program using them runs.
+/// `BASE_DATA[32]`, all zero as on a fresh controller, and their names
+/// `TOOL_NAME[16,24]`, `BASE_NAME[32,24]`, empty) are declared too, so
+/// that an uploaded program using them runs and KUKAVARPROXY reads them.
 pub fn simulated_config_dat() -> String {
     let mut dat = String::from(
         "DEFDAT $CONFIG PUBLIC
@@ -48,6 +49,8 @@ DECL GLOBAL REAL DEF_ACC_ORI1=100.0
 DECL GLOBAL REAL DEF_ACC_ORI2=100.0
 DECL GLOBAL FRAME TOOL_DATA[16]
 DECL GLOBAL FRAME BASE_DATA[32]
+DECL GLOBAL CHAR TOOL_NAME[16,24]
+DECL GLOBAL CHAR BASE_NAME[32,24]
 ",
     );
     for (name, n) in [("TOOL_DATA", 16), ("BASE_DATA", 32)] {

@@ -67,10 +67,17 @@ pub fn check_name(name: &str) -> Result<(), String> {
             let close = r.find(']').ok_or_else(bad)?;
             let idx = &r[..close];
             let parts: Vec<&str> = idx.split(',').collect();
+            // A trailing empty index selects a row of a CHAR array
+            // (`TOOL_NAME[3,]`, KRL's partial index); no other is empty.
+            let last = parts.len() - 1;
             if parts.len() > 3
-                || parts
-                    .iter()
-                    .any(|p| p.is_empty() || p.len() > 5 || !p.bytes().all(|b| b.is_ascii_digit()))
+                || parts.iter().enumerate().any(|(k, p)| {
+                    if p.is_empty() {
+                        k == 0 || k != last
+                    } else {
+                        p.len() > 5 || !p.bytes().all(|b| b.is_ascii_digit())
+                    }
+                })
             {
                 return Err(bad());
             }

@@ -210,6 +210,8 @@ fn names_are_names_and_nothing_else() {
         "$TIMER[16]",
         "M[1,2,3]",
         "S.A.B",
+        "TOOL_NAME[3,]",
+        "M[1,2,]",
     ] {
         assert_eq!(check_name(ok), Ok(()), "{ok}");
     }
@@ -236,6 +238,12 @@ fn names_are_names_and_nothing_else() {
         "$OV_PRO)",
         "RUN /R1/X()",
         "X{1}",
+        "X[]",
+        "X[,]",
+        "X[,1]",
+        "X[1,,]",
+        "X[1,,2]",
+        "X[1,]=\"A\"",
     ] {
         assert!(check_name(bad).is_err(), "{bad:?} was accepted");
     }

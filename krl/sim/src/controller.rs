@@ -170,6 +170,10 @@ pub(crate) struct Controller {
     pub(crate) tool_data: Vec<Pose>,
     /// `BASE_DATA[1..=32]`.
     pub(crate) base_data: Vec<Pose>,
+    /// `TOOL_NAME[1..=16,]`: the tool table's names (empty at start).
+    pub(crate) tool_names: Vec<String>,
+    /// `BASE_NAME[1..=32,]`.
+    pub(crate) base_names: Vec<String>,
     /// The safety circuit and drives as a teach pendant shows them.
     pub(crate) safety: SafetyCircuit,
     /// Results pushed outside a command or a motion step (an emergency
@@ -292,6 +296,8 @@ impl Controller {
             analog_outputs: vec![0.0; usize::from(kuka_protocol::MAX_ANALOG_INDEX) + 1],
             tool_data: vec![Pose::IDENTITY; TOOLS],
             base_data: vec![Pose::IDENTITY; BASES],
+            tool_names: vec![String::new(); TOOLS],
+            base_names: vec![String::new(); BASES],
             safety: SafetyCircuit::default(),
             results_pending: false,
         }

@@ -3,7 +3,9 @@
 //! `$POS_ACT` (E6POS), `$AXIS_ACT` (E6AXIS), `$TOOL`, `$BASE` (FRAME),
 //! `$MODE_OP` (#T1, #T2, #AUT, #EX), `$IN[n]`/`$OUT[n]` (read), and the
 //! tool and base tables `TOOL_DATA[1..16]`/`BASE_DATA[1..32]` (read,
-//! write; zero at start as on a fresh controller). A component such as
+//! write; zero at start as on a fresh controller) and their names
+//! `TOOL_NAME[n,]`/`BASE_NAME[n,]` (CHAR[24] rows, empty at start). A
+//! component such as
 //! `$POS_ACT.X` or `TOOL_DATA[3].Z` is read and written through its
 //! variable. Anything else does not exist here (the KRC-like runtime has
 //! every variable of the shipped program).
@@ -54,6 +56,21 @@ fn table<'a>(c: &'a mut Controller, root: &str, index: Option<usize>) -> Option<
     match root {
         "TOOL_DATA" => c.tool_data.get_mut(i),
         "BASE_DATA" => c.base_data.get_mut(i),
+        _ => None,
+    }
+}
+
+/// The length of a table name (`TOOL_NAME[16,24]` on a KRC).
+const NAME_LEN: usize = 24;
+
+/// `TOOL_NAME[3,]` → the name slot (a row of a CHAR array).
+fn name_slot<'a>(c: &'a mut Controller, path: &str) -> Option<&'a mut String> {
+    let body = path.strip_suffix(",]")?;
+    let (root, row) = body.split_once('[')?;
+    let i = row.parse::<usize>().ok()?.checked_sub(1)?;
+    match root.to_ascii_uppercase().as_str() {
+        "TOOL_NAME" => c.tool_names.get_mut(i),
+        "BASE_NAME" => c.base_names.get_mut(i),
         _ => None,
     }
 }
@@ -116,6 +133,9 @@ impl Controller {
 
     /// A variable as KRL text (see the module documentation).
     pub(crate) fn read_krl(&mut self, path: &str) -> Option<String> {
+        if let Some(name) = name_slot(self, path) {
+            return Some(KrlValue::Text(name.clone()).to_krl());
+        }
         let (root, index, field) = split(path)?;
         let v = self.whole(&root, index)?;
         Some(field_of(v, field.as_deref())?.to_krl())
@@ -125,8 +145,16 @@ impl Controller {
     /// their components); its value afterwards, or `None` when it cannot
     /// be written or the value does not fit.
     pub(crate) fn write_krl(&mut self, path: &str, text: &str) -> Option<String> {
-        let (root, index, field) = split(path)?;
         let v = KrlValue::parse(text)?;
+        if let Some(name) = name_slot(self, path) {
+            let KrlValue::Text(text) = v else { return None };
+            if text.len() > NAME_LEN {
+                return None;
+            }
+            *name = text;
+            return self.read_krl(path);
+        }
+        let (root, index, field) = split(path)?;
         match (root.as_str(), field) {
             ("$OV_PRO", None) => {
                 let ov = num(&v).filter(|o| (0.0..=100.0).contains(o))?;

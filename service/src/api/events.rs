@@ -28,9 +28,9 @@ use crate::error::BridgeError;
 #[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct EventsQuery {
-    /// Comma-separated event types to receive: `job`, `state`, `alarm`, `plan`, `io` (default: all).
+    /// Comma-separated event types to receive: `job`, `state`, `alarm`, `plan`, `io`, `analog` (default: all).
     types: Option<String>,
-    /// Replay the held job, plan, alarm and io events after this event id before the live
+    /// Replay the held job, plan, alarm, io and analog events after this event id before the live
     /// ones (for clients that cannot send the `Last-Event-ID` header, such as a browser's
     /// first `EventSource` connection); `0` replays every event held. The header wins
     /// when both are given.
@@ -38,9 +38,9 @@ pub struct EventsQuery {
 }
 
 /// The types a stream may ask for.
-const STREAM_TYPES: [&str; 5] = ["job", "state", "alarm", "plan", "io"];
+const STREAM_TYPES: [&str; 6] = ["job", "state", "alarm", "plan", "io", "analog"];
 /// The types the history holds (state events are snapshots: read `/api/v1/state`).
-const HISTORY_TYPES: [&str; 4] = ["job", "plan", "alarm", "io"];
+const HISTORY_TYPES: [&str; 5] = ["job", "plan", "alarm", "io", "analog"];
 
 /// The `types` filter: `None` for all; an unknown name is refused.
 fn wanted(types: Option<&str>, known: &[&str]) -> Result<Option<Vec<String>>, Problem> {
@@ -71,6 +71,7 @@ fn name(event: &Event) -> &'static str {
         Event::Alarm(_) => "alarm",
         Event::Plan(_) => "plan",
         Event::Io(_) => "io",
+        Event::Analog(_) => "analog",
     }
 }
 
@@ -82,6 +83,7 @@ fn data(event: &Event) -> serde_json::Result<String> {
         Event::Alarm(e) => serde_json::to_string(e),
         Event::Plan(p) => serde_json::to_string(p),
         Event::Io(c) => serde_json::to_string(c),
+        Event::Analog(c) => serde_json::to_string(c),
     }
 }
 
@@ -110,16 +112,17 @@ fn replay_from(headers: &HeaderMap, query: Option<u64>) -> Result<Option<u64>, P
 
 /// Live events (Server-Sent Events).
 ///
-/// Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+/// Each SSE message has `event:` = `job`, `state`, `alarm`, `plan`, `io` or `analog` and `data:` = the
 /// JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
 /// planned path of a move job (`JobPlan`, sent when its motions are written to the
-/// controller, before they run) or a watched digital signal that changed (`IoChange`,
-/// docs/IO.md). A state event follows each heartbeat
+/// controller, before they run), a watched digital signal that changed (`IoChange`,
+/// docs/IO.md) or a watched analog channel that moved by its deadband (`AnalogChange`).
+/// A state event follows each heartbeat
 /// that changed something. A `lagged` event says the client was too slow and missed
 /// some (`data:` how many). The stream starts with the current state, and ends when the
 /// service shuts down or the caller's token is revoked.
 ///
-/// Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
+/// Job, plan, alarm, io and analog events carry an `id:` that grows by one per event; the service
 /// keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
 /// `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
 /// missed, then the current state, then live events; if some it missed are no longer
@@ -128,7 +131,7 @@ fn replay_from(headers: &HeaderMap, query: Option<u64>) -> Result<Option<u64>, P
 /// every event held.
 #[utoipa::path(get, path = "/api/v1/events", tag = "events", operation_id = "streamEvents",
     params(EventsQuery, ("Last-Event-ID" = Option<u64>, Header, description = "The id of the last event received: replay the held events after it (sent by `EventSource` when it reconnects)")),
-    responses((status = 200, description = "text/event-stream of job, state, alarm and plan events", content_type = "text/event-stream", body = String), (status = 422, description = "Unknown event type, or an event id that is not a number", body = super::problem::ProblemDetails, content_type = super::problem::PROBLEM_JSON)))]
+    responses((status = 200, description = "text/event-stream of job, state, alarm, plan, io and analog events", content_type = "text/event-stream", body = String), (status = 422, description = "Unknown event type, or an event id that is not a number", body = super::problem::ProblemDetails, content_type = super::problem::PROBLEM_JSON)))]
 async fn events(
     State(app): State<AppState>,
     who: Who,
@@ -203,33 +206,33 @@ async fn events(
 pub struct RecentQuery {
     /// How many of the newest events to list, 1 to 1000 (default 100).
     limit: Option<usize>,
-    /// Comma-separated types to list: `job`, `plan`, `alarm`, `io` (default: all four).
+    /// Comma-separated types to list: `job`, `plan`, `alarm`, `io`, `analog` (default: all).
     types: Option<String>,
     /// Only events after this event id (for a client polling instead of streaming).
     after: Option<u64>,
 }
 
-/// A job, plan, alarm or io event as the service published it.
+/// A job, plan, alarm, io or analog event as the service published it.
 #[derive(Debug, Serialize, ToSchema)]
 #[schema(example = json!({"id": 1795629212950_u64, "type": "job", "at_ms": 1795629212958_u64,
     "data": {"id": 7, "operation": "move", "state": "done", "motions": 1, "completed": 1}}))]
 pub struct RecentEvent {
-    /// The event id (the SSE `id:`; grows by one per job, plan, alarm or io event).
+    /// The event id (the SSE `id:`; grows by one per job, plan, alarm, io or analog event).
     id: u64,
-    /// `job`, `plan`, `alarm` or `io` (the SSE `event:`).
+    /// `job`, `plan`, `alarm`, `io` or `analog` (the SSE `event:`).
     #[serde(rename = "type")]
     kind: &'static str,
     /// When the service published it (Unix ms).
     at_ms: u64,
     /// What the SSE `data:` carries: the `Job`, the `JobPlan`, the error (`code`,
-    /// `detail`, `axis`, `motion`) or the `IoChange`.
+    /// `detail`, `axis`, `motion`), the `IoChange` or the `AnalogChange`.
     #[schema(value_type = Object)]
     data: serde_json::Value,
 }
 
-/// Recent job, plan, alarm and io events.
+/// Recent job, plan, alarm, io and analog events.
 ///
-/// The newest events the service still holds (it keeps the last 1000 job, plan, alarm and io
+/// The newest events the service still holds (it keeps the last 1000 job, plan, alarm, io and analog
 /// events of this run; state events are not kept), oldest first, with the ids and data of
 /// the event stream: a page that reloads shows what happened before, then opens
 /// `GET /api/v1/events?last_event_id=<the last id>` to continue without a gap.

@@ -79,28 +79,49 @@ async fn put_variable(
 
 /// An entry of the controller's tool or base table.
 #[derive(Debug, Clone, serde::Serialize, ToSchema)]
-#[schema(example = json!({"table": "TOOL_DATA", "number": 3, "frame": {"x": 0.0, "y": 0.0, "z": 120.0, "a": 0.0, "b": 0.0, "c": 0.0}}))]
+#[schema(example = json!({"table": "TOOL_DATA", "number": 3, "name": "gripper", "frame": {"x": 0.0, "y": 0.0, "z": 120.0, "a": 0.0, "b": 0.0, "c": 0.0}}))]
 pub struct TableEntry {
     /// `TOOL_DATA` or `BASE_DATA`.
     pub table: &'static str,
     /// The entry's number (tools 1..=16, bases 1..=32).
     pub number: u32,
+    /// Its name as the teach pendant shows it (`TOOL_NAME[n,]`,
+    /// `BASE_NAME[n,]`, trailing blanks removed); `null` when the
+    /// controller has none to read or the entry is unnamed.
+    pub name: Option<String>,
     /// The frame it holds.
     pub frame: CartesianFrame,
 }
 
-/// Which table: its KRL name and size.
-fn table(tool: bool) -> (&'static str, u32) {
+/// Which table: its KRL name, its names' array, and its size.
+fn table(tool: bool) -> (&'static str, &'static str, u32) {
     if tool {
-        ("TOOL_DATA", 16)
+        ("TOOL_DATA", "TOOL_NAME", 16)
     } else {
-        ("BASE_DATA", 32)
+        ("BASE_DATA", "BASE_NAME", 32)
+    }
+}
+
+/// The name of table entry `number` (`TOOL_NAME[3,]`), if the controller
+/// has one: a missing names array or an empty name is no name, never an
+/// error (the frame is what a client needs).
+async fn entry_name(app: &AppState, names: &str, number: u32) -> Option<String> {
+    match app.variables.read(&format!("{names}[{number},]")).await {
+        Ok(v) => v
+            .value
+            .as_str()
+            .map(|s| s.trim_end().to_string())
+            .filter(|s| !s.is_empty()),
+        Err(e) => {
+            tracing::debug!(names, number, error = %e, "no table entry name");
+            None
+        }
     }
 }
 
 /// Reads entry `number` of a table as a frame.
 async fn entry(app: &AppState, tool: bool, number: &str) -> Result<TableEntry, BridgeError> {
-    let (name, size) = table(tool);
+    let (name, names, size) = table(tool);
     let number: u32 = number
         .parse()
         .ok()
@@ -128,6 +149,7 @@ async fn entry(app: &AppState, tool: bool, number: &str) -> Result<TableEntry, B
     Ok(TableEntry {
         table: name,
         number,
+        name: entry_name(app, names, number).await,
         frame,
     })
 }

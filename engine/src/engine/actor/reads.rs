@@ -3,7 +3,7 @@
 //! folders' health.
 
 use super::*;
-use crate::io::{IoChange, IoKind};
+use crate::io::{AnalogChange, IoChange, IoKind};
 use kuka_protocol::IoState;
 
 impl Actor {
@@ -149,7 +149,52 @@ impl Actor {
         }
         self.path_state(&s);
         self.io_changes(&s);
+        self.analog_changes(&s);
         self.ctl.state = Some(s);
+    }
+
+    /// `analog` events for the watched analog channels that moved by their
+    /// deadband since they last published one (the first report of a
+    /// channel is its baseline: nothing changed yet). A state file without
+    /// the `ANS` line (PROTOCOL.md §7: not every one has it) changes nothing.
+    fn analog_changes(&mut self, s: &StateFile) {
+        let Some(new) = s.analog.as_ref() else {
+            return;
+        };
+        let io = self.shared.io();
+        for (k, (kind, values, configs)) in [
+            (IoKind::Input, &new.inputs, &io.analog_inputs),
+            (IoKind::Output, &new.outputs, &io.analog_outputs),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            for (i, &value) in values.iter().enumerate() {
+                let seen = &mut self.ctl.analog_published[k][i];
+                let Some(last) = *seen else {
+                    *seen = Some(value);
+                    continue;
+                };
+                let Some(c) = configs
+                    .iter()
+                    .find(|c| c.watch && usize::from(c.index) == i + 1)
+                else {
+                    *seen = Some(value);
+                    continue;
+                };
+                // (1e-9: the values are thousandths; a change of exactly
+                // the deadband counts.)
+                if (value - last).abs() + 1e-9 >= c.deadband {
+                    *seen = Some(value);
+                    self.shared.publish(Event::Analog(AnalogChange {
+                        kind,
+                        index: c.index,
+                        name: c.name.clone(),
+                        value,
+                    }));
+                }
+            }
+        }
     }
 
     /// `io` events for the watched signals that changed since the last

@@ -101,6 +101,21 @@ impl Globals {
     /// `TRUE`, `"text"`, `#T1`, `{FRAME: X 1.0, ...}`); `None` for a
     /// variable that does not exist, is not set yet, or is a whole array.
     pub fn krl_text(&self, path: &str) -> Option<String> {
+        if let Some((array, row)) = char_row(path) {
+            let Value::Array(dims, items) = self.at(array)? else {
+                return None;
+            };
+            let (start, width) = row_span(dims, row)?;
+            let text: String = items
+                .get(start..start + width)?
+                .iter()
+                .map_while(|c| match c {
+                    Value::Char(c) if *c != 0 => Some(char::from(*c)),
+                    _ => None,
+                })
+                .collect();
+            return Some(format!("\"{text}\""));
+        }
         krl_of(self.at(path)?)
     }
 
@@ -111,6 +126,43 @@ impl Globals {
         let v = kuka_kvp::KrlValue::parse(text)
             .map(value_of)
             .ok_or_else(|| format!("{text:?} is not a KRL value"))?;
+        if let Some((array, row)) = char_row(path) {
+            // `TOOL_NAME[3,] = "gripper"`: the row's characters, the rest
+            // of the row unset (as a string assigned to a CHAR array).
+            let Value::Str(text) = v else {
+                return Err("a CHAR array row takes a string".into());
+            };
+            let (root, elems) =
+                parse_path(array).ok_or_else(|| format!("{path:?} is not a path"))?;
+            let slot = self
+                .vars
+                .get_mut(&root)
+                .ok_or_else(|| format!("{root} is not declared"))?;
+            let Value::Array(dims, items) = walk_mut(slot, &elems)? else {
+                return Err(format!("{array} is not an array"));
+            };
+            let (start, width) =
+                row_span(dims, row).ok_or_else(|| format!("{path} is not a CHAR array row"))?;
+            if text.len() > width {
+                return Err(format!(
+                    "the string has {} characters, the row only {width}",
+                    text.len()
+                ));
+            }
+            let row = items
+                .get_mut(start..start + width)
+                .ok_or_else(|| "index out of range".to_string())?;
+            if row.first().and_then(Value::scalar_kind) != Some(Scalar::Char) {
+                return Err(format!("{array} is not a CHAR array"));
+            }
+            let bytes = text.as_bytes();
+            for (i, e) in row.iter_mut().enumerate() {
+                *e = bytes
+                    .get(i)
+                    .map_or(Value::Unset(Scalar::Char), |b| Value::Char(*b));
+            }
+            return Ok(());
+        }
         let (root, elems) = parse_path(path).ok_or_else(|| format!("{path:?} is not a path"))?;
         let slot = self
             .vars
@@ -1040,6 +1092,27 @@ fn format_krl(fmt: &str, vals: &[Value]) -> Result<String, String> {
 
 /// A KRL path (`kb_mot[3].X`, `$POS_ACT.S`) as its root (upper case) and
 /// the steps into it.
+/// A path ending in a partial index, `X[r,]` (a row of a 2-D CHAR array,
+/// such as `TOOL_NAME[3,]`): the array's path and the row.
+fn char_row(path: &str) -> Option<(&str, i64)> {
+    let body = path.trim().strip_suffix(",]")?;
+    let open = body.rfind('[')?;
+    let row = body[open + 1..].trim().parse().ok()?;
+    Some((&body[..open], row))
+}
+
+/// Where row `row` (1-based) of a 2-D array lies in its flat elements:
+/// (first element, row width).
+fn row_span(dims: &[usize], row: i64) -> Option<(usize, usize)> {
+    let [rows, width] = dims else {
+        return None;
+    };
+    let r = usize::try_from(row)
+        .ok()
+        .filter(|r| (1..=*rows).contains(r))?;
+    Some(((r - 1) * width, *width))
+}
+
 fn parse_path(path: &str) -> Option<(String, Vec<PathElem>)> {
     let path = path.trim();
     let end = path.find(['[', '.']).unwrap_or(path.len());

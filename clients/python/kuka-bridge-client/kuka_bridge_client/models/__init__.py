@@ -2,6 +2,9 @@
 
 from .alarm_event import AlarmEvent
 from .alarm_event_type import AlarmEventType
+from .analog_change import AnalogChange
+from .analog_event import AnalogEvent
+from .analog_event_type import AnalogEventType
 from .analog_input_value import AnalogInputValue
 from .analog_signal import AnalogSignal
 from .analog_view import AnalogView
@@ -113,6 +116,9 @@ from .workspace_info import WorkspaceInfo
 __all__ = (
     "AlarmEvent",
     "AlarmEventType",
+    "AnalogChange",
+    "AnalogEvent",
+    "AnalogEventType",
     "AnalogInputValue",
     "AnalogSignal",
     "AnalogView",

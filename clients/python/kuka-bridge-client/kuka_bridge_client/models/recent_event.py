@@ -23,7 +23,7 @@ T = TypeVar("T", bound="RecentEvent")
 
 @_attrs_define
 class RecentEvent:
-    """ A job, plan, alarm or io event as the service published it.
+    """ A job, plan, alarm, io or analog event as the service published it.
 
         Example:
             {'id': 1795629212950, 'type': 'job', 'at_ms': 1795629212958, 'data': {'id': 7, 'operation': 'move', 'state':
@@ -32,9 +32,9 @@ class RecentEvent:
         Attributes:
             at_ms (int): When the service published it (Unix ms).
             data (RecentEventData): What the SSE `data:` carries: the `Job`, the `JobPlan`, the error (`code`,
-                `detail`, `axis`, `motion`) or the `IoChange`.
-            id (int): The event id (the SSE `id:`; grows by one per job, plan, alarm or io event).
-            type_ (str): `job`, `plan`, `alarm` or `io` (the SSE `event:`).
+                `detail`, `axis`, `motion`), the `IoChange` or the `AnalogChange`.
+            id (int): The event id (the SSE `id:`; grows by one per job, plan, alarm, io or analog event).
+            type_ (str): `job`, `plan`, `alarm`, `io` or `analog` (the SSE `event:`).
      """
 
     at_ms: int

@@ -21,7 +21,7 @@ T = TypeVar("T", bound="RecentEventData")
 @_attrs_define
 class RecentEventData:
     """ What the SSE `data:` carries: the `Job`, the `JobPlan`, the error (`code`,
-    `detail`, `axis`, `motion`) or the `IoChange`.
+    `detail`, `axis`, `motion`), the `IoChange` or the `AnalogChange`.
 
      """
 

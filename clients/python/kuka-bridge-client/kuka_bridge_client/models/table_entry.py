@@ -8,6 +8,7 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
+from ..types import UNSET, Unset
 from typing import cast
 
 if TYPE_CHECKING:
@@ -26,18 +27,23 @@ class TableEntry:
     """ An entry of the controller's tool or base table.
 
         Example:
-            {'table': 'TOOL_DATA', 'number': 3, 'frame': {'x': 0.0, 'y': 0.0, 'z': 120.0, 'a': 0.0, 'b': 0.0, 'c': 0.0}}
+            {'table': 'TOOL_DATA', 'number': 3, 'name': 'gripper', 'frame': {'x': 0.0, 'y': 0.0, 'z': 120.0, 'a': 0.0, 'b':
+                0.0, 'c': 0.0}}
 
         Attributes:
             frame (CartesianFrame): A Cartesian frame in mm and degrees (A, B, C about Z, Y, X). Example: {'x': 0.0, 'y':
                 0.0, 'z': 100.0, 'a': 0.0, 'b': 0.0, 'c': 0.0}.
             number (int): The entry's number (tools 1..=16, bases 1..=32).
             table (str): `TOOL_DATA` or `BASE_DATA`.
+            name (None | str | Unset): Its name as the teach pendant shows it (`TOOL_NAME[n,]`,
+                `BASE_NAME[n,]`, trailing blanks removed); `null` when the
+                controller has none to read or the entry is unnamed.
      """
 
     frame: CartesianFrame
     number: int
     table: str
+    name: None | str | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
 
@@ -52,6 +58,12 @@ class TableEntry:
 
         table = self.table
 
+        name: None | str | Unset
+        if isinstance(self.name, Unset):
+            name = UNSET
+        else:
+            name = self.name
+
 
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
@@ -60,6 +72,8 @@ class TableEntry:
             "number": number,
             "table": table,
         })
+        if name is not UNSET:
+            field_dict["name"] = name
 
         return field_dict
 
@@ -78,10 +92,21 @@ class TableEntry:
 
         table = d.pop("table")
 
+        def _parse_name(data: object) -> None | str | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(None | str | Unset, data)
+
+        name = _parse_name(d.pop("name", UNSET))
+
+
         table_entry = cls(
             frame=frame,
             number=number,
             table=table,
+            name=name,
         )
 
 

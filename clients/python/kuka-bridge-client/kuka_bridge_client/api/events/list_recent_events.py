@@ -127,9 +127,9 @@ def sync_detailed(
     after: int | Unset = UNSET,
 
 ) -> Response[ProblemDetails | list[RecentEvent]]:
-    """ Recent job, plan, alarm and io events.
+    """ Recent job, plan, alarm, io and analog events.
 
-     The newest events the service still holds (it keeps the last 1000 job, plan, alarm and io
+     The newest events the service still holds (it keeps the last 1000 job, plan, alarm, io and analog
     events of this run; state events are not kept), oldest first, with the ids and data of
     the event stream: a page that reloads shows what happened before, then opens
     `GET /api/v1/events?last_event_id=<the last id>` to continue without a gap.
@@ -171,9 +171,9 @@ def sync(
     after: int | Unset = UNSET,
 
 ) -> ProblemDetails | list[RecentEvent] | None:
-    """ Recent job, plan, alarm and io events.
+    """ Recent job, plan, alarm, io and analog events.
 
-     The newest events the service still holds (it keeps the last 1000 job, plan, alarm and io
+     The newest events the service still holds (it keeps the last 1000 job, plan, alarm, io and analog
     events of this run; state events are not kept), oldest first, with the ids and data of
     the event stream: a page that reloads shows what happened before, then opens
     `GET /api/v1/events?last_event_id=<the last id>` to continue without a gap.
@@ -210,9 +210,9 @@ async def asyncio_detailed(
     after: int | Unset = UNSET,
 
 ) -> Response[ProblemDetails | list[RecentEvent]]:
-    """ Recent job, plan, alarm and io events.
+    """ Recent job, plan, alarm, io and analog events.
 
-     The newest events the service still holds (it keeps the last 1000 job, plan, alarm and io
+     The newest events the service still holds (it keeps the last 1000 job, plan, alarm, io and analog
     events of this run; state events are not kept), oldest first, with the ids and data of
     the event stream: a page that reloads shows what happened before, then opens
     `GET /api/v1/events?last_event_id=<the last id>` to continue without a gap.
@@ -254,9 +254,9 @@ async def asyncio(
     after: int | Unset = UNSET,
 
 ) -> ProblemDetails | list[RecentEvent] | None:
-    """ Recent job, plan, alarm and io events.
+    """ Recent job, plan, alarm, io and analog events.
 
-     The newest events the service still holds (it keeps the last 1000 job, plan, alarm and io
+     The newest events the service still holds (it keeps the last 1000 job, plan, alarm, io and analog
     events of this run; state events are not kept), oldest first, with the ids and data of
     the event stream: a page that reloads shows what happened before, then opens
     `GET /api/v1/events?last_event_id=<the last id>` to continue without a gap.

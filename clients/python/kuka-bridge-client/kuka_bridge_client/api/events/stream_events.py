@@ -127,16 +127,17 @@ def sync_detailed(
 ) -> Response[ProblemDetails | str]:
     """ Live events (Server-Sent Events).
 
-     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan`, `io` or `analog` and `data:` = the
     JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
     planned path of a move job (`JobPlan`, sent when its motions are written to the
-    controller, before they run) or a watched digital signal that changed (`IoChange`,
-    docs/IO.md). A state event follows each heartbeat
+    controller, before they run), a watched digital signal that changed (`IoChange`,
+    docs/IO.md) or a watched analog channel that moved by its deadband (`AnalogChange`).
+    A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
     some (`data:` how many). The stream starts with the current state, and ends when the
     service shuts down or the caller's token is revoked.
 
-    Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
+    Job, plan, alarm, io and analog events carry an `id:` that grows by one per event; the service
     keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
     `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
     missed, then the current state, then live events; if some it missed are no longer
@@ -186,16 +187,17 @@ def sync(
 ) -> ProblemDetails | str | None:
     """ Live events (Server-Sent Events).
 
-     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan`, `io` or `analog` and `data:` = the
     JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
     planned path of a move job (`JobPlan`, sent when its motions are written to the
-    controller, before they run) or a watched digital signal that changed (`IoChange`,
-    docs/IO.md). A state event follows each heartbeat
+    controller, before they run), a watched digital signal that changed (`IoChange`,
+    docs/IO.md) or a watched analog channel that moved by its deadband (`AnalogChange`).
+    A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
     some (`data:` how many). The stream starts with the current state, and ends when the
     service shuts down or the caller's token is revoked.
 
-    Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
+    Job, plan, alarm, io and analog events carry an `id:` that grows by one per event; the service
     keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
     `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
     missed, then the current state, then live events; if some it missed are no longer
@@ -240,16 +242,17 @@ async def asyncio_detailed(
 ) -> Response[ProblemDetails | str]:
     """ Live events (Server-Sent Events).
 
-     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan`, `io` or `analog` and `data:` = the
     JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
     planned path of a move job (`JobPlan`, sent when its motions are written to the
-    controller, before they run) or a watched digital signal that changed (`IoChange`,
-    docs/IO.md). A state event follows each heartbeat
+    controller, before they run), a watched digital signal that changed (`IoChange`,
+    docs/IO.md) or a watched analog channel that moved by its deadband (`AnalogChange`).
+    A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
     some (`data:` how many). The stream starts with the current state, and ends when the
     service shuts down or the caller's token is revoked.
 
-    Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
+    Job, plan, alarm, io and analog events carry an `id:` that grows by one per event; the service
     keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
     `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
     missed, then the current state, then live events; if some it missed are no longer
@@ -299,16 +302,17 @@ async def asyncio(
 ) -> ProblemDetails | str | None:
     """ Live events (Server-Sent Events).
 
-     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan` or `io` and `data:` = the
+     Each SSE message has `event:` = `job`, `state`, `alarm`, `plan`, `io` or `analog` and `data:` = the
     JSON of the job, the robot state, the error (`code`, `detail`, `axis`, `motion`), the
     planned path of a move job (`JobPlan`, sent when its motions are written to the
-    controller, before they run) or a watched digital signal that changed (`IoChange`,
-    docs/IO.md). A state event follows each heartbeat
+    controller, before they run), a watched digital signal that changed (`IoChange`,
+    docs/IO.md) or a watched analog channel that moved by its deadband (`AnalogChange`).
+    A state event follows each heartbeat
     that changed something. A `lagged` event says the client was too slow and missed
     some (`data:` how many). The stream starts with the current state, and ends when the
     service shuts down or the caller's token is revoked.
 
-    Job, plan, alarm and io events carry an `id:` that grows by one per event; the service
+    Job, plan, alarm, io and analog events carry an `id:` that grows by one per event; the service
     keeps the last 1000 of them. A client that reconnects with `Last-Event-ID` (browsers'
     `EventSource` does so by itself) or `?last_event_id=` first gets the held events it
     missed, then the current state, then live events; if some it missed are no longer

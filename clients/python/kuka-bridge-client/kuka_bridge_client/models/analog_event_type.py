@@ -1,0 +1,7 @@
+from enum import StrEnum
+
+class AnalogEventType(StrEnum):
+    ANALOG = "analog"
+
+    def __str__(self) -> str:
+        return str(self.value)
