@@ -5,7 +5,7 @@
 //! inputs pushed as `io` events, and hostile signal names and bodies.
 
 use kuka_bridge::io::{AnalogConfig, IoConfig, SignalConfig};
-use kuka_bridge_tests::{Options, TestService, WAIT, wait_for};
+use kuka_bridge_tests::{Options, TestService, WAIT, initial_admin_secret, wait_for};
 use serde_json::{Value, json};
 
 fn signal(name: &str, index: u16, pulse_ms: u32, watch: bool) -> SignalConfig {
@@ -692,4 +692,168 @@ async fn watched_analog_channels_publish_events_beyond_their_deadband() {
     let events = analog_events(&t).await;
     assert!(events.iter().all(|e| e["name"] == "force"), "{events:?}");
     assert_eq!(events.len(), 3, "{events:?}");
+}
+
+/// A request with a bearer token.
+async fn call_as(
+    t: &TestService,
+    method: reqwest::Method,
+    path: &str,
+    token: &str,
+    body: Option<&Value>,
+) -> (u16, Value) {
+    let mut req = t.http.request(method, t.url(path)).bearer_auth(token);
+    if let Some(b) = body {
+        req = req.json(b);
+    }
+    kuka_bridge_tests::decode(req.send().await.expect("request")).await
+}
+
+/// An admin edits the allow-list over HTTP (`PUT /api/v1/io/config`): an
+/// operator may read it but not change it; the new list applies to the
+/// next request at once (a removed output is refused before the channel),
+/// invalid lists are refused whole, the change is audited, survives a
+/// restart (`<data_dir>/io.json`), and `DELETE` goes back to the
+/// configuration file's `[io]`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_admin_edits_the_allow_list_and_it_applies_at_once_and_after_a_restart() {
+    use reqwest::Method;
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(|c| {
+            c.auth.require_on_loopback = true;
+            c.io = IoConfig {
+                inputs: vec![signal("part_present", 3, 0, true)],
+                outputs: vec![
+                    signal("gripper_close", 1, 0, true),
+                    signal("blow_off", 2, 300, true),
+                ],
+                ..IoConfig::default()
+            };
+        }),
+        ..Options::default()
+    })
+    .await;
+    let admin = initial_admin_secret(&t.config.data_dir);
+    let operator = t.create_token(&admin, "cell-operator", "operator").await;
+    let (s, cfg) = call_as(&t, Method::GET, "/api/v1/io/config", &operator, None).await;
+    assert_eq!(s, 200, "{cfg}");
+    assert_eq!(cfg["outputs"][1]["name"], "blow_off", "{cfg}");
+    let mut edited = cfg.clone();
+    edited["outputs"] = json!([
+        {"name": "gripper_close", "index": 1, "watch": true},
+        {"name": "lamp", "index": 5}
+    ]);
+    let (s, v) = call_as(
+        &t,
+        Method::PUT,
+        "/api/v1/io/config",
+        &operator,
+        Some(&edited),
+    )
+    .await;
+    assert_eq!((s, v["code"].as_str()), (403, Some("forbidden")), "{v}");
+    // Refused whole, nothing changed: duplicates, out of range, unknown
+    // fields, not a list.
+    for bad in [
+        json!({"outputs": [{"name": "a", "index": 1}, {"name": "a", "index": 2}]}),
+        json!({"outputs": [{"name": "a", "index": 0}]}),
+        json!({"outputs": [{"name": "a", "index": 4097}]}),
+        json!({"outputs": [{"name": "A-1", "index": 1}]}),
+        json!({"outputs": [{"name": "a", "index": 1, "pulse_ms": 60001}]}),
+        json!({"analog_inputs": [{"name": "f", "index": 12, "watch": true}]}),
+        json!({"outputs": [{"name": "a", "index": 1, "colour": "red"}]}),
+        json!({"outputs": "all"}),
+        json!({"secret_outputs": []}),
+    ] {
+        let (s, v) = call_as(&t, Method::PUT, "/api/v1/io/config", &admin, Some(&bad)).await;
+        assert_eq!(
+            (s, v["code"].as_str()),
+            (422, Some("invalid_input")),
+            "{bad}: {v}"
+        );
+    }
+    let (_, now) = call_as(&t, Method::GET, "/api/v1/io/config", &operator, None).await;
+    assert_eq!(now, cfg, "unchanged after refused edits");
+    let (s, v) = call_as(&t, Method::PUT, "/api/v1/io/config", &admin, Some(&edited)).await;
+    assert_eq!(s, 200, "{v}");
+    assert_eq!(v["outputs"][1]["name"], "lamp", "{v}");
+    // In force for the next request: blow_off is gone (by name and by
+    // number), the lamp is writable; nothing refused reached the channel.
+    let before = last_cid(&t).await;
+    let on = json!({"value": true});
+    let (s, v) = call_as(
+        &t,
+        Method::PUT,
+        "/api/v1/io/outputs/blow_off",
+        &operator,
+        Some(&on),
+    )
+    .await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (404, Some("unknown_signal")),
+        "{v}"
+    );
+    let (s, v) = call_as(
+        &t,
+        Method::PUT,
+        "/api/v1/io/outputs/2",
+        &operator,
+        Some(&on),
+    )
+    .await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (403, Some("output_not_allowed")),
+        "{v}"
+    );
+    assert_eq!(
+        last_cid(&t).await,
+        before,
+        "a refused write reached the controller"
+    );
+    let (s, v) = call_as(
+        &t,
+        Method::PUT,
+        "/api/v1/io/outputs/lamp",
+        &operator,
+        Some(&on),
+    )
+    .await;
+    assert_eq!(s, 200, "{v}");
+    // Audited.
+    let (s, audit) = call_as(
+        &t,
+        Method::GET,
+        "/api/v1/audit?path=/api/v1/io/config&method=PUT",
+        &admin,
+        None,
+    )
+    .await;
+    assert_eq!(s, 200, "{audit}");
+    let records = audit.as_array().map_or(0, Vec::len);
+    assert!(records >= 3, "the edits in the audit trail: {audit}");
+    // Kept over a restart.
+    let TestService {
+        service,
+        dirs,
+        config,
+        ..
+    } = t;
+    service.shutdown().await.expect("shutdown");
+    let t = TestService::start_with(config, dirs).await;
+    let (s, v) = call_as(&t, Method::GET, "/api/v1/io/config", &admin, None).await;
+    assert_eq!((s, &v["outputs"][1]["name"]), (200, &json!("lamp")), "{v}");
+    // Back to the configuration file's.
+    let (s, v) = call_as(&t, Method::DELETE, "/api/v1/io/config", &operator, None).await;
+    assert_eq!(s, 403, "{v}");
+    let (s, v) = call_as(&t, Method::DELETE, "/api/v1/io/config", &admin, None).await;
+    assert_eq!(
+        (s, &v["outputs"][1]["name"]),
+        (200, &json!("blow_off")),
+        "{v}"
+    );
+    assert!(!t.config.data_dir.join("io.json").exists());
+    t.service.shutdown().await.expect("shutdown");
 }

@@ -50,8 +50,14 @@ pub struct SignalConfig {
 
 /// The site's digital I/O: names for inputs, and the outputs clients may
 /// write (every other output is refused with `output_not_allowed`).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields, default)]
+#[schema(example = json!({
+    "inputs": [{"name": "part_present", "index": 3, "pulse_ms": 0, "watch": true}],
+    "outputs": [{"name": "gripper_close", "index": 1, "pulse_ms": 0, "watch": true}],
+    "analog_inputs": [{"name": "force", "index": 2, "watch": true, "deadband": 0.05}],
+    "analog_outputs": [{"name": "spindle_speed", "index": 1, "watch": false, "deadband": 0.01}]
+}))]
 pub struct IoConfig {
     /// Named inputs (reading needs no entry: any input in the window can be
     /// read by number).

@@ -70,6 +70,9 @@ pub enum AppError {
         #[source]
         source: std::io::Error,
     },
+    /// The stored I/O configuration cannot be used.
+    #[error("I/O configuration")]
+    IoStore(#[from] crate::io_store::IoStoreError),
     /// The TLS certificate or key cannot be used.
     #[error("HTTPS")]
     Tls(#[from] crate::server::TlsError),
@@ -163,7 +166,20 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         config.zones.clone(),
         model,
     );
-    let engine = Engine::start(&config.engine_settings(), safety)?;
+    let io_store = Arc::new(crate::io_store::IoStore::new(
+        &config.data_dir,
+        config.io.clone(),
+    ));
+    let mut settings = config.engine_settings();
+    let (io, stored) = io_store.initial()?;
+    if stored {
+        tracing::warn!(
+            file = %config.data_dir.join("io.json").display(),
+            "the I/O configuration an admin stored replaces the configuration file's [io] (DELETE /api/v1/io/config goes back to it)"
+        );
+    }
+    settings.io = io;
+    let engine = Engine::start(&settings, safety)?;
     let listener = tokio::net::TcpListener::bind(config.server.listen)
         .await
         .map_err(|source| AppError::Bind {
@@ -262,6 +278,7 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
         thesis_blend: Duration::from_millis(config.motion.thesis_blend_ms),
         thesis_paths: Arc::default(),
         variables: Arc::new(variables),
+        io_store,
     });
     let (stop_http, stop_rx) = oneshot::channel::<()>();
     let server_config = config.server.clone();

@@ -15,6 +15,7 @@ pub mod api;
 pub mod app;
 pub mod cli;
 pub mod config;
+pub mod io_store;
 pub mod krl_check;
 pub mod logging;
 pub mod platform;

@@ -278,6 +278,49 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/io/config": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The site's I/O configuration now: named inputs, the outputs clients
+         *     may write (the allow-list), named analog channels, and which of them
+         *     publish events.
+         * @description From the configuration file's `[io]`, or, once an admin has edited it
+         *     (`PUT`), from the copy the service keeps in its data folder
+         *     (`io.json`), which then replaces the file's until `DELETE`.
+         *
+         *     **Access:** role `viewer` or higher.
+         */
+        get: operations["getIoConfig"];
+        /**
+         * Replace the site's I/O configuration (admin): names, the outputs
+         *     clients may write, analog channels, watched signals.
+         * @description Checked as at start (names, ranges, duplicates; 422 `invalid_input`
+         *     with the reason, nothing changed), then used at once for every request
+         *     that arrives afterwards (a job already queued keeps the signals it
+         *     resolved), and kept in the data folder (`io.json`, private) so that it
+         *     survives a restart; it replaces the configuration file's `[io]` until
+         *     `DELETE /api/v1/io/config`. The change is in the audit trail.
+         *
+         *     **Access:** role `admin` or higher.
+         */
+        put: operations["setIoConfig"];
+        post?: never;
+        /**
+         * Go back to the configuration file's `[io]` (admin): the stored copy is
+         *     removed and the file's configuration is in force at once.
+         * @description **Access:** role `admin` or higher.
+         */
+        delete: operations["resetIoConfig"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/io/inputs/{signal}": {
         parameters: {
             query?: never;
@@ -1336,6 +1379,28 @@ export interface components {
              */
             value: number;
         };
+        /** @description One named analog channel of the site. */
+        AnalogConfig: {
+            /**
+             * Format: double
+             * @description The change (normalised, 0 < deadband ≤ 2) that makes a watched
+             *     channel publish an event; default 0.01, 1 % of full scale.
+             */
+            deadband?: number;
+            /**
+             * Format: int32
+             * @description `$ANIN`/`$ANOUT` index, 1..=32.
+             */
+            index: number;
+            /** @description Its name, as for digital signals (`spindle_speed`). */
+            name: string;
+            /**
+             * @description Publish an `analog` event when its value moves by `deadband` or
+             *     more from the last published one (channels 1..=8: the ones the
+             *     controller reports).
+             */
+            watch?: boolean;
+        };
         /**
          * @description The body of a simulated analog input.
          * @example {
@@ -1971,6 +2036,68 @@ export interface components {
             name?: string | null;
             /** @description The new value. */
             value: boolean;
+        };
+        /**
+         * @description The site's digital I/O: names for inputs, and the outputs clients may
+         *     write (every other output is refused with `output_not_allowed`).
+         * @example {
+         *       "inputs": [
+         *         {
+         *           "name": "part_present",
+         *           "index": 3,
+         *           "pulse_ms": 0,
+         *           "watch": true
+         *         }
+         *       ],
+         *       "outputs": [
+         *         {
+         *           "name": "gripper_close",
+         *           "index": 1,
+         *           "pulse_ms": 0,
+         *           "watch": true
+         *         }
+         *       ],
+         *       "analog_inputs": [
+         *         {
+         *           "name": "force",
+         *           "index": 2,
+         *           "watch": true,
+         *           "deadband": 0.05
+         *         }
+         *       ],
+         *       "analog_outputs": [
+         *         {
+         *           "name": "spindle_speed",
+         *           "index": 1,
+         *           "watch": false,
+         *           "deadband": 0.01
+         *         }
+         *       ]
+         *     }
+         */
+        IoConfig: {
+            /**
+             * @description Named analog inputs (`$ANIN[1..=32]`).
+             * @default []
+             */
+            analog_inputs: components["schemas"]["AnalogConfig"][];
+            /**
+             * @description The analog outputs clients may write (`$ANOUT[1..=32]`).
+             * @default []
+             */
+            analog_outputs: components["schemas"]["AnalogConfig"][];
+            /**
+             * @description Named inputs (reading needs no entry: any input in the window can be
+             *     read by number).
+             * @default []
+             */
+            inputs: components["schemas"]["SignalConfig"][];
+            /**
+             * @description The outputs clients may write, by name and number (reading needs
+             *     no entry).
+             * @default []
+             */
+            outputs: components["schemas"]["SignalConfig"][];
         };
         /**
          * @description Inputs or outputs.
@@ -3001,6 +3128,28 @@ export interface components {
             value: boolean;
             /** @description Clients may write it (an output on the site's list). */
             writable: boolean;
+        };
+        /** @description One named signal of the site. */
+        SignalConfig: {
+            /**
+             * Format: int32
+             * @description `$IN`/`$OUT` index, 1..=4096.
+             */
+            index: number;
+            /**
+             * @description The name clients may use instead of the number (`gripper_close`):
+             *     a lower-case letter, then lower-case letters, digits and `_`, at
+             *     most 32 characters.
+             */
+            name: string;
+            /**
+             * Format: int32
+             * @description Outputs: a write without its own `pulse_ms` pulses this long (ms,
+             *     up to 60000); 0 = the output stays.
+             */
+            pulse_ms?: number;
+            /** @description Changes of this signal are pushed as `io` events. */
+            watch?: boolean;
         };
         /** @description A digital signal in a request: its number or its configured name. */
         SignalRef: number | string;
@@ -4906,6 +5055,232 @@ export interface operations {
                 };
             };
             /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getIoConfig: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["IoConfig"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, … */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    setIoConfig: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["IoConfig"];
+            };
+        };
+        responses: {
+            /** @description The configuration now in force */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["IoConfig"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description It could not be stored (`storage_unavailable`); nothing changed */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, … */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    resetIoConfig: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The configuration file's `[io]`, now in force */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["IoConfig"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Refused: invalid input (`invalid_input`), body too large, wrong media type, not found, … */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Failed or not started: `overloaded` (with Retry-After), `request_timeout`, controller errors, … */
             "5XX": {
                 headers: {
                     [name: string]: unknown;

@@ -73,14 +73,15 @@ pub(crate) struct Shared {
     queued: AtomicU64,
     /// Set at shutdown: new jobs are refused.
     draining: std::sync::atomic::AtomicBool,
-    /// Named digital I/O and the outputs clients may write.
-    io: crate::io::IoConfig,
+    /// Named digital I/O and the outputs clients may write (replaced as a
+    /// whole when an admin edits it, [`Engine::set_io_config`]).
+    io: std::sync::RwLock<Arc<crate::io::IoConfig>>,
 }
 
 impl Shared {
-    /// The site's digital I/O configuration.
-    pub(crate) fn io(&self) -> &crate::io::IoConfig {
-        &self.io
+    /// The site's I/O configuration now.
+    pub(crate) fn io(&self) -> Arc<crate::io::IoConfig> {
+        self.io.read().unwrap_or_else(|p| p.into_inner()).clone()
     }
 
     fn table(&self) -> MutexGuard<'_, JobTable> {
@@ -215,7 +216,7 @@ impl Engine {
             max_queue: settings.motion.max_queue,
             queued: AtomicU64::new(0),
             draining: std::sync::atomic::AtomicBool::new(false),
-            io: settings.io.clone(),
+            io: std::sync::RwLock::new(Arc::new(settings.io.clone())),
         });
         let (tx, rx) = std::sync::mpsc::channel();
         let actor = actor::Actor::new(shared.clone(), channel, cids, settings, rx, speeds);
@@ -240,9 +241,19 @@ impl Engine {
         &self.shared.safety
     }
 
-    /// The site's digital I/O configuration (names, writable outputs).
-    pub fn io_config(&self) -> &crate::io::IoConfig {
-        &self.shared.io
+    /// The site's I/O configuration now (names, writable outputs).
+    pub fn io_config(&self) -> Arc<crate::io::IoConfig> {
+        self.shared.io()
+    }
+
+    /// Replaces the site's I/O configuration (an admin edited the names or
+    /// the allow-lists); refused, with the reason, when it is not valid.
+    /// Requests resolve their signals against the configuration of the
+    /// moment they arrive: a job already queued keeps what it resolved.
+    pub fn set_io_config(&self, io: crate::io::IoConfig) -> std::result::Result<(), String> {
+        io.validate()?;
+        *self.shared.io.write().unwrap_or_else(|p| p.into_inner()) = Arc::new(io);
+        Ok(())
     }
 
     /// While a job runs on the online controller: the position of the
@@ -366,14 +377,14 @@ impl Engine {
             self.shared.safety.check_request(motions)?;
             // Signal names to numbers, the outputs against the allow-list:
             // nothing reaches the channel for another output.
-            crate::motion::resolve_signals(motions, &self.shared.io)?;
+            crate::motion::resolve_signals(motions, &self.shared.io())?;
         }
         if let Operation::SetSpeed(s) = &op {
             check_speeds(s, &self.shared.safety)?;
         }
         if let Operation::SetOutput(o) = &op {
             // The allow-list: nothing reaches the channel for another output.
-            self.shared.io.writable(o.index)?;
+            self.shared.io().writable(o.index)?;
             if o.pulse_ms > kuka_protocol::MAX_PULSE_MS {
                 return Err(BridgeError::invalid(format!(
                     "pulse_ms = {} is above {} ms",
@@ -383,7 +394,7 @@ impl Engine {
             }
         }
         if let Operation::SetAnalogOutput(a) = &op {
-            self.shared.io.analog_writable(a.index)?;
+            self.shared.io().analog_writable(a.index)?;
             if !(a.value.is_finite() && (-1.0..=1.0).contains(&a.value)) {
                 return Err(BridgeError::invalid(format!(
                     "value = {} is not in -1..=1 (the normalised analog range)",

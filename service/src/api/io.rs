@@ -349,8 +349,73 @@ async fn put_analog_output(
     }))
 }
 
+/// The site's I/O configuration now: named inputs, the outputs clients
+/// may write (the allow-list), named analog channels, and which of them
+/// publish events.
+///
+/// From the configuration file's `[io]`, or, once an admin has edited it
+/// (`PUT`), from the copy the service keeps in its data folder
+/// (`io.json`), which then replaces the file's until `DELETE`.
+#[utoipa::path(get, path = "/api/v1/io/config", tag = "io",
+    responses((status = 200, body = crate::io::IoConfig)))]
+async fn get_io_config(State(app): State<AppState>) -> Response {
+    ok_json(&*app.engine.io_config())
+}
+
+/// Replace the site's I/O configuration (admin): names, the outputs
+/// clients may write, analog channels, watched signals.
+///
+/// Checked as at start (names, ranges, duplicates; 422 `invalid_input`
+/// with the reason, nothing changed), then used at once for every request
+/// that arrives afterwards (a job already queued keeps the signals it
+/// resolved), and kept in the data folder (`io.json`, private) so that it
+/// survives a restart; it replaces the configuration file's `[io]` until
+/// `DELETE /api/v1/io/config`. The change is in the audit trail.
+#[utoipa::path(put, path = "/api/v1/io/config", tag = "io",
+    request_body = crate::io::IoConfig,
+    responses((status = 200, description = "The configuration now in force", body = crate::io::IoConfig),
+        (status = 422, body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = 503, description = "It could not be stored (`storage_unavailable`); nothing changed", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn put_io_config(
+    State(app): State<AppState>,
+    JsonBody(io): JsonBody<crate::io::IoConfig>,
+) -> Result<Response, Problem> {
+    io.validate().map_err(BridgeError::invalid)?;
+    // Stored first: a configuration that would not survive a restart is
+    // not put in force.
+    app.io_store.save(&io).map_err(|e| {
+        tracing::error!(error = %e, "cannot store the I/O configuration");
+        BridgeError::new(
+            ErrorCode::StorageUnavailable,
+            "the I/O configuration could not be stored in the data folder; nothing changed",
+        )
+    })?;
+    app.engine.set_io_config(io).map_err(BridgeError::invalid)?;
+    tracing::warn!("the I/O configuration was replaced over HTTP");
+    Ok(ok_json(&*app.engine.io_config()))
+}
+
+/// Go back to the configuration file's `[io]` (admin): the stored copy is
+/// removed and the file's configuration is in force at once.
+#[utoipa::path(delete, path = "/api/v1/io/config", tag = "io",
+    responses((status = 200, description = "The configuration file's `[io]`, now in force", body = crate::io::IoConfig),
+        (status = 503, body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn delete_io_config(State(app): State<AppState>) -> Result<Response, Problem> {
+    let io = app.io_store.reset().map_err(|e| {
+        tracing::error!(error = %e, "cannot remove the stored I/O configuration");
+        BridgeError::new(
+            ErrorCode::StorageUnavailable,
+            "the stored I/O configuration could not be removed; nothing changed",
+        )
+    })?;
+    app.engine.set_io_config(io).map_err(BridgeError::invalid)?;
+    tracing::warn!("the I/O configuration is the configuration file's again");
+    Ok(ok_json(&*app.engine.io_config()))
+}
+
 pub(super) fn router() -> OpenApiRouter<AppState> {
     OpenApiRouter::new()
+        .routes(routes!(get_io_config, put_io_config, delete_io_config))
         .routes(routes!(get_analog))
         .routes(routes!(put_analog_output))
         .routes(routes!(get_io))

@@ -71,6 +71,8 @@ pub struct AppState {
     pub thesis_paths: Arc<thesis::BlendPaths>,
     /// KRL variables through KUKAVARPROXY.
     pub variables: Arc<crate::variables::Variables>,
+    /// The I/O configuration an admin edits (`/api/v1/io/config`).
+    pub io_store: Arc<crate::io_store::IoStore>,
 }
 
 impl AppState {

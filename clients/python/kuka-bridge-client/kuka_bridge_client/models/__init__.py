@@ -3,6 +3,7 @@
 from .alarm_event import AlarmEvent
 from .alarm_event_type import AlarmEventType
 from .analog_change import AnalogChange
+from .analog_config import AnalogConfig
 from .analog_event import AnalogEvent
 from .analog_event_type import AnalogEventType
 from .analog_input_value import AnalogInputValue
@@ -37,6 +38,7 @@ from .error_code_info import ErrorCodeInfo
 from .health import Health
 from .input_value import InputValue
 from .io_change import IoChange
+from .io_config import IoConfig
 from .io_event import IoEvent
 from .io_event_type import IoEventType
 from .io_kind import IoKind
@@ -86,6 +88,7 @@ from .scirc_motion_type import ScircMotionType
 from .set_output_action import SetOutputAction
 from .set_output_action_type import SetOutputActionType
 from .signal import Signal
+from .signal_config import SignalConfig
 from .sim_snapshot import SimSnapshot
 from .slin_motion import SlinMotion
 from .slin_motion_type import SlinMotionType
@@ -117,6 +120,7 @@ __all__ = (
     "AlarmEvent",
     "AlarmEventType",
     "AnalogChange",
+    "AnalogConfig",
     "AnalogEvent",
     "AnalogEventType",
     "AnalogInputValue",
@@ -151,6 +155,7 @@ __all__ = (
     "Health",
     "InputValue",
     "IoChange",
+    "IoConfig",
     "IoEvent",
     "IoEventType",
     "IoKind",
@@ -200,6 +205,7 @@ __all__ = (
     "SetOutputAction",
     "SetOutputActionType",
     "Signal",
+    "SignalConfig",
     "SimSnapshot",
     "SlinMotion",
     "SlinMotionType",
