@@ -2146,6 +2146,14 @@ async fn the_io_panel_switches_an_allowed_output_and_shows_inputs() {
             };
             c.io.inputs = vec![signal("part_present", 3)];
             c.io.outputs = vec![signal("gripper_close", 1)];
+            let analog = |name: &str, index: u8| kuka_bridge::io::AnalogConfig {
+                name: name.into(),
+                index,
+                watch: false,
+                deadband: 0.01,
+            };
+            c.io.analog_inputs = vec![analog("force", 2)];
+            c.io.analog_outputs = vec![analog("spindle_speed", 1)];
         }),
         ..Options::default()
     })
@@ -2209,6 +2217,38 @@ async fn the_io_panel_switches_an_allowed_output_and_shows_inputs() {
     // A second click switches it off again.
     browser.click("#io-outputs button[data-index='1']").await;
     wait_for_value(&t, "/api/v1/io/outputs/1", false).await;
+    // Analog channels: the allowed output is set from its field, a
+    // simulated sensor's value shows in its cell.
+    browser
+        .wait_js(
+            "document.querySelectorAll('#io-analog .analog').length === 16 && document.querySelectorAll('#io-analog .analog-set').length === 1 && document.querySelector(\"#io-analog [data-kind='output'][data-index='1']\").textContent.includes('spindle_speed')",
+            WAIT,
+            "16 analog cells, one settable",
+        )
+        .await;
+    browser
+        .eval("document.querySelector('#io-analog .analog-field').value = '0.5'; document.querySelector('#io-analog .analog-set').click(); return true;")
+        .await;
+    kuka_bridge_tests::wait_for(WAIT, "$ANOUT[1] at 0.5", async || {
+        let (_, v) = t.get("/api/v1/io/analog").await;
+        if v["outputs"][0]["value"] == 0.5 {
+            Ok(())
+        } else {
+            Err(v.to_string())
+        }
+    })
+    .await;
+    let (s, v) = t
+        .put_json("/api/v1/sim/analog-inputs/2", &json!({"value": -0.25}))
+        .await;
+    assert_eq!(s, 204, "{v}");
+    browser
+        .wait_js(
+            "document.querySelector(\"#io-analog [data-kind='output'][data-index='1'] .analog-value\").textContent === '0.500' && document.querySelector(\"#io-analog [data-kind='input'][data-index='2'] .analog-value\").textContent === '-0.250' && document.querySelector(\"#io-analog [data-kind='input'][data-index='2']\").textContent.includes('force')",
+            WAIT,
+            "the analog values in their cells",
+        )
+        .await;
     // An emergency stop on the simulated cell: the pill says so, in red.
     let (s, v) = t
         .put_json("/api/v1/sim/safety", &json!({"emergency_stop": true}))

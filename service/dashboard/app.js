@@ -165,6 +165,7 @@ function renderState(s) {
   showConfigWords();
   showRunning();
   renderIo(s.io);
+  renderAnalog(s.analog);
   // The 3D view and the projections only when the arm or its frames moved.
   const pose = JSON.stringify([s.axes, s.tool, s.base]);
   if (state.model && s.axes && pose !== state.drawnPose) {
@@ -895,8 +896,16 @@ async function loadState() {
 
 /** The site's names and writable outputs (GET /api/v1/io; they change only with the configuration). */
 async function loadIo() {
-  const r = await api("GET", "/api/v1/io");
+  const [r, a] = await Promise.all([api("GET", "/api/v1/io"), api("GET", "/api/v1/io/analog")]);
   state.ioNames = { input: new Map(), output: new Map(), writable: new Set() };
+  state.analogNames = { input: new Map(), output: new Map(), writable: new Set() };
+  if (a.ok) {
+    for (const c of a.body.inputs) if (c.name) state.analogNames.input.set(c.index, c.name);
+    for (const c of a.body.outputs) {
+      if (c.name) state.analogNames.output.set(c.index, c.name);
+      if (c.writable) state.analogNames.writable.add(c.index);
+    }
+  }
   if (!r.ok) return;
   for (const s of r.body.inputs) if (s.name) state.ioNames.input.set(s.index, s.name);
   for (const s of r.body.outputs) {
@@ -940,6 +949,52 @@ function renderIo(io) {
   };
   row($("io-outputs"), "output", io.outputs);
   row($("io-inputs"), "input", io.inputs);
+}
+
+/**
+ * The analog channels the controller reports ($ANIN/$ANOUT 1..8): a cell per
+ * channel with its name and value; a named output the site allows gets a
+ * field and a Set button (PUT /api/v1/io/analog-outputs/{signal}).
+ */
+function renderAnalog(analog) {
+  $("analog-box").hidden = !analog;
+  if (!analog) return;
+  const names = state.analogNames || { input: new Map(), output: new Map(), writable: new Set() };
+  const box = $("io-analog");
+  if (!box.childElementCount) {
+    const cell = (kind, k) => {
+      const index = k + 1;
+      const name = names[kind].get(index);
+      const label = `${kind === "input" ? "$ANIN" : "$ANOUT"}[${index}]${name ? ` ${name}` : ""}`;
+      const value = el("b", { class: "analog-value" }, "–");
+      const c = el("span", { class: "lamp analog", dataset: { kind, index: String(index) }, title: label }, `${label} `, value);
+      if (kind === "output" && names.writable.has(index)) {
+        const field = el("input", { type: "number", min: -1, max: 1, step: 0.001, value: "0", class: "analog-field", title: `${label}: −1…1` });
+        const set = el("button", { class: "small analog-set", dataset: { op: "PUT /api/v1/io/analog-outputs/{signal}" }, title: `Set ${label} (PUT /api/v1/io/analog-outputs/${index})` }, "Set");
+        set.addEventListener("click", async (e) => {
+          e.preventDefault();
+          const v = Number(field.value);
+          if (!Number.isFinite(v) || v < -1 || v > 1) {
+            field.setCustomValidity("−1…1");
+            field.reportValidity();
+            return;
+          }
+          field.setCustomValidity("");
+          await api("PUT", `/api/v1/io/analog-outputs/${index}`, { value: v });
+        });
+        c.append(" ", field, set);
+      }
+      return c;
+    };
+    box.replaceChildren(...analog.outputs.map((_, k) => cell("output", k)), ...analog.inputs.map((_, k) => cell("input", k)));
+    applyRole();
+  }
+  for (const [kind, values] of [["output", analog.outputs], ["input", analog.inputs]]) {
+    values.forEach((v, k) => {
+      const c = box.querySelector(`[data-kind='${kind}'][data-index='${k + 1}'] .analog-value`);
+      if (c) c.textContent = fmt(v, 3);
+    });
+  }
 }
 
 /** After the stream was down (service restarted, network lost): start from the service's state again. */
