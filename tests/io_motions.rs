@@ -502,3 +502,201 @@ async fn a_batch_of_long_waits_does_not_hold_up_stop() {
     let (s, _) = t.get("/api/v1/position").await;
     assert_eq!(s, 200);
 }
+
+/// How far (mm, along the executed path) the TCP still was from the end
+/// point of motion 0 of command `cid` when `$OUT[1]` first read TRUE in a
+/// state answer: the answers are polled back to back while `job` runs,
+/// and the pose of the first with the output set is found on the trace.
+/// Also whether the robot stopped in motion 0 (it must not: it blends).
+async fn switching_distance(t: &TestService, job: &str) -> (f64, bool) {
+    let mut first_on: Option<[f64; 3]> = None;
+    let ended = wait_for(
+        std::time::Duration::from_secs(120),
+        "the job to end",
+        async || {
+            let (_, s) = t.get("/api/v1/state").await;
+            if first_on.is_none()
+                && let Some((p, true)) = pose_and_gripper(&s)
+            {
+                first_on = Some(p);
+            }
+            let (_, j) = t.get(job).await;
+            match j["state"].as_str() {
+                Some("done" | "failed" | "cancelled") => Ok(j),
+                _ => Err(j.to_string()),
+            }
+        },
+    )
+    .await;
+    assert_eq!(ended["state"], "done", "{ended}");
+    let cid = ended["cid"].as_i64().expect("cid");
+    let on = first_on.expect("a state with the output set");
+    let trace: Vec<_> = t.trace().into_iter().filter(|x| x.cid == cid).collect();
+    let stopped = trace.iter().any(|x| x.motion == 0 && x.stop);
+    // The end point of motion 0: its last sample (the middle of the
+    // approximation arc, where it hands over to motion 2).
+    let end = trace
+        .iter()
+        .rposition(|x| x.motion == 0)
+        .expect("motion 0 in the trace");
+    let d = |a: &[f64; 6], b: &[f64; 3]| {
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    let near = (0..trace.len())
+        .min_by(|&a, &b| d(&trace[a].pose, &on).total_cmp(&d(&trace[b].pose, &on)))
+        .expect("a trace");
+    assert!(
+        d(&trace[near].pose, &on) < 2.0,
+        "the switching pose {on:?} is on the path"
+    );
+    let xyz = |k: usize| [trace[k].pose[0], trace[k].pose[1], trace[k].pose[2]];
+    let along = |from: usize, to: usize| -> f64 {
+        (from..to).map(|k| d(&trace[k + 1].pose, &xyz(k))).sum()
+    };
+    let dist = if near <= end {
+        along(near, end)
+    } else {
+        -along(end, near)
+    };
+    (dist, stopped)
+}
+
+/// Tolerance of the switching point (mm). At 0.05 m/s a 12 ms sample is
+/// 0.6 mm: each simulator switches within one sample of the point (the
+/// native one at the first sample past it, the KRC-like runtime's trigger
+/// within one interpolation cycle), and the first state file with the
+/// output set is written within a few 12 ms cycles after the switch (the
+/// native simulator at once; the KRL program's Submit side in its next
+/// cycles, under CI load a few more): 4 cycles = 2.4 mm. 4 mm keeps that
+/// with margin and is far from both wrong answers: the switch at the start
+/// of the next motion (~50 mm off) and at the corner.
+const SWITCH_TOL_MM: f64 = 4.0;
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_output_switches_50_mm_before_the_corner_of_a_blended_batch() {
+    let t = cell().await;
+    to_work_pose(&t).await;
+    let (s, v) = t
+        .post_json(
+            "/api/v1/motions",
+            &json!({"wait": false, "motions": [
+                {"type": "lin", "target": {"y": 200}, "relative": true, "velocity_m_s": 0.05, "approx_mm": 10},
+                {"type": "set_output", "signal": "gripper_close", "value": true, "path_mm": -50},
+                {"type": "lin", "target": {"z": -40}, "relative": true, "velocity_m_s": 0.05},
+            ]}),
+        )
+        .await;
+    assert_eq!(s, 202, "{v}");
+    let id = v["id"].as_u64().expect("job id");
+    let (dist, stopped) = switching_distance(&t, &format!("/api/v1/jobs/{id}")).await;
+    eprintln!(
+        "batch: switched {dist:.2} mm before the end of motion 0 (error {:+.2} mm)",
+        dist - 50.0
+    );
+    assert!(
+        (dist - 50.0).abs() < SWITCH_TOL_MM,
+        "switched {dist:.2} mm before the corner, not 50"
+    );
+    assert!(!stopped, "the two LINs blend across the set_output");
+    let (_, ev) = t.get("/api/v1/events/recent?types=io&limit=1000").await;
+    let values: Vec<bool> = ev
+        .as_array()
+        .expect("events")
+        .iter()
+        .filter(|e| e["data"]["name"] == "gripper_close")
+        .filter_map(|e| e["data"]["value"].as_bool())
+        .collect();
+    assert_eq!(values, [true], "one switch, pushed as an io event: {ev}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_output_switches_30_mm_after_a_corner_of_a_path() {
+    let t = cell().await;
+    to_work_pose(&t).await;
+    let (s, job) = t.post_json("/api/v1/paths", &json!({})).await;
+    assert_eq!(s, 201, "{job}");
+    let id = job["id"].as_u64().expect("path id");
+    let (s, v) = t
+        .post_json(
+            &format!("/api/v1/paths/{id}/motions"),
+            &json!({"close": true, "motions": [
+                {"type": "lin", "target": {"y": 100}, "relative": true, "velocity_m_s": 0.05, "approx_mm": 10},
+                {"type": "set_output", "signal": "gripper_close", "value": true, "path_mm": 30},
+                {"type": "lin", "target": {"z": -60}, "relative": true, "velocity_m_s": 0.05},
+            ]}),
+        )
+        .await;
+    assert!(s == 200 || s == 202, "{s} {v}");
+    let (dist, stopped) = switching_distance(&t, &format!("/api/v1/jobs/{id}")).await;
+    eprintln!(
+        "path: switched {:.2} mm after the end of motion 0 (error {:+.2} mm)",
+        -dist,
+        -dist - 30.0
+    );
+    assert!(
+        (-dist - 30.0).abs() < SWITCH_TOL_MM,
+        "switched {:.2} mm after the corner, not 30",
+        -dist
+    );
+    assert!(!stopped, "the two LINs blend across the set_output");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn switching_points_that_cannot_work_are_refused() {
+    let t = cell().await;
+    to_work_pose(&t).await;
+    let before = last_cid(&t).await;
+    let lin = |y: f64| json!({"type": "lin", "target": {"y": y}, "relative": true, "approx_mm": 5});
+    let sop = |p: Value| json!({"type": "set_output", "signal": 1, "value": true, "path_mm": p});
+    let cases: Vec<(Vec<Value>, &str)> = vec![
+        (vec![sop(json!(-5)), lin(20.0)], "no motion before it"),
+        (
+            vec![
+                lin(20.0),
+                json!({"type": "dwell", "ms": 10}),
+                sop(json!(-5)),
+                lin(-20.0),
+            ],
+            "a dwell before it",
+        ),
+        (vec![lin(20.0), sop(json!(5))], "positive, nothing after"),
+        (
+            vec![lin(20.0), sop(json!(-25)), lin(-20.0)],
+            "longer than the motion before",
+        ),
+        (
+            vec![lin(20.0), sop(json!(25)), lin(-20.0)],
+            "longer than the motion after",
+        ),
+        (vec![lin(20.0), sop(json!(1e300)), lin(-20.0)], "huge"),
+        (
+            vec![lin(20.0), sop(json!(-5000.001)), lin(-20.0)],
+            "past the limit",
+        ),
+        (vec![lin(20.0), sop(json!("-5")), lin(-20.0)], "a string"),
+        (vec![lin(20.0), sop(json!([1])), lin(-20.0)], "an array"),
+    ];
+    for (motions, why) in cases {
+        let (s, v) = t.motions(json!(motions)).await;
+        assert_eq!(s, 422, "{why}: {v}");
+        assert_eq!(v["code"], "invalid_input", "{why}: {v}");
+    }
+    // NaN and infinities are not JSON: the body is refused as such.
+    let r = t
+        .http
+        .post(t.url("/api/v1/motions"))
+        .header("content-type", "application/json")
+        .body(r#"{"motions": [{"type": "lin", "target": {"y": 5}, "relative": true}, {"type": "set_output", "signal": 1, "value": true, "path_mm": NaN}]}"#)
+        .send()
+        .await
+        .expect("answer");
+    assert_eq!(r.status().as_u16(), 422);
+    // Nothing reached the controller.
+    assert_eq!(last_cid(&t).await, before);
+    // The limits themselves are accepted: 20 mm before the end of a 20 mm
+    // LIN (its start), null (omitted).
+    for p in [json!(-20), json!(null)] {
+        let (s, v) = t.motions(json!([lin(20.0), sop(p), lin(-20.0)])).await;
+        assert_eq!(s, 200, "{v}");
+    }
+}

@@ -1044,6 +1044,7 @@ fn sot(index: u16, value: bool, pulse_ms: u32) -> MotionRecord {
         index,
         value,
         pulse_ms,
+        path_mm: None,
     }
 }
 
