@@ -422,6 +422,18 @@ fn edge_batch() -> CommandFile {
                 index: 4096,
                 value: true,
                 pulse_ms: 60_000,
+                path_mm: Some(-5000.0),
+            },
+            MotionRecord::SetOutput {
+                index: 1,
+                value: false,
+                pulse_ms: 0,
+                path_mm: Some(4999.999),
+            },
+            MotionRecord::SetOutput {
+                index: 4096,
+                value: true,
+                pulse_ms: 60_000,
                 path_mm: None,
             },
             MotionRecord::SetOutput {
@@ -907,7 +919,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
         tags,
         [
             "ANO", "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP",
-            "SCI", "SLN", "SOT", "SPD", "SPL", "SPT", "WIN"
+            "SCI", "SLN", "SOP", "SOT", "SPD", "SPL", "SPT", "WIN"
         ],
         "the samples cover every command record"
     );
@@ -931,6 +943,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(formats["PRG"], one(1, 0));
     assert_eq!(formats["APD"], one(3, 0));
     assert_eq!(formats["SOT"], one(4, 0));
+    assert_eq!(formats["SOP"], one(5, 0b1_0000));
     assert_eq!(formats["WIN"], one(4, 0));
     assert_eq!(formats["DWL"], one(2, 0));
     assert_eq!(formats["ANO"], one(2, 0b10));
@@ -960,7 +973,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
         tags,
         BTreeSet::from([
             "ANO", "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP",
-            "RES", "RSL", "SCI", "SLN", "SOT", "SPD", "SPL", "SPT", "STA", "WIN"
+            "RES", "RSL", "SCI", "SLN", "SOP", "SOT", "SPD", "SPL", "SPT", "STA", "WIN"
         ]),
         "kb_submit.src parses exactly the protocol's records"
     );
@@ -1540,7 +1553,7 @@ fn assert_motion(g: &Globals, i: usize, m: &MotionRecord) {
             path_mm,
         } => {
             if let Some(p) = path_mm {
-                assert_eq!(real("X"), Some(*p), "kb_mot[{i}].X for {m:?}");
+                assert_eq!(real("X"), Some(from_milli(*p)), "kb_mot[{i}].X for {m:?}");
             }
             let k = if path_mm.is_some() { 12 } else { 9 };
             Some((k, i64::from(*index), i64::from(*value), *pulse_ms))
