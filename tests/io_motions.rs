@@ -676,6 +676,30 @@ async fn switching_points_that_cannot_work_are_refused() {
         ),
         (vec![lin(20.0), sop(json!(5))], "positive, nothing after"),
         (
+            vec![
+                json!({"type": "lin", "target": {"y": 20}, "relative": true, "approx_mm": 0}),
+                sop(json!(5)),
+                lin(-20.0),
+            ],
+            "positive after an exact stop",
+        ),
+        (
+            vec![
+                json!({"type": "ptp", "target": {"y": 20}, "relative": true}),
+                sop(json!(-5)),
+                lin(-20.0),
+            ],
+            "after a ptp",
+        ),
+        (
+            vec![
+                lin(20.0),
+                sop(json!(5)),
+                json!({"type": "slin", "target": {"y": -20}, "relative": true}),
+            ],
+            "positive into the other motion family",
+        ),
+        (
             vec![lin(20.0), sop(json!(-25)), lin(-20.0)],
             "longer than the motion before",
         ),

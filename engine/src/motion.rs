@@ -368,13 +368,20 @@ pub fn resolve_signals(requests: &mut [MotionRequest], io: &IoConfig) -> Result<
     Ok(())
 }
 
+/// Why a `set_output` with `path_mm` without a motion before it is refused.
+const NO_MOTION_BEFORE: &str = "a set_output with path_mm switches relative to the end point of \
+     the motion before it: it needs a motion before it in the same request (only set_output \
+     actions between)";
+
 /// Checks where the `set_output` actions with `path_mm` of one request
 /// switch (docs/IO.md, "I/O inside motions"): a finite distance of at most
-/// [`kuka_protocol::MAX_TRIGGER_PATH_MM`], a motion before the action in
-/// the same request (only other `set_output` actions between: the KRL
-/// program attaches the trigger to that motion when it plans it) and, for
-/// a positive distance, a motion after it too. The distance against the
-/// motions' lengths is checked by the dry run ([`switch_point_lengths`]).
+/// [`kuka_protocol::MAX_TRIGGER_PATH_MM`], a `lin`, `circ`, `slin` or
+/// `scirc` before the action in the same request (only other `set_output`
+/// actions between: the KRL program attaches the trigger to that motion
+/// when it plans it) and, for a positive distance, a motion after it into
+/// which that one blends. The distance against the
+/// motions' lengths is checked by the dry run with the robot model
+/// (`Safety::check_resolved`).
 pub fn check_switch_points(requests: &[MotionRequest]) -> Result<()> {
     for (i, req) in requests.iter().enumerate() {
         let MotionRequest::SetOutput {
@@ -392,18 +399,39 @@ pub fn check_switch_points(requests: &[MotionRequest]) -> Result<()> {
             ));
         }
         let is_sot = |r: &&MotionRequest| matches!(r, MotionRequest::SetOutput { .. });
-        let before = requests[..i].iter().rev().find(|r| !is_sot(r));
-        if !before.is_some_and(|r| !r.is_action()) {
-            return refuse(
-                "a set_output with path_mm switches relative to the end point of the motion before it:                  it needs a motion before it in the same request (only set_output actions between)"
-                    .into(),
-            );
+        let Some(before) = requests[..i].iter().rev().find(|r| !is_sot(r)) else {
+            return refuse(NO_MOTION_BEFORE.into());
+        };
+        if before.is_action() {
+            return refuse(NO_MOTION_BEFORE.into());
         }
-        let after = requests[i + 1..].iter().find(|r| !is_sot(r));
-        if *p > 0.0 && !after.is_some_and(|r| !r.is_action()) {
+        let (lin_circ, slin_scirc) = (["lin", "circ"], ["slin", "scirc"]);
+        let kind = before.kind();
+        if !lin_circ.contains(&kind) && !slin_scirc.contains(&kind) {
             return refuse(format!(
-                "path_mm = {p} lies after the end point of the motion before it: it needs a motion                  after it in the same request (the robot stops at that end point)"
+                "a set_output with path_mm follows a {kind}: a KRL path trigger belongs to a lin, \
+                 circ, slin or scirc (a PTP takes none, a spline block's points are static KRL); \
+                 leave path_mm out, or move with a lin"
             ));
+        }
+        if *p > 0.0 {
+            let after = requests[i + 1..].iter().find(|r| !is_sot(r));
+            let blends = after.is_some_and(|a| {
+                let next = a.kind();
+                before.speed().2 != Some(0.0)
+                    && if lin_circ.contains(&kind) {
+                        lin_circ.contains(&next)
+                    } else {
+                        slin_scirc.contains(&next) || next == "spl"
+                    }
+            });
+            if !blends {
+                return refuse(format!(
+                    "path_mm = {p} lies after the end point of the motion before it, where the robot \
+                     stops exactly: a positive path_mm needs a motion after it in the same request \
+                     into which the motion before blends (approx_mm not 0, the same motion family)"
+                ));
+            }
         }
     }
     Ok(())
