@@ -253,11 +253,13 @@ pub enum MotionRequest {
         /// path_mm DELAY = 0` on that motion): negative = that many mm
         /// before the end point (on that motion), positive = after it,
         /// along the next motion (the motion before must blend into it).
-        /// Needs a motion before it in the same request (only other
-        /// `set_output` actions between); a positive value a motion after
-        /// it too. With a robot model, |path_mm| is at most the length of
-        /// the motion before (negative) or after (positive). Omitted: as
-        /// the next motion starts. Resolution 0.001 mm.
+        /// Needs a `lin`, `circ`, `slin` or `scirc` before it in the same
+        /// request (only other `set_output` actions between); a positive
+        /// value also a motion after it into which that one blends. With a
+        /// robot model, |path_mm| is at most the length of the motion
+        /// before (negative) or after (positive). Else 422
+        /// `invalid_input`. Omitted: as the next motion starts.
+        /// Resolution 0.001 mm.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         #[schema(minimum = -5000, maximum = 5000)]
         path_mm: Option<f64>,
