@@ -677,6 +677,18 @@ async fn switching_points_that_cannot_work_are_refused() {
         (vec![lin(20.0), sop(json!(5))], "positive, nothing after"),
         (
             vec![
+                lin(20.0),
+                sop(json!(-1)),
+                sop(json!(-2)),
+                sop(json!(-3)),
+                sop(json!(-4)),
+                sop(json!(-5)),
+                lin(-20.0),
+            ],
+            "five after one motion",
+        ),
+        (
+            vec![
                 json!({"type": "lin", "target": {"y": 20}, "relative": true, "approx_mm": 0}),
                 sop(json!(5)),
                 lin(-20.0),
@@ -733,9 +745,19 @@ async fn switching_points_that_cannot_work_are_refused() {
     // Nothing reached the controller.
     assert_eq!(last_cid(&t).await, before);
     // The limits themselves are accepted: 20 mm before the end of a 20 mm
-    // LIN (its start), null (omitted).
+    // LIN (its start), null (omitted), four after one motion.
     for p in [json!(-20), json!(null)] {
         let (s, v) = t.motions(json!([lin(20.0), sop(p), lin(-20.0)])).await;
         assert_eq!(s, 200, "{v}");
     }
+    let four = json!([
+        lin(20.0),
+        sop(json!(-1)),
+        sop(json!(-2)),
+        sop(json!(3)),
+        sop(json!(4)),
+        lin(-20.0)
+    ]);
+    let (s, v) = t.motions(four).await;
+    assert_eq!(s, 200, "{v}");
 }

@@ -370,6 +370,11 @@ pub fn resolve_signals(requests: &mut [MotionRequest], io: &IoConfig) -> Result<
     Ok(())
 }
 
+/// Most `set_output` actions with `path_mm` after one motion: the KRL
+/// program issues one `TRIGGER WHEN PATH` each with the motion, besides
+/// its own trigger (docs/CONTROLLER.md point 25).
+pub const MAX_SWITCH_POINTS: usize = 4;
+
 /// Why a `set_output` with `path_mm` without a motion before it is refused.
 const NO_MOTION_BEFORE: &str = "a set_output with path_mm switches relative to the end point of \
      the motion before it: it needs a motion before it in the same request (only set_output \
@@ -381,7 +386,8 @@ const NO_MOTION_BEFORE: &str = "a set_output with path_mm switches relative to t
 /// `scirc` before the action in the same request (only other `set_output`
 /// actions between: the KRL program attaches the trigger to that motion
 /// when it plans it) and, for a positive distance, a motion after it into
-/// which that one blends. The distance against the
+/// which that one blends; at most [`MAX_SWITCH_POINTS`] after one motion.
+/// The distance against the
 /// motions' lengths is checked by the dry run with the robot model
 /// (`Safety::check_resolved`).
 pub fn check_switch_points(requests: &[MotionRequest]) -> Result<()> {
@@ -406,6 +412,27 @@ pub fn check_switch_points(requests: &[MotionRequest]) -> Result<()> {
         };
         if before.is_action() {
             return refuse(NO_MOTION_BEFORE.into());
+        }
+        // The KRL program arms at most MAX_SWITCH_POINTS path triggers on
+        // one motion (docs/CONTROLLER.md point 25).
+        let same_motion = requests[..i]
+            .iter()
+            .rev()
+            .take_while(|r| is_sot(r))
+            .filter(|r| {
+                matches!(
+                    r,
+                    MotionRequest::SetOutput {
+                        path_mm: Some(_),
+                        ..
+                    }
+                )
+            })
+            .count();
+        if same_motion >= MAX_SWITCH_POINTS {
+            return refuse(format!(
+                "more than {MAX_SWITCH_POINTS} set_output actions with path_mm after one motion"
+            ));
         }
         let (lin_circ, slin_scirc) = (["lin", "circ"], ["slin", "scirc"]);
         let kind = before.kind();
