@@ -189,3 +189,92 @@ pub(crate) fn decide(sample: &Sample, rest: &[&Sample], ok: bool) -> Wait {
         (false, None) => Wait::TimedOut,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use kuka_kinematics::Pose;
+
+    fn at(motion: usize, x: f64, y: f64) -> Sample {
+        Sample {
+            t: 0.0,
+            motion,
+            axes: [0.0; 6],
+            pose: Pose::new(x, y, 0.0, 0.0, 0.0, 0.0),
+        }
+    }
+
+    fn sop(index: u16, path_mm: f64) -> MotionRecord {
+        MotionRecord::SetOutput {
+            index,
+            value: true,
+            pulse_ms: 0,
+            path_mm: Some(path_mm),
+        }
+    }
+
+    /// LIN along x to 100 mm (motion 0), then an SOT, SOP(-30), SOP(+20),
+    /// SOP(-60), then LIN along y (motion 4), sampled every mm: each output
+    /// switches at the first sample at or past its point, in the order the
+    /// robot reaches the points; the SOT as motion 4 starts.
+    #[test]
+    fn outputs_switch_at_their_point_of_the_sampled_path() {
+        let lin = MotionRecord::Lin {
+            target: kuka_protocol::Frame::default(),
+            params: kuka_protocol::MotionParams {
+                velocity: 0.1,
+                acceleration_pct: 100.0,
+                approx_mm: 0.0,
+            },
+        };
+        let sot = MotionRecord::SetOutput {
+            index: 1,
+            value: true,
+            pulse_ms: 0,
+            path_mm: None,
+        };
+        let records = [
+            lin.clone(),
+            sot,
+            sop(2, -30.0),
+            sop(3, 20.0),
+            sop(4, -60.0),
+            lin,
+        ];
+        let mut actions = Actions::default();
+        actions.extend(&records, 0);
+        let mut samples: Vec<Sample> = (0..=100).map(|x| at(0, f64::from(x), 0.0)).collect();
+        samples.extend((1..=50).map(|y| at(4, 100.0, f64::from(y))));
+        let mut switched = Vec::new();
+        for (k, s) in samples.iter().enumerate() {
+            for (index, _, _) in actions.passed(s, samples[k + 1..].iter()) {
+                switched.push((index, s.pose.position().x, s.pose.position().y));
+            }
+        }
+        assert_eq!(
+            switched,
+            [
+                (4, 40.0, 0.0),
+                (2, 70.0, 0.0),
+                (1, 100.0, 1.0),
+                (3, 100.0, 20.0)
+            ]
+        );
+        assert!(actions.all_left().is_empty());
+    }
+
+    /// An SOP with no motion before it (the first record, or after a
+    /// dwell) switches like an SOT: as the next motion starts, or at the
+    /// end of the sequence when none follows.
+    #[test]
+    fn an_sop_without_a_motion_before_it_switches_as_an_sot() {
+        let records = [sop(1, -5.0), MotionRecord::Dwell { ms: 0 }, sop(2, 500.0)];
+        let mut actions = Actions::default();
+        actions.extend(&records, 0);
+        let s = at(1, 0.0, 0.0);
+        let first: Vec<u16> = actions.passed(&s, [].iter()).iter().map(|a| a.0).collect();
+        assert_eq!(first, [1]);
+        let left: Vec<u16> = actions.all_left().iter().map(|a| a.0).collect();
+        assert_eq!(left, [2]);
+    }
+}
