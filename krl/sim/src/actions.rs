@@ -116,14 +116,20 @@ impl Actions {
                 }
                 p.travelled >= p.path_mm - 1e-9
             } else if sample.motion == p.motion || p.path_mm < 0.0 {
-                // Up to the end point: how far it still is along the plan.
+                // Up to the end point: how far it still is along the plan
+                // (looked at no further than the distance: a batch of many
+                // motions is not walked to its end at every sample).
+                let want = -p.path_mm + 1e-9;
                 let mut left = 0.0;
                 let mut from = sample;
                 for x in ahead.clone().take_while(|x| x.motion <= p.motion) {
                     left += x.pose.distance_mm(&from.pose);
                     from = x;
+                    if left > want {
+                        break;
+                    }
                 }
-                left <= -p.path_mm + 1e-9
+                left <= want
             } else {
                 false
             };
