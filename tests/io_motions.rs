@@ -583,11 +583,13 @@ const SWITCH_SLACK_MM: f64 = 1.0;
 /// answer: the start of the next motion (tens of mm off) or the corner.
 const SWITCH_WINDOW_MM: f64 = 7.0;
 
-/// Asserts that the output switched `want` mm before the end of motion 0
+/// Checks that the output switched `want` mm before the end of motion 0
 /// (negative: after it): between the last state with it off and the first
 /// with it on, within [`SWITCH_SLACK_MM`]; prints the measured error (of
-/// the first state with it on).
-fn assert_switched_at(what: &str, want: f64, (off, on, stopped): (f64, f64, bool)) {
+/// the first state with it on). `false` when the run tells nothing: the
+/// two states are more than [`SWITCH_WINDOW_MM`] apart (the test's polling
+/// stalled on a loaded host), so the caller runs it again.
+fn switched_at(what: &str, want: f64, (off, on, stopped): (f64, f64, bool)) -> bool {
     eprintln!(
         "{what}: planned {want:+.1} mm, off at {off:+.2}, on at {on:+.2} mm before the end of motion 0 \
          (first state with the output on: {:+.2} mm late)",
@@ -597,63 +599,92 @@ fn assert_switched_at(what: &str, want: f64, (off, on, stopped): (f64, f64, bool
         on - SWITCH_SLACK_MM <= want && want <= off + SWITCH_SLACK_MM,
         "{what}: switched between {off:.2} and {on:.2} mm before the end of motion 0, not at {want}"
     );
-    assert!(
-        off - on <= SWITCH_WINDOW_MM,
-        "{what}: the states seen are {:.1} mm apart",
-        off - on
-    );
     assert!(!stopped, "{what}: the two LINs blend across the set_output");
+    if off - on > SWITCH_WINDOW_MM {
+        eprintln!(
+            "{what}: the states seen are {:.1} mm apart: again",
+            off - on
+        );
+        return false;
+    }
+    true
+}
+
+/// Runs of a switching test before it gives up on a loaded host.
+const SWITCH_RUNS: usize = 3;
+
+/// Back to the work pose with the gripper output off, for another run.
+async fn reset_gripper(t: &TestService) {
+    to_work_pose(t).await;
+    let (s, v) = t
+        .put_json("/api/v1/io/outputs/1", &json!({"value": false}))
+        .await;
+    assert_eq!(s, 200, "{v}");
+    t.wait_state("the gripper off", |s| {
+        pose_and_gripper(s).is_some_and(|(_, on)| !on)
+    })
+    .await;
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn an_output_switches_50_mm_before_the_corner_of_a_blended_batch() {
     let t = cell().await;
-    to_work_pose(&t).await;
-    let (s, v) = t
-        .post_json(
-            "/api/v1/motions",
-            &json!({"wait": false, "motions": [
-                {"type": "lin", "target": {"y": 200}, "relative": true, "velocity_m_s": 0.05, "approx_mm": 10},
-                {"type": "set_output", "signal": "gripper_close", "value": true, "path_mm": -50},
-                {"type": "lin", "target": {"z": -40}, "relative": true, "velocity_m_s": 0.05},
-            ]}),
-        )
-        .await;
-    assert_eq!(s, 202, "{v}");
-    let id = v["id"].as_u64().expect("job id");
-    let window = switching_window(&t, &format!("/api/v1/jobs/{id}")).await;
-    assert_switched_at("batch, path_mm -50", 50.0, window);
-    let (_, ev) = t.get("/api/v1/events/recent?types=io&limit=1000").await;
-    let values: Vec<bool> = ev
-        .as_array()
-        .expect("events")
-        .iter()
-        .filter(|e| e["data"]["name"] == "gripper_close")
-        .filter_map(|e| e["data"]["value"].as_bool())
-        .collect();
-    assert_eq!(values, [true], "one switch, pushed as an io event: {ev}");
+    for run in 1..=SWITCH_RUNS {
+        reset_gripper(&t).await;
+        let (s, v) = t
+            .post_json(
+                "/api/v1/motions",
+                &json!({"wait": false, "motions": [
+                    {"type": "lin", "target": {"y": 200}, "relative": true, "velocity_m_s": 0.05, "approx_mm": 10},
+                    {"type": "set_output", "signal": "gripper_close", "value": true, "path_mm": -50},
+                    {"type": "lin", "target": {"z": -40}, "relative": true, "velocity_m_s": 0.05},
+                ]}),
+            )
+            .await;
+        assert_eq!(s, 202, "{v}");
+        let id = v["id"].as_u64().expect("job id");
+        let window = switching_window(&t, &format!("/api/v1/jobs/{id}")).await;
+        if switched_at("batch, path_mm -50", 50.0, window) {
+            // The switch was pushed as an io event.
+            let (_, ev) = t.get("/api/v1/events/recent?types=io&limit=1000").await;
+            let last = ev
+                .as_array()
+                .expect("events")
+                .iter()
+                .rfind(|e| e["data"]["name"] == "gripper_close")
+                .map(|e| e["data"]["value"].clone());
+            assert_eq!(last, Some(json!(true)), "{ev}");
+            return;
+        }
+        assert!(run < SWITCH_RUNS, "{SWITCH_RUNS} runs told nothing");
+    }
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn an_output_switches_30_mm_after_a_corner_of_a_path() {
     let t = cell().await;
-    to_work_pose(&t).await;
-    let (s, job) = t.post_json("/api/v1/paths", &json!({})).await;
-    assert_eq!(s, 201, "{job}");
-    let id = job["id"].as_u64().expect("path id");
-    let (s, v) = t
-        .post_json(
-            &format!("/api/v1/paths/{id}/motions"),
-            &json!({"close": true, "motions": [
-                {"type": "lin", "target": {"y": 100}, "relative": true, "velocity_m_s": 0.05, "approx_mm": 10},
-                {"type": "set_output", "signal": "gripper_close", "value": true, "path_mm": 30},
-                {"type": "lin", "target": {"z": -60}, "relative": true, "velocity_m_s": 0.05},
-            ]}),
-        )
-        .await;
-    assert!(s == 200 || s == 202, "{s} {v}");
-    let window = switching_window(&t, &format!("/api/v1/jobs/{id}")).await;
-    assert_switched_at("path, path_mm +30", -30.0, window);
+    for run in 1..=SWITCH_RUNS {
+        reset_gripper(&t).await;
+        let (s, job) = t.post_json("/api/v1/paths", &json!({})).await;
+        assert_eq!(s, 201, "{job}");
+        let id = job["id"].as_u64().expect("path id");
+        let (s, v) = t
+            .post_json(
+                &format!("/api/v1/paths/{id}/motions"),
+                &json!({"close": true, "motions": [
+                    {"type": "lin", "target": {"y": 100}, "relative": true, "velocity_m_s": 0.05, "approx_mm": 10},
+                    {"type": "set_output", "signal": "gripper_close", "value": true, "path_mm": 30},
+                    {"type": "lin", "target": {"z": -60}, "relative": true, "velocity_m_s": 0.05},
+                ]}),
+            )
+            .await;
+        assert!(s == 200 || s == 202, "{s} {v}");
+        let window = switching_window(&t, &format!("/api/v1/jobs/{id}")).await;
+        if switched_at("path, path_mm +30", -30.0, window) {
+            return;
+        }
+        assert!(run < SWITCH_RUNS, "{SWITCH_RUNS} runs told nothing");
+    }
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
