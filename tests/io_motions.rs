@@ -502,3 +502,293 @@ async fn a_batch_of_long_waits_does_not_hold_up_stop() {
     let (s, _) = t.get("/api/v1/position").await;
     assert_eq!(s, 200);
 }
+
+/// Where `$OUT[1]` switched during `job` (a command whose motion 0 is
+/// followed by the switching action): the TCP's distance (mm, along the
+/// executed path; positive = before it) from the end point of motion 0 in
+/// the last state answer with the output still off, and in the first one
+/// with it on. The answers are polled back to back while the job runs; each
+/// pose is found on the simulator's trace. Also whether the robot stopped
+/// in motion 0 (it must not: it blends).
+async fn switching_window(t: &TestService, job: &str) -> (f64, f64, bool) {
+    let mut last_off: Option<[f64; 3]> = None;
+    let mut first_on: Option<[f64; 3]> = None;
+    let ended = wait_for(
+        std::time::Duration::from_secs(120),
+        "the job to end",
+        async || {
+            let (_, s) = t.get("/api/v1/state").await;
+            if first_on.is_none() {
+                match pose_and_gripper(&s) {
+                    Some((p, true)) => first_on = Some(p),
+                    Some((p, false)) => last_off = Some(p),
+                    None => {}
+                }
+            }
+            let (_, j) = t.get(job).await;
+            match j["state"].as_str() {
+                Some("done" | "failed" | "cancelled") => Ok(j),
+                _ => Err(j.to_string()),
+            }
+        },
+    )
+    .await;
+    assert_eq!(ended["state"], "done", "{ended}");
+    let cid = ended["cid"].as_i64().expect("cid");
+    let on = first_on.expect("a state with the output set");
+    let off = last_off.expect("a state with the output still off");
+    let trace: Vec<_> = t.trace().into_iter().filter(|x| x.cid == cid).collect();
+    let stopped = trace.iter().any(|x| x.motion == 0 && x.stop);
+    // The end point of motion 0: its last sample (where the planned path
+    // passes from it to motion 2 in the approximation).
+    let end = trace
+        .iter()
+        .rposition(|x| x.motion == 0)
+        .expect("motion 0 in the trace");
+    let d = |a: &[f64; 6], b: &[f64; 3]| {
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    let xyz = |k: usize| [trace[k].pose[0], trace[k].pose[1], trace[k].pose[2]];
+    let along = |from: usize, to: usize| -> f64 {
+        (from..to).map(|k| d(&trace[k + 1].pose, &xyz(k))).sum()
+    };
+    let place = |p: &[f64; 3]| -> f64 {
+        let near = (0..trace.len())
+            .min_by(|&a, &b| d(&trace[a].pose, p).total_cmp(&d(&trace[b].pose, p)))
+            .expect("a trace");
+        assert!(
+            d(&trace[near].pose, p) < 2.0,
+            "the pose {p:?} is on the path"
+        );
+        if near <= end {
+            along(near, end)
+        } else {
+            -along(end, near)
+        }
+    };
+    (place(&off), place(&on), stopped)
+}
+
+/// Slack (mm) of a switching point: at 0.05 m/s a 12 ms sample is 0.6 mm,
+/// and each simulator switches within one sample of the point (the native
+/// one at the first sample past it, the KRC-like runtime's trigger at the
+/// sample nearest before or after it); 1 mm covers that.
+const SWITCH_SLACK_MM: f64 = 1.0;
+
+/// Widest window (mm) between the last state with the output off and the
+/// first with it on. The KRL program's Submit side writes the state file
+/// at its 100 ms heartbeat (and at once for a batch's progress), the
+/// native simulator at once: 100 ms + two 12 ms cycles at 0.05 m/s is
+/// 6.2 mm. The window is far narrower than the distance to either wrong
+/// answer: the start of the next motion (tens of mm off) or the corner.
+const SWITCH_WINDOW_MM: f64 = 7.0;
+
+/// Checks that the output switched `want` mm before the end of motion 0
+/// (negative: after it): between the last state with it off and the first
+/// with it on, within [`SWITCH_SLACK_MM`]; prints the measured error (of
+/// the first state with it on). `false` when the run tells nothing: the
+/// two states are more than [`SWITCH_WINDOW_MM`] apart (the test's polling
+/// stalled on a loaded host), so the caller runs it again.
+fn switched_at(what: &str, want: f64, (off, on, stopped): (f64, f64, bool)) -> bool {
+    eprintln!(
+        "{what}: planned {want:+.1} mm, off at {off:+.2}, on at {on:+.2} mm before the end of motion 0 \
+         (first state with the output on: {:+.2} mm late)",
+        want - on
+    );
+    assert!(
+        on - SWITCH_SLACK_MM <= want && want <= off + SWITCH_SLACK_MM,
+        "{what}: switched between {off:.2} and {on:.2} mm before the end of motion 0, not at {want}"
+    );
+    assert!(!stopped, "{what}: the two LINs blend across the set_output");
+    if off - on > SWITCH_WINDOW_MM {
+        eprintln!(
+            "{what}: the states seen are {:.1} mm apart: again",
+            off - on
+        );
+        return false;
+    }
+    true
+}
+
+/// Runs of a switching test before it gives up on a loaded host.
+const SWITCH_RUNS: usize = 3;
+
+/// Back to the work pose with the gripper output off, for another run.
+async fn reset_gripper(t: &TestService) {
+    to_work_pose(t).await;
+    let (s, v) = t
+        .put_json("/api/v1/io/outputs/1", &json!({"value": false}))
+        .await;
+    assert_eq!(s, 200, "{v}");
+    t.wait_state("the gripper off", |s| {
+        pose_and_gripper(s).is_some_and(|(_, on)| !on)
+    })
+    .await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_output_switches_50_mm_before_the_corner_of_a_blended_batch() {
+    let t = cell().await;
+    for run in 1..=SWITCH_RUNS {
+        reset_gripper(&t).await;
+        let (s, v) = t
+            .post_json(
+                "/api/v1/motions",
+                &json!({"wait": false, "motions": [
+                    {"type": "lin", "target": {"y": 200}, "relative": true, "velocity_m_s": 0.05, "approx_mm": 10},
+                    {"type": "set_output", "signal": "gripper_close", "value": true, "path_mm": -50},
+                    {"type": "lin", "target": {"z": -40}, "relative": true, "velocity_m_s": 0.05},
+                ]}),
+            )
+            .await;
+        assert_eq!(s, 202, "{v}");
+        let id = v["id"].as_u64().expect("job id");
+        let window = switching_window(&t, &format!("/api/v1/jobs/{id}")).await;
+        if switched_at("batch, path_mm -50", 50.0, window) {
+            // The switch was pushed as an io event.
+            let (_, ev) = t.get("/api/v1/events/recent?types=io&limit=1000").await;
+            let last = ev
+                .as_array()
+                .expect("events")
+                .iter()
+                .rfind(|e| e["data"]["name"] == "gripper_close")
+                .map(|e| e["data"]["value"].clone());
+            assert_eq!(last, Some(json!(true)), "{ev}");
+            return;
+        }
+        assert!(run < SWITCH_RUNS, "{SWITCH_RUNS} runs told nothing");
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_output_switches_30_mm_after_a_corner_of_a_path() {
+    let t = cell().await;
+    for run in 1..=SWITCH_RUNS {
+        reset_gripper(&t).await;
+        let (s, job) = t.post_json("/api/v1/paths", &json!({})).await;
+        assert_eq!(s, 201, "{job}");
+        let id = job["id"].as_u64().expect("path id");
+        let (s, v) = t
+            .post_json(
+                &format!("/api/v1/paths/{id}/motions"),
+                &json!({"close": true, "motions": [
+                    {"type": "lin", "target": {"y": 100}, "relative": true, "velocity_m_s": 0.05, "approx_mm": 10},
+                    {"type": "set_output", "signal": "gripper_close", "value": true, "path_mm": 30},
+                    {"type": "lin", "target": {"z": -60}, "relative": true, "velocity_m_s": 0.05},
+                ]}),
+            )
+            .await;
+        assert!(s == 200 || s == 202, "{s} {v}");
+        let window = switching_window(&t, &format!("/api/v1/jobs/{id}")).await;
+        if switched_at("path, path_mm +30", -30.0, window) {
+            return;
+        }
+        assert!(run < SWITCH_RUNS, "{SWITCH_RUNS} runs told nothing");
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn switching_points_that_cannot_work_are_refused() {
+    let t = cell().await;
+    to_work_pose(&t).await;
+    let before = last_cid(&t).await;
+    let lin = |y: f64| json!({"type": "lin", "target": {"y": y}, "relative": true, "approx_mm": 5});
+    let sop = |p: Value| json!({"type": "set_output", "signal": 1, "value": true, "path_mm": p});
+    let cases: Vec<(Vec<Value>, &str)> = vec![
+        (vec![sop(json!(-5)), lin(20.0)], "no motion before it"),
+        (
+            vec![
+                lin(20.0),
+                json!({"type": "dwell", "ms": 10}),
+                sop(json!(-5)),
+                lin(-20.0),
+            ],
+            "a dwell before it",
+        ),
+        (vec![lin(20.0), sop(json!(5))], "positive, nothing after"),
+        (
+            vec![
+                lin(20.0),
+                sop(json!(-1)),
+                sop(json!(-2)),
+                sop(json!(-3)),
+                sop(json!(-4)),
+                sop(json!(-5)),
+                lin(-20.0),
+            ],
+            "five after one motion",
+        ),
+        (
+            vec![
+                json!({"type": "lin", "target": {"y": 20}, "relative": true, "approx_mm": 0}),
+                sop(json!(5)),
+                lin(-20.0),
+            ],
+            "positive after an exact stop",
+        ),
+        (
+            vec![
+                json!({"type": "ptp", "target": {"y": 20}, "relative": true}),
+                sop(json!(-5)),
+                lin(-20.0),
+            ],
+            "after a ptp",
+        ),
+        (
+            vec![
+                lin(20.0),
+                sop(json!(5)),
+                json!({"type": "slin", "target": {"y": -20}, "relative": true}),
+            ],
+            "positive into the other motion family",
+        ),
+        (
+            vec![lin(20.0), sop(json!(-25)), lin(-20.0)],
+            "longer than the motion before",
+        ),
+        (
+            vec![lin(20.0), sop(json!(25)), lin(-20.0)],
+            "longer than the motion after",
+        ),
+        (vec![lin(20.0), sop(json!(1e300)), lin(-20.0)], "huge"),
+        (
+            vec![lin(20.0), sop(json!(-5000.001)), lin(-20.0)],
+            "past the limit",
+        ),
+        (vec![lin(20.0), sop(json!("-5")), lin(-20.0)], "a string"),
+        (vec![lin(20.0), sop(json!([1])), lin(-20.0)], "an array"),
+    ];
+    for (motions, why) in cases {
+        let (s, v) = t.motions(json!(motions)).await;
+        assert_eq!(s, 422, "{why}: {v}");
+        assert_eq!(v["code"], "invalid_input", "{why}: {v}");
+    }
+    // NaN and infinities are not JSON: the body is refused as such.
+    let r = t
+        .http
+        .post(t.url("/api/v1/motions"))
+        .header("content-type", "application/json")
+        .body(r#"{"motions": [{"type": "lin", "target": {"y": 5}, "relative": true}, {"type": "set_output", "signal": 1, "value": true, "path_mm": NaN}]}"#)
+        .send()
+        .await
+        .expect("answer");
+    assert_eq!(r.status().as_u16(), 422);
+    // Nothing reached the controller.
+    assert_eq!(last_cid(&t).await, before);
+    // The limits themselves are accepted: 20 mm before the end of a 20 mm
+    // LIN (its start), null (omitted), four after one motion.
+    for p in [json!(-20), json!(null)] {
+        let (s, v) = t.motions(json!([lin(20.0), sop(p), lin(-20.0)])).await;
+        assert_eq!(s, 200, "{v}");
+    }
+    let four = json!([
+        lin(20.0),
+        sop(json!(-1)),
+        sop(json!(-2)),
+        sop(json!(3)),
+        sop(json!(4)),
+        lin(-20.0)
+    ]);
+    let (s, v) = t.motions(four).await;
+    assert_eq!(s, 200, "{v}");
+}

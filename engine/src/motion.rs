@@ -233,9 +233,11 @@ pub enum MotionRequest {
     /// (KRL `TRIGGER WHEN DISTANCE=0`), without stopping the robot: the
     /// motions on either side blend as if it were not there. Before a
     /// `wait_input`/`dwell`, or at the end, it switches once the motions
-    /// before it have ended. Only outputs on the site's allow-list
+    /// before it have ended. With `path_mm` it switches at that distance
+    /// along the path from the end point of the motion before it (KRL
+    /// `TRIGGER WHEN PATH`). Only outputs on the site's allow-list
     /// (`[io] outputs`, docs/IO.md).
-    #[schema(example = json!({"type": "set_output", "signal": "gripper_close", "value": true}))]
+    #[schema(example = json!({"type": "set_output", "signal": "glue_valve", "value": false, "path_mm": -5.0}))]
     SetOutput {
         /// The output: its number (1..=4096) or its configured name.
         signal: SignalRef,
@@ -246,6 +248,21 @@ pub enum MotionRequest {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         #[schema(minimum = 0, maximum = 60000)]
         pulse_ms: Option<u32>,
+        /// Switch at this distance in mm along the path from the end point
+        /// of the motion before the action (KRL `TRIGGER WHEN PATH =
+        /// path_mm DELAY = 0` on that motion): negative = that many mm
+        /// before the end point (on that motion), positive = after it,
+        /// along the next motion (the motion before must blend into it).
+        /// Needs a `lin`, `circ`, `slin` or `scirc` before it in the same
+        /// request (only other `set_output` actions between); a positive
+        /// value also a motion after it into which that one blends. With a
+        /// robot model, |path_mm| is at most the length of the motion
+        /// before (negative) or after (positive). Else 422
+        /// `invalid_input`. Omitted: as the next motion starts.
+        /// Resolution 0.001 mm.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        #[schema(minimum = -5000, maximum = 5000)]
+        path_mm: Option<f64>,
     },
     /// An I/O action: the robot stops exactly at the end of the motion
     /// before it and waits until the input has `value` (KRL `WAIT FOR`).
@@ -351,6 +368,128 @@ pub fn resolve_signals(requests: &mut [MotionRequest], io: &IoConfig) -> Result<
         }
     }
     Ok(())
+}
+
+/// Most `set_output` actions with `path_mm` after one motion: the KRL
+/// program issues one `TRIGGER WHEN PATH` each with the motion, besides
+/// its own trigger (docs/CONTROLLER.md point 25).
+pub const MAX_SWITCH_POINTS: usize = 4;
+
+/// Why a `set_output` with `path_mm` without a motion before it is refused.
+const NO_MOTION_BEFORE: &str = "a set_output with path_mm switches relative to the end point of \
+     the motion before it: it needs a motion before it in the same request (only set_output \
+     actions between)";
+
+/// Checks where the `set_output` actions with `path_mm` of one request
+/// switch (docs/IO.md, "I/O inside motions"): a finite distance of at most
+/// [`kuka_protocol::MAX_TRIGGER_PATH_MM`], a `lin`, `circ`, `slin` or
+/// `scirc` before the action in the same request (only other `set_output`
+/// actions between: the KRL program attaches the trigger to that motion
+/// when it plans it) and, for a positive distance, a motion after it into
+/// which that one blends; at most [`MAX_SWITCH_POINTS`] after one motion.
+/// The distance against the
+/// motions' lengths is checked by the dry run with the robot model
+/// (`Safety::check_resolved`).
+pub fn check_switch_points(requests: &[MotionRequest]) -> Result<()> {
+    for (i, req) in requests.iter().enumerate() {
+        let MotionRequest::SetOutput {
+            path_mm: Some(p), ..
+        } = req
+        else {
+            continue;
+        };
+        let refuse =
+            |why: String| Err(BridgeError::invalid(format!("motion {i}: {why}")).at_motion(i));
+        if !p.is_finite() || p.abs() > kuka_protocol::MAX_TRIGGER_PATH_MM {
+            return refuse(format!(
+                "path_mm = {p} is not within ±{} mm",
+                kuka_protocol::MAX_TRIGGER_PATH_MM
+            ));
+        }
+        let is_sot = |r: &&MotionRequest| matches!(r, MotionRequest::SetOutput { .. });
+        let Some(before) = requests[..i].iter().rev().find(|r| !is_sot(r)) else {
+            return refuse(NO_MOTION_BEFORE.into());
+        };
+        if before.is_action() {
+            return refuse(NO_MOTION_BEFORE.into());
+        }
+        // The KRL program arms at most MAX_SWITCH_POINTS path triggers on
+        // one motion (docs/CONTROLLER.md point 25).
+        let same_motion = requests[..i]
+            .iter()
+            .rev()
+            .take_while(|r| is_sot(r))
+            .filter(|r| {
+                matches!(
+                    r,
+                    MotionRequest::SetOutput {
+                        path_mm: Some(_),
+                        ..
+                    }
+                )
+            })
+            .count();
+        if same_motion >= MAX_SWITCH_POINTS {
+            return refuse(format!(
+                "more than {MAX_SWITCH_POINTS} set_output actions with path_mm after one motion"
+            ));
+        }
+        let (lin_circ, slin_scirc) = (["lin", "circ"], ["slin", "scirc"]);
+        let kind = before.kind();
+        if !lin_circ.contains(&kind) && !slin_scirc.contains(&kind) {
+            return refuse(format!(
+                "a set_output with path_mm follows a {kind}: a KRL path trigger belongs to a lin, \
+                 circ, slin or scirc (a PTP takes none, a spline block's points are static KRL); \
+                 leave path_mm out, or move with a lin"
+            ));
+        }
+        if *p > 0.0 {
+            let after = requests[i + 1..].iter().find(|r| !is_sot(r));
+            let blends = after.is_some_and(|a| {
+                let next = a.kind();
+                before.speed().2 != Some(0.0)
+                    && if lin_circ.contains(&kind) {
+                        lin_circ.contains(&next)
+                    } else {
+                        slin_scirc.contains(&next) || next == "spl"
+                    }
+            });
+            if !blends {
+                return refuse(format!(
+                    "path_mm = {p} lies after the end point of the motion before it, where the robot \
+                     stops exactly: a positive path_mm needs a motion after it in the same request \
+                     into which the motion before blends (approx_mm not 0, the same motion family)"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// For each `SOP` record (a `set_output` with `path_mm`) of `records`, the
+/// record index, its distance and the motions it is measured along: the
+/// motion before it (negative distance) or the motion after it (positive),
+/// by record index. What [`check_switch_points`] let through has both.
+pub fn switch_points(records: &[MotionRecord]) -> Vec<(usize, f64, usize)> {
+    let is_sot = |r: &MotionRecord| matches!(r, MotionRecord::SetOutput { .. });
+    records
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| {
+            let MotionRecord::SetOutput {
+                path_mm: Some(p), ..
+            } = r
+            else {
+                return None;
+            };
+            let motion = if *p < 0.0 {
+                (0..i).rev().find(|&k| !is_sot(&records[k]))?
+            } else {
+                (i + 1..records.len()).find(|&k| !is_sot(&records[k]))?
+            };
+            Some((i, *p, motion))
+        })
+        .collect()
 }
 
 impl MotionRequest {
@@ -630,10 +769,13 @@ pub fn resolve(
                 signal,
                 value,
                 pulse_ms,
+                path_mm,
             } => MotionRecord::SetOutput {
                 index: index(signal)?,
                 value: *value,
                 pulse_ms: pulse_ms.unwrap_or(0),
+                // (as the protocol carries it: thousandths)
+                path_mm: path_mm.map(|p| (p * 1000.0).round() / 1000.0),
             },
             MotionRequest::WaitInput {
                 signal,

@@ -526,6 +526,9 @@ impl Safety {
             .at_motion(i));
         }
         targets()?;
+        if execution.error.is_none() {
+            switch_point_lengths(records, &execution.samples)?;
+        }
         match execution.error {
             None => {
                 // S/T as the controller will report them: from the axes
@@ -564,6 +567,44 @@ impl Safety {
             }
         }
     }
+}
+
+/// Slack (mm) of [`switch_point_lengths`]: the dry run's path is a chain
+/// of 12 ms chords, a little shorter than an arc.
+const SWITCH_POINT_SLACK_MM: f64 = 0.5;
+
+/// The dry run's check of the `set_output` actions with `path_mm`
+/// (docs/IO.md): a KRL `TRIGGER WHEN PATH` shifts its switching point at
+/// most back to the start of its motion and forward to the next exact
+/// stop, so |path_mm| may be at most the length of the motion before it
+/// (negative) or after it (positive), as planned: from where the motion
+/// takes over from the one before (the middle of an approximation arc) to
+/// where it hands over to the next. Longer: 422 `invalid_input`.
+fn switch_point_lengths(records: &[MotionRecord], samples: &[plan::Sample]) -> Result<()> {
+    for (i, p, motion) in crate::motion::switch_points(records) {
+        // The motion's piece of the path, with the step into its first
+        // sample from the last one of the motion before.
+        let first = samples.iter().position(|s| s.motion == motion);
+        let last = samples.iter().rposition(|s| s.motion == motion);
+        let length = match (first, last) {
+            (Some(a), Some(b)) => samples[a.saturating_sub(1)..=b]
+                .windows(2)
+                .map(|w| w[1].pose.distance_mm(&w[0].pose))
+                .sum(),
+            _ => 0.0,
+        };
+        if p.abs() > length + SWITCH_POINT_SLACK_MM {
+            let side = if p < 0.0 { "before" } else { "after" };
+            return Err(BridgeError::invalid(format!(
+                "motion {i}: path_mm = {p} lies {:.1} mm {side} the end point of the motion before it, \
+                 but motion {motion} is only {length:.1} mm long (a KRL path trigger shifts at most \
+                 to the start of its motion or to the next exact stop)",
+                p.abs()
+            ))
+            .at_motion(i));
+        }
+    }
+    Ok(())
 }
 
 impl Safety {

@@ -3925,15 +3925,34 @@ export interface components {
          *     (KRL `TRIGGER WHEN DISTANCE=0`), without stopping the robot: the
          *     motions on either side blend as if it were not there. Before a
          *     `wait_input`/`dwell`, or at the end, it switches once the motions
-         *     before it have ended. Only outputs on the site's allow-list
+         *     before it have ended. With `path_mm` it switches at that distance
+         *     along the path from the end point of the motion before it (KRL
+         *     `TRIGGER WHEN PATH`). Only outputs on the site's allow-list
          *     (`[io] outputs`, docs/IO.md).
          * @example {
          *       "type": "set_output",
-         *       "signal": "gripper_close",
-         *       "value": true
+         *       "signal": "glue_valve",
+         *       "value": false,
+         *       "path_mm": -5
          *     }
          */
         SetOutputAction: {
+            /**
+             * Format: double
+             * @description Switch at this distance in mm along the path from the end point
+             *     of the motion before the action (KRL `TRIGGER WHEN PATH =
+             *     path_mm DELAY = 0` on that motion): negative = that many mm
+             *     before the end point (on that motion), positive = after it,
+             *     along the next motion (the motion before must blend into it).
+             *     Needs a `lin`, `circ`, `slin` or `scirc` before it in the same
+             *     request (only other `set_output` actions between); a positive
+             *     value also a motion after it into which that one blends. With a
+             *     robot model, |path_mm| is at most the length of the motion
+             *     before (negative) or after (positive). Else 422
+             *     `invalid_input`. Omitted: as the next motion starts.
+             *     Resolution 0.001 mm.
+             */
+            path_mm?: number | null;
             /**
              * Format: int32
              * @description Return to the other value after this many ms (default: the

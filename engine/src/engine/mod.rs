@@ -378,6 +378,7 @@ impl Engine {
             // Signal names to numbers, the outputs against the allow-list:
             // nothing reaches the channel for another output.
             crate::motion::resolve_signals(motions, &self.shared.io())?;
+            crate::motion::check_switch_points(motions)?;
         }
         if let Operation::SetSpeed(s) = &op {
             check_speeds(s, &self.shared.safety)?;

@@ -226,6 +226,7 @@ fn main() -> anyhow::Result<()> {
             index: 1,
             value: true,
             pulse_ms: 0,
+            path_mm: None,
         },
         MotionRecord::Dwell { ms: 50 },
         lin(0.0, 0.0),

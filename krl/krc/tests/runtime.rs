@@ -1044,6 +1044,7 @@ fn sot(index: u16, value: bool, pulse_ms: u32) -> MotionRecord {
         index,
         value,
         pulse_ms,
+        path_mm: None,
     }
 }
 
@@ -1129,6 +1130,85 @@ fn an_output_between_two_blended_lins_switches_as_the_second_starts() {
         "the pulse ended"
     );
     assert_eq!(krc.bool_element("$OUT", 7), Some(true));
+    krc.shutdown();
+}
+
+fn sop(index: u16, path_mm: f64) -> MotionRecord {
+    MotionRecord::SetOutput {
+        index,
+        value: true,
+        pulse_ms: 0,
+        path_mm: Some(path_mm),
+    }
+}
+
+/// SOP records (PROTOCOL.md 5.6) through the shipped KRL program: LIN to
+/// x + 40 (exact stop), SOP(-15), SOP(-30), LIN on to x + 80 (blended,
+/// 5 mm, into a collinear LIN), SOP(+15), LIN to x + 110. Each output
+/// switches where the TCP is that far along the path from the end point
+/// of the LIN before it: $OUT[11] at x + 10 before $OUT[10] at x + 25
+/// (the triggers fire in the order of their points, not of their
+/// records: each has its own slot routine), $OUT[12] at x + 95, past the
+/// blend; the blended LINs stay one chain of motion.
+#[test]
+fn outputs_switch_at_their_distance_along_the_path() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // Real time: the test reads the outputs between cycles.
+    let krc = start_with(dir.path(), |c| c.time_scale = 1.0);
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let p = away_from_home(&krc, dir.path(), 1);
+    let batch = vec![
+        lin_to(p, 40.0, 0.0),
+        sop(10, -15.0),
+        sop(11, -30.0),
+        lin_to(p, 80.0, 5.0),
+        sop(12, 15.0),
+        lin_to(p, 110.0, 0.0),
+    ];
+    let before = krc.stats();
+    let text = CommandFile {
+        cid: 2,
+        command: Command::Move(batch),
+    }
+    .encode()
+    .expect("encodes");
+    write_command(&krc, dir.path(), &text);
+    // The X of the TCP in the cycle each output first reads TRUE.
+    let mut at: [Option<f64>; 3] = [None; 3];
+    let done = krc.wait_until(Duration::from_secs(30), |snap| {
+        for (k, a) in at.iter_mut().enumerate() {
+            if a.is_none() && krc.bool_element("$OUT", 10 + k as i64) == Some(true) {
+                *a = Some(snap.pose[0]);
+            }
+        }
+        at.iter().all(Option::is_some)
+    });
+    assert!(done, "{at:?} {:?}", krc.snapshot());
+    let r = wait_result(&krc, dir.path(), 2, 30);
+    assert_eq!((r.code, r.completed), (ResultCode::Ok, 6), "{r:?}");
+    let want = [p.x + 25.0, p.x + 10.0, p.x + 95.0];
+    for (k, (got, want)) in at.iter().zip(want).enumerate() {
+        let got = got.expect("switched");
+        eprintln!(
+            "$OUT[{}] switched at x {got:.2}, planned {want:.2} ({:+.2} mm)",
+            10 + k,
+            got - want
+        );
+        // One 12 ms cycle at 0.1 m/s is 1.2 mm; the test reads the
+        // outputs a few cycles late on a busy host.
+        assert!(
+            (got - want).abs() < 8.0,
+            "$OUT[{}] switched at x {got:.1}, planned {want:.1}",
+            10 + k
+        );
+    }
+    let after = krc.stats();
+    assert_eq!(after.motions_done - before.motions_done, 3, "{after:?}");
+    assert_eq!(
+        after.chains_started - before.chains_started,
+        2,
+        "an exact stop after the first LIN, the other two blend: {after:?}"
+    );
     krc.shutdown();
 }
 

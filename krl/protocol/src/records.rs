@@ -152,6 +152,12 @@ pub enum MotionRecord {
     /// ONSTART`; after the last motion, once it has ended). It does not
     /// stop the robot: motions on either side blend as if it were not
     /// there. A pulse returns the output after `pulse_ms` (0 = it stays).
+    ///
+    /// With `path_mm` it is the record `SOP i index value pulse_ms path K`:
+    /// the output switches where the robot is `path` mm along the path
+    /// from the end point of the motion before the record (negative:
+    /// before that end point; positive: after it, along the next motions),
+    /// KRL `TRIGGER WHEN PATH = path DELAY = 0` on that motion.
     SetOutput {
         /// `$OUT` index, 1..=[`MAX_IO_INDEX`].
         index: u16,
@@ -159,6 +165,10 @@ pub enum MotionRecord {
         value: bool,
         /// Pulse length in ms, 0..=[`MAX_PULSE_MS`] (0 = no pulse).
         pulse_ms: u32,
+        /// Where it switches, in mm along the path from the end point of
+        /// the motion before it (`SOP`); `None` = at the start of the next
+        /// motion (`SOT`). |path| ≤ [`MAX_TRIGGER_PATH_MM`].
+        path_mm: Option<f64>,
     },
     /// `WIN i index value timeout_ms K` — wait until `$IN[index] == value`
     /// (KRL `WAIT FOR` with a timer). The robot stops exactly at the end
@@ -181,6 +191,11 @@ pub enum MotionRecord {
         ms: u32,
     },
 }
+
+/// Largest |path| of an `SOP` record in mm: a KRL `TRIGGER WHEN PATH`
+/// shifts its switching point at most back to the start of its motion and
+/// forward to the next exact stop, and no motion of a KUKA arm is longer.
+pub const MAX_TRIGGER_PATH_MM: f64 = 5000.0;
 
 /// Longest wait of a `WIN` or `DWL` record in ms (10 minutes): nothing in
 /// a motion sequence waits for ever.
@@ -617,6 +632,7 @@ fn encode_motions(
                 index,
                 value,
                 pulse_ms,
+                path_mm,
             } => {
                 if *index == 0 || *index > MAX_IO_INDEX || *pulse_ms > MAX_PULSE_MS {
                     return Err(EncodeError::Shape(format!(
@@ -626,7 +642,18 @@ fn encode_motions(
                 f.push(Field::Int(i32::from(*index)));
                 f.push(Field::Int(i32::from(*value)));
                 f.push(Field::Int(*pulse_ms as i32));
-                "SOT"
+                match path_mm {
+                    None => "SOT",
+                    Some(p) => {
+                        if !p.is_finite() || p.abs() > MAX_TRIGGER_PATH_MM {
+                            return Err(EncodeError::Shape(format!(
+                                "a switching point {p} mm along the path is not within ±{MAX_TRIGGER_PATH_MM} mm"
+                            )));
+                        }
+                        f.push(crate::codec::real("path", *p)?);
+                        "SOP"
+                    }
+                }
             }
             MotionRecord::WaitInput {
                 index,
@@ -795,13 +822,29 @@ fn decode_motions(
                     ),
                 )
             }
-            "SOT" | "WIN" => {
-                let output = tag == "SOT";
-                let mut l = r.line(if output { "SOT" } else { "WIN" }, "iiii")?;
+            "SOT" | "SOP" | "WIN" => {
+                let output = tag != "WIN";
+                let mut l = match tag {
+                    "SOT" => r.line("SOT", "iiii")?,
+                    "SOP" => r.line("SOP", "iiiir")?,
+                    _ => r.line("WIN", "iiii")?,
+                };
+                let at_path = tag == "SOP";
                 let idx = l.int();
                 let index = l.int();
                 let value = l.int();
                 let ms = l.int();
+                let path_mm = if at_path {
+                    let p = l.real();
+                    if p.abs() > MAX_TRIGGER_PATH_MM {
+                        return Err(l.invalid(format!(
+                            "a switching point {p} mm along the path is not within ±{MAX_TRIGGER_PATH_MM} mm"
+                        )));
+                    }
+                    Some(p)
+                } else {
+                    None
+                };
                 let index = u16::try_from(index)
                     .ok()
                     .filter(|i| (1..=MAX_IO_INDEX).contains(i))
@@ -827,6 +870,7 @@ fn decode_motions(
                         index,
                         value,
                         pulse_ms: ms,
+                        path_mm,
                     }
                 } else {
                     MotionRecord::WaitInput {
@@ -853,7 +897,7 @@ fn decode_motions(
             other => {
                 return Err(DecodeError::Tag {
                     line: r.next_line_number(),
-                    expected: "PTP, PTA, LIN, CIR, SLN, SCI, SPT, SPL, SOT, WIN or DWL",
+                    expected: "PTP, PTA, LIN, CIR, SLN, SCI, SPT, SPL, SOT, SOP, WIN or DWL",
                     found: other.to_string(),
                 });
             }

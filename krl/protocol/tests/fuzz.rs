@@ -208,7 +208,7 @@ proptest! {
     fn protocol_like_lines_decode_or_fail(
         lines in prop::collection::vec(
             (
-                prop::sample::select(vec!["RES", "RSL", "STA", "POS", "AXS", "TOL", "BAS", "END", "CMD", "PTP", "LIN", "PTA", "CIR", "APD", ""]),
+                prop::sample::select(vec!["RES", "RSL", "STA", "POS", "AXS", "TOL", "BAS", "END", "CMD", "PTP", "LIN", "PTA", "CIR", "APD", "SOT", "SOP", "WIN", "DWL", ""]),
                 prop::collection::vec(
                     prop_oneof![
                         (-2_147_483_648i64..=2_147_483_647).prop_map(|v| v.to_string()),

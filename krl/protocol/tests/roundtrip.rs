@@ -43,6 +43,26 @@ fn sample_commands() -> Vec<CommandFile> {
                     target: f,
                     params: params(0.1),
                 },
+                // Actions: an SOT (switched as the next motion starts) and
+                // SOPs (at a distance along the path), at their limits.
+                MotionRecord::SetOutput {
+                    index: 1,
+                    value: true,
+                    pulse_ms: 0,
+                    path_mm: None,
+                },
+                MotionRecord::SetOutput {
+                    index: 4096,
+                    value: false,
+                    pulse_ms: 60_000,
+                    path_mm: Some(-5000.0),
+                },
+                MotionRecord::SetOutput {
+                    index: 2,
+                    value: true,
+                    pulse_ms: 250,
+                    path_mm: Some(12.345),
+                },
                 MotionRecord::Sptp {
                     target: f,
                     s: None,
@@ -359,6 +379,54 @@ fn invalid_values_are_refused() {
         }
         .encode()
         .is_err()
+    );
+    // An SOP's distance: finite and within ±MAX_TRIGGER_PATH_MM.
+    for p in [f64::NAN, f64::INFINITY, 5000.001, -5000.001, 1e300] {
+        let sop = CommandFile {
+            cid: 6,
+            command: Command::Move(vec![
+                MotionRecord::Lin {
+                    target: Frame::default(),
+                    params: params(0.1),
+                },
+                MotionRecord::SetOutput {
+                    index: 1,
+                    value: true,
+                    pulse_ms: 0,
+                    path_mm: Some(p),
+                },
+            ]),
+        };
+        assert!(sop.encode().is_err(), "path {p}");
+    }
+    let sop = |path: &str| {
+        let body = format!("SOP 0 1 1 0 {path}");
+        let fields: Vec<i64> = body
+            .split(' ')
+            .skip(1)
+            .map(|v| v.replace('.', "").parse().expect("a number"))
+            .collect();
+        let k = checksum(fields.iter().copied());
+        format!(
+            "CMD 2 7 1 1 {}\n{body} {k}\nEND 7 1 {}\n",
+            checksum([2, 7, 1, 1]),
+            checksum([7, 1])
+        )
+    };
+    let ok = CommandFile::decode(&sop("-12.500")).expect("an SOP decodes");
+    assert_eq!(
+        ok.command,
+        Command::Move(vec![MotionRecord::SetOutput {
+            index: 1,
+            value: true,
+            pulse_ms: 0,
+            path_mm: Some(-12.5),
+        }])
+    );
+    assert!(CommandFile::decode(&sop("5000.001")).is_err());
+    assert!(
+        CommandFile::decode(&sop("12")).is_err(),
+        "the path is a REAL"
     );
     let wrong_version = "CMD 1 5 3 0 K\n";
     assert_eq!(

@@ -422,11 +422,25 @@ fn edge_batch() -> CommandFile {
                 index: 4096,
                 value: true,
                 pulse_ms: 60_000,
+                path_mm: Some(-5000.0),
             },
             MotionRecord::SetOutput {
                 index: 1,
                 value: false,
                 pulse_ms: 0,
+                path_mm: Some(4999.999),
+            },
+            MotionRecord::SetOutput {
+                index: 4096,
+                value: true,
+                pulse_ms: 60_000,
+                path_mm: None,
+            },
+            MotionRecord::SetOutput {
+                index: 1,
+                value: false,
+                pulse_ms: 0,
+                path_mm: None,
             },
             MotionRecord::WaitInput {
                 index: 4096,
@@ -663,11 +677,18 @@ fn command_records(cmd: &CommandFile) -> Vec<(&'static str, Vec<Val>)> {
                         index,
                         value,
                         pulse_ms,
+                        path_mm,
                     } => {
                         v.push(Val::I(i64::from(*index)));
                         v.push(Val::I(i64::from(*value)));
                         v.push(Val::I(i64::from(*pulse_ms)));
-                        "SOT"
+                        match path_mm {
+                            None => "SOT",
+                            Some(p) => {
+                                v.push(Val::R(*p));
+                                "SOP"
+                            }
+                        }
                     }
                     MotionRecord::WaitInput {
                         index,
@@ -898,7 +919,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
         tags,
         [
             "ANO", "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP",
-            "SCI", "SLN", "SOT", "SPD", "SPL", "SPT", "WIN"
+            "SCI", "SLN", "SOP", "SOT", "SPD", "SPL", "SPT", "WIN"
         ],
         "the samples cover every command record"
     );
@@ -922,6 +943,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(formats["PRG"], one(1, 0));
     assert_eq!(formats["APD"], one(3, 0));
     assert_eq!(formats["SOT"], one(4, 0));
+    assert_eq!(formats["SOP"], one(5, 0b1_0000));
     assert_eq!(formats["WIN"], one(4, 0));
     assert_eq!(formats["DWL"], one(2, 0));
     assert_eq!(formats["ANO"], one(2, 0b10));
@@ -951,7 +973,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
         tags,
         BTreeSet::from([
             "ANO", "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP",
-            "RES", "RSL", "SCI", "SLN", "SOT", "SPD", "SPL", "SPT", "STA", "WIN"
+            "RES", "RSL", "SCI", "SLN", "SOP", "SOT", "SPD", "SPL", "SPT", "STA", "WIN"
         ]),
         "kb_submit.src parses exactly the protocol's records"
     );
@@ -1521,13 +1543,21 @@ fn state(files: &BTreeMap<String, String>) -> StateFile {
 fn assert_motion(g: &Globals, i: usize, m: &MotionRecord) {
     let int = |f: &str| g.int_at(&format!("kb_mot[{i}].{f}"));
     let real = |f: &str| g.real_at(&format!("kb_mot[{i}].{f}"));
-    // The actions: K 9 SOT, 10 WIN, 11 DWL; S = index, T = value, N = ms.
+    // The actions: K 9 SOT, 10 WIN, 11 DWL, 12 SOP; S = index, T =
+    // value, N = ms; an SOP's distance in X.
     let action = match m {
         MotionRecord::SetOutput {
             index,
             value,
             pulse_ms,
-        } => Some((9, i64::from(*index), i64::from(*value), *pulse_ms)),
+            path_mm,
+        } => {
+            if let Some(p) = path_mm {
+                assert_eq!(real("X"), Some(from_milli(*p)), "kb_mot[{i}].X for {m:?}");
+            }
+            let k = if path_mm.is_some() { 12 } else { 9 };
+            Some((k, i64::from(*index), i64::from(*value), *pulse_ms))
+        }
         MotionRecord::WaitInput {
             index,
             value,

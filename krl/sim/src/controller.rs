@@ -952,10 +952,11 @@ impl Controller {
             }
             let last = active.execution.samples.len().saturating_sub(1);
             let stop = active.next_sample == last;
-            switched.extend(active.actions.passed(s.motion));
             self.axes = s.axes;
             active.current_motion = s.motion;
             active.next_sample += 1;
+            let ahead = active.execution.samples[active.next_sample..].iter();
+            switched.extend(active.actions.passed(&s, ahead));
             if self.trace_capacity > 0 {
                 if self.trace.len() >= self.trace_capacity {
                     self.trace.pop_front();

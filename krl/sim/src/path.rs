@@ -224,7 +224,7 @@ impl PathRun {
             }
             let s = self.samples.pop_front().expect("front exists");
             self.current = s.motion;
-            switched.extend(self.actions.passed(s.motion));
+            switched.extend(self.actions.passed(&s, self.samples.iter()));
             out.push(s);
             if let Some((index, value)) = self.actions.wait(s.motion) {
                 let rest: Vec<_> = self

@@ -142,6 +142,9 @@ pub fn step_request(s: host::Step) -> MotionRequest {
             signal: SignalRef::Name(o.signal),
             value: o.value,
             pulse_ms: o.pulse_ms,
+            // (The WIT `io.set-output` record has no distance: plugins
+            // switch as the next motion starts.)
+            path_mm: None,
         },
         host::Step::WaitInput(w) => MotionRequest::WaitInput {
             signal: SignalRef::Name(w.signal),

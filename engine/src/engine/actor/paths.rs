@@ -359,6 +359,7 @@ impl Actor {
             // the path like one the plan refuses, and says where.
             safety.check_request(&requests).map_err(at)?;
             crate::motion::resolve_signals(&mut requests, &self.shared.io()).map_err(at)?;
+            crate::motion::check_switch_points(&requests).map_err(at)?;
             let mut records = resolve(&requests, &p.end, &self.speeds, approx).map_err(at)?;
             // Within a path the last motion of an append blends into the
             // next append's first (the robot stops at the path's end).

@@ -28,16 +28,30 @@ class SetOutputAction:
     (KRL `TRIGGER WHEN DISTANCE=0`), without stopping the robot: the
     motions on either side blend as if it were not there. Before a
     `wait_input`/`dwell`, or at the end, it switches once the motions
-    before it have ended. Only outputs on the site's allow-list
+    before it have ended. With `path_mm` it switches at that distance
+    along the path from the end point of the motion before it (KRL
+    `TRIGGER WHEN PATH`). Only outputs on the site's allow-list
     (`[io] outputs`, docs/IO.md).
 
         Example:
-            {'type': 'set_output', 'signal': 'gripper_close', 'value': True}
+            {'type': 'set_output', 'signal': 'glue_valve', 'value': False, 'path_mm': -5.0}
 
         Attributes:
             signal (int | str): A digital signal in a request: its number or its configured name.
             type_ (SetOutputActionType):
             value (bool): The value to set.
+            path_mm (float | None | Unset): Switch at this distance in mm along the path from the end point
+                of the motion before the action (KRL `TRIGGER WHEN PATH =
+                path_mm DELAY = 0` on that motion): negative = that many mm
+                before the end point (on that motion), positive = after it,
+                along the next motion (the motion before must blend into it).
+                Needs a `lin`, `circ`, `slin` or `scirc` before it in the same
+                request (only other `set_output` actions between); a positive
+                value also a motion after it into which that one blends. With a
+                robot model, |path_mm| is at most the length of the motion
+                before (negative) or after (positive). Else 422
+                `invalid_input`. Omitted: as the next motion starts.
+                Resolution 0.001 mm.
             pulse_ms (int | None | Unset): Return to the other value after this many ms (default: the
                 signal's configured `pulse_ms`, else none).
      """
@@ -45,6 +59,7 @@ class SetOutputAction:
     signal: int | str
     type_: SetOutputActionType
     value: bool
+    path_mm: float | None | Unset = UNSET
     pulse_ms: int | None | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
@@ -60,6 +75,12 @@ class SetOutputAction:
 
         value = self.value
 
+        path_mm: float | None | Unset
+        if isinstance(self.path_mm, Unset):
+            path_mm = UNSET
+        else:
+            path_mm = self.path_mm
+
         pulse_ms: int | None | Unset
         if isinstance(self.pulse_ms, Unset):
             pulse_ms = UNSET
@@ -74,6 +95,8 @@ class SetOutputAction:
             "type": type_,
             "value": value,
         })
+        if path_mm is not UNSET:
+            field_dict["path_mm"] = path_mm
         if pulse_ms is not UNSET:
             field_dict["pulse_ms"] = pulse_ms
 
@@ -97,6 +120,16 @@ class SetOutputAction:
 
         value = d.pop("value")
 
+        def _parse_path_mm(data: object) -> float | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(float | None | Unset, data)
+
+        path_mm = _parse_path_mm(d.pop("path_mm", UNSET))
+
+
         def _parse_pulse_ms(data: object) -> int | None | Unset:
             if data is None:
                 return data
@@ -111,6 +144,7 @@ class SetOutputAction:
             signal=signal,
             type_=type_,
             value=value,
+            path_mm=path_mm,
             pulse_ms=pulse_ms,
         )
 
