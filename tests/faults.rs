@@ -822,6 +822,14 @@ async fn an_emergency_stop_stops_the_robot_until_released_and_acknowledged() {
     );
     let (st, v) = t.post("/api/v1/sim/acknowledge").await;
     assert_eq!(st, 204, "{v}");
+    // Acknowledged: no stop message, drives on; the job the stop ended
+    // leaves the error state RESET clears.
+    t.wait_state("acknowledged, waiting for RESET", |s| {
+        s["controller"]["safety"]["stop_message"] == false
+            && s["controller"]["safety"]["drives_ready"] == true
+            && s["controller"]["status"] == "error"
+    })
+    .await;
     let (st, v) = t.post("/api/v1/reset").await;
     assert_eq!(st, 200, "{v}");
     t.wait_state("ready again", |s| {

@@ -692,6 +692,30 @@ async fn watched_analog_channels_publish_events_beyond_their_deadband() {
     let events = analog_events(&t).await;
     assert!(events.iter().all(|e| e["name"] == "force"), "{events:?}");
     assert_eq!(events.len(), 3, "{events:?}");
+    // Single channels, by name or number.
+    let (s, v) = t.get("/api/v1/io/analog-inputs/force").await;
+    assert_eq!(
+        (s, v["index"].as_u64(), v["value"].as_f64()),
+        (200, Some(2), Some(-0.5)),
+        "{v}"
+    );
+    let (s, v) = t.get("/api/v1/io/analog-outputs/1").await;
+    assert_eq!(
+        (
+            s,
+            v["name"].as_str(),
+            v["value"].as_f64(),
+            v["writable"].as_bool()
+        ),
+        (200, Some("spindle_speed"), Some(0.75), Some(true)),
+        "{v}"
+    );
+    let (s, v) = t.get("/api/v1/io/analog-inputs/12").await;
+    assert_eq!(v["code"], "signal_not_reported", "{s} {v}");
+    for bad in ["0", "33", "gripper_close", "%24ANIN%5B1%5D"] {
+        let (s, v) = t.get(&format!("/api/v1/io/analog-inputs/{bad}")).await;
+        assert!(s == 404 || s == 422, "{bad}: {s} {v}");
+    }
 }
 
 /// A request with a bearer token.

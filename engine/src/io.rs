@@ -140,6 +140,17 @@ pub struct AnalogOutputRequest {
     pub value: f64,
 }
 
+/// At most `n` characters of a client's text, to repeat it in an error:
+/// longer text ends with `…` (so a cut number is never shown as another
+/// number).
+pub fn clip(text: &str, n: usize) -> String {
+    let mut s: String = text.chars().take(n).collect();
+    if text.chars().nth(n).is_some() {
+        s.push('…');
+    }
+    s
+}
+
 /// A signal name: a lower-case letter, then lower-case letters, digits
 /// and `_`, at most 32 characters (digital and analog alike).
 fn signal_name(name: &str) -> bool {
@@ -264,7 +275,7 @@ impl IoConfig {
                 .ok_or_else(|| {
                     BridgeError::invalid(format!(
                         "{krl}[{}] does not exist: indices are 1..={MAX_ANALOG_INDEX}",
-                        signal.chars().take(12).collect::<String>()
+                        clip(signal, 12)
                     ))
                 })?;
             let name = list
@@ -321,7 +332,7 @@ impl IoConfig {
                     BridgeError::invalid(format!(
                         "{}[{}] does not exist: indices are 1..={MAX_IO_INDEX}",
                         kind.krl(),
-                        signal.chars().take(12).collect::<String>()
+                        clip(signal, 12)
                     ))
                 })?;
             return Ok((index, list.iter().find(|s| s.index == index)));

@@ -295,7 +295,10 @@ fn yes() -> bool {
 
 /// A digital signal in a request: its number or its configured name.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize, ToSchema)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "a signal number (1..=4096) or a configured name"
+)]
 pub enum SignalRef {
     /// `$IN`/`$OUT` index.
     Index(i64),

@@ -253,6 +253,29 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/io/analog-inputs/{signal}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * One analog input, by number (1..=32) or configured name.
+         * @description As the controller last reported it (channels 1..8; others:
+         *     `signal_not_reported`, read them with `GET /api/v1/variables/$ANIN[n]`).
+         *
+         *     **Access:** role `viewer` or higher.
+         */
+        get: operations["getAnalogInput"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/io/analog-outputs/{signal}": {
         parameters: {
             query?: never;
@@ -260,7 +283,11 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        get?: never;
+        /**
+         * One analog output, by number (1..=32) or configured name.
+         * @description **Access:** role `viewer` or higher.
+         */
+        get: operations["getAnalogOutput"];
         /**
          * Set an analog output the site allows.
          * @description Only the analog outputs in `[io] analog_outputs` (by number 1..32 or
@@ -819,8 +846,8 @@ export interface paths {
         };
         get?: never;
         /**
-         * Set a digital input of the simulated controller (`$IN[index]`, 1..=4096),
-         *     as the plant would: a part-present sensor, a button. The controller
+         * Set a digital input of the simulated controller (`$IN[index]`, 1..=4096,
+         *     or an input's name from the site's `[io]`), as the plant would: a part-present sensor, a button. The controller
          *     reports it in its next state file (`GET /api/v1/io`).
          * @description **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
          */
@@ -851,7 +878,7 @@ export interface paths {
          *     circuit is closed again — and, if a job was ended, `POST
          *     /api/v1/reset`. `GET /api/v1/state` shows it in `controller.safety`.
          *
-         *     **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
+         *     **Access:** role `operator` or higher.
          */
         put: operations["setSimSafety"];
         post?: never;
@@ -4985,6 +5012,142 @@ export interface operations {
             };
         };
     };
+    getAnalogInput: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description A number (1..=32) or a configured name */
+                signal: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["AnalogSignal"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
+    getAnalogOutput: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description A number (1..=32) or a configured name */
+                signal: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Success */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["AnalogSignal"];
+                };
+            };
+            /** @description No token, or an unknown or revoked one (`unauthenticated`) */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The token's role is too low (`forbidden`) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Too many failed token attempts from this address (`too_many_attempts`) */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description Rejected: problem+json with a stable code and a sentence */
+            "4XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description The controller or the service failed: problem+json with a stable code and a sentence */
+            "5XX": {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+        };
+    };
     setAnalogOutput: {
         parameters: {
             query?: never;
@@ -7448,8 +7611,8 @@ export interface operations {
             query?: never;
             header?: never;
             path: {
-                /** @description 1..=4096 */
-                index: number;
+                /** @description 1..=4096, or an input's name from the site's [io] configuration */
+                index: string;
             };
             cookie?: never;
         };
@@ -7580,15 +7743,6 @@ export interface operations {
             };
             /** @description Rejected: problem+json with a stable code and a sentence */
             404: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/problem+json": components["schemas"]["ProblemDetails"];
-                };
-            };
-            /** @description Another client holds control (`control_held`), or the controller refused */
-            409: {
                 headers: {
                     [name: string]: unknown;
                 };

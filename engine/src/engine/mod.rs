@@ -399,7 +399,7 @@ impl Engine {
             if !(a.value.is_finite() && (-1.0..=1.0).contains(&a.value)) {
                 return Err(BridgeError::invalid(format!(
                     "value = {} is not in -1..=1 (the normalised analog range)",
-                    a.value
+                    crate::io::clip(&format!("{:.6e}", a.value), 24)
                 )));
             }
         }

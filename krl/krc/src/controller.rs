@@ -303,6 +303,15 @@ impl KrcController {
     /// Assigns KRL text to a variable or a part of one between two cycles,
     /// as KUKAVARPROXY writes on a KRC; its value afterwards.
     pub fn write_krl(&self, path: &str, text: &str) -> Result<String, String> {
+        if path.trim().eq_ignore_ascii_case("$OV_PRO")
+            && !text
+                .trim()
+                .parse::<f64>()
+                .is_ok_and(|v| (0.0..=100.0).contains(&v.round()))
+        {
+            // A KRC refuses a program override outside 0..100 %.
+            return Err("$OV_PRO takes 0..100".into());
+        }
         let mut s = self.lock();
         let g = s.vars.as_mut().ok_or("the program is not loaded")?;
         g.assign_krl(path, text)?;

@@ -176,6 +176,10 @@ pub(crate) struct Controller {
     pub(crate) base_names: Vec<String>,
     /// The safety circuit and drives as a teach pendant shows them.
     pub(crate) safety: SafetyCircuit,
+    /// The error state was set by a safety stop (it ended a job): once
+    /// the operator has acknowledged, it is no stop message any more, only
+    /// the error RESET clears (as the KRL program's `kb_err` 30).
+    safety_error: bool,
     /// Results pushed outside a command or a motion step (an emergency
     /// stop ended the running command): the next [`Controller::advance`]
     /// reports them so that the runner writes the result file.
@@ -299,6 +303,7 @@ impl Controller {
             tool_names: vec![String::new(); TOOLS],
             base_names: vec![String::new(); BASES],
             safety: SafetyCircuit::default(),
+            safety_error: false,
             results_pending: false,
         }
     }
@@ -355,8 +360,23 @@ impl Controller {
                 } else {
                     (ResultCode::NotReady, 0)
                 });
+                self.safety_error = true;
             }
         }
+    }
+
+    /// Puts the controller into an error state that is a stop message (a
+    /// runtime error, until RESET).
+    pub(crate) fn set_error(&mut self, code: ResultCode, axis: u8) {
+        self.error = Some((code, axis));
+        self.safety_error = false;
+    }
+
+    /// Whether the error state is a stop message waiting for the operator:
+    /// any error but one a safety stop left behind (which, acknowledged,
+    /// only waits for RESET).
+    fn error_is_message(&self) -> bool {
+        self.error.is_some() && !self.safety_error
     }
 
     /// The operator acknowledges the stop message and switches the drives
@@ -374,6 +394,7 @@ impl Controller {
         self.safety.drives = true;
         if matches!(self.error, Some((ResultCode::NotReady, _))) {
             self.error = None;
+            self.safety_error = false;
         }
         Ok(())
     }
@@ -550,6 +571,7 @@ impl Controller {
                 // controller NOT_READY (as the KRL program's KsErrWatch).
                 self.error = (self.safety.stop_message || !self.safety.drives)
                     .then_some((ResultCode::NotReady, 0));
+                self.safety_error = self.error.is_some();
                 self.push_result(cid, ResultCode::Ok, 0, 0, None);
             }
             Command::GetPosition => self.push_result(cid, ResultCode::Ok, 0, 0, None),
@@ -1125,8 +1147,12 @@ impl Controller {
                 drives_ready: self.safety.drives,
                 user_safety: self.safety.user_safety,
                 alarm_stop: self.safety.alarm_stop,
-                stop_message: self.safety.stop_message || self.error.is_some(),
-                program_state: if self.error.is_some() { 3 } else { 2 },
+                stop_message: self.safety.stop_message || self.error_is_message(),
+                program_state: if self.safety.stop_message || self.error_is_message() {
+                    3
+                } else {
+                    2
+                },
             }),
         }
     }

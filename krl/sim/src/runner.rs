@@ -364,7 +364,7 @@ impl SimController {
     /// Puts the controller into an error state (as an acknowledgeable KRC
     /// message would) until a RESET command.
     pub fn inject_error(&self, code: ResultCode, axis: u8) {
-        self.lock().error = Some((code, axis));
+        self.lock().set_error(code, axis);
         let _ = self.shared.wake.send(());
     }
 

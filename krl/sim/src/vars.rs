@@ -157,7 +157,10 @@ impl Controller {
         let (root, index, field) = split(path)?;
         match (root.as_str(), field) {
             ("$OV_PRO", None) => {
-                let ov = num(&v).filter(|o| (0.0..=100.0).contains(o))?;
+                // An INT on a KRC: a REAL is rounded as KRL assigns it.
+                let ov = num(&v)
+                    .map(f64::round)
+                    .filter(|o| (0.0..=100.0).contains(o))?;
                 self.speed.override_pct = ov;
                 self.plan.override_pct = ov;
             }

@@ -123,6 +123,8 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("PUT", "/api/v1/io/outputs/{signal}", OPERATE),
     ("GET", "/api/v1/io/analog", READ),
     ("PUT", "/api/v1/io/analog-outputs/{signal}", OPERATE),
+    ("GET", "/api/v1/io/analog-outputs/{signal}", READ),
+    ("GET", "/api/v1/io/analog-inputs/{signal}", READ),
     ("GET", "/api/v1/variables/{name}", READ),
     ("PUT", "/api/v1/variables/{name}", OPERATE),
     ("GET", "/api/v1/tools/{number}", READ),
@@ -172,7 +174,8 @@ const TABLE: &[(&str, &str, Rule)] = &[
     ("DELETE", "/api/v1/sim/trace", OPERATE),
     ("POST", "/api/v1/sim/acknowledge", OPERATE),
     ("PUT", "/api/v1/sim/inputs/{index}", OPERATE),
-    ("PUT", "/api/v1/sim/safety", OPERATE),
+    // The simulated emergency stop: never held back by the control lease.
+    ("PUT", "/api/v1/sim/safety", STOP),
     ("PUT", "/api/v1/sim/analog-inputs/{index}", OPERATE),
     // Documentation.
     ("GET", "/openapi.json", PUBLIC),

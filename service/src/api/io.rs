@@ -50,7 +50,7 @@ pub struct IoView {
 
 /// The body of an output write.
 #[derive(Debug, Clone, Deserialize, ToSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "an object such as {\"value\": true}")]
 #[schema(example = json!({"value": true}))]
 pub struct OutputWrite {
     /// The value to set.
@@ -239,7 +239,7 @@ pub struct AnalogView {
 
 /// The body of an analog output write.
 #[derive(Debug, Clone, Deserialize, ToSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "an object such as {\"value\": 0.5}")]
 #[schema(example = json!({"value": 0.5}))]
 pub struct AnalogWrite {
     /// Normalised value, −1..=1; the protocol carries 3 decimals.
@@ -305,6 +305,60 @@ async fn get_analog(State(app): State<AppState>) -> Result<Response, Problem> {
     }))
 }
 
+/// One analog channel, by number or name, as the controller last reported
+/// it (`output`: `$ANOUT`, else `$ANIN`).
+fn analog_signal(app: &AppState, output: bool, signal: &str) -> Result<AnalogSignal, BridgeError> {
+    let io = app.engine.io_config();
+    let (index, name) = io.resolve_analog(output, signal)?;
+    let w = analog_window(app)?;
+    let values = if output { &w.outputs } else { &w.inputs };
+    let kind = if output { "$ANOUT" } else { "$ANIN" };
+    let value = *values.get(usize::from(index) - 1).ok_or_else(|| {
+        BridgeError::new(
+            ErrorCode::SignalNotReported,
+            format!(
+                "{kind}[{index}] is not reported: the controller reports channels 1..={} (read it as a variable: GET /api/v1/variables/{kind}%5B{index}%5D)",
+                values.len()
+            ),
+        )
+    })?;
+    Ok(AnalogSignal {
+        index,
+        name: name.map(str::to_string),
+        value,
+        writable: output && io.analog_writable(index).is_ok(),
+    })
+}
+
+/// One analog input, by number (1..=32) or configured name.
+///
+/// As the controller last reported it (channels 1..8; others:
+/// `signal_not_reported`, read them with `GET /api/v1/variables/$ANIN[n]`).
+#[utoipa::path(get, path = "/api/v1/io/analog-inputs/{signal}", tag = "io",
+    params(("signal" = String, Path, description = "A number (1..=32) or a configured name")),
+    responses((status = 200, body = AnalogSignal),
+        (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_analog_input(
+    State(app): State<AppState>,
+    Path(signal): Path<String>,
+) -> Result<Response, Problem> {
+    Ok(ok_json(&analog_signal(&app, false, &signal)?))
+}
+
+/// One analog output, by number (1..=32) or configured name.
+#[utoipa::path(get, path = "/api/v1/io/analog-outputs/{signal}", tag = "io",
+    params(("signal" = String, Path, description = "A number (1..=32) or a configured name")),
+    responses((status = 200, body = AnalogSignal),
+        (status = "4XX", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = "5XX", body = ProblemDetails, content_type = PROBLEM_JSON)))]
+async fn get_analog_output(
+    State(app): State<AppState>,
+    Path(signal): Path<String>,
+) -> Result<Response, Problem> {
+    Ok(ok_json(&analog_signal(&app, true, &signal)?))
+}
+
 /// Set an analog output the site allows.
 ///
 /// Only the analog outputs in `[io] analog_outputs` (by number 1..32 or
@@ -329,7 +383,8 @@ async fn put_analog_output(
     let io = app.engine.io_config();
     let (index, _) = io.resolve_analog(true, &name)?;
     let entry = io.analog_writable(index)?;
-    let value = (body.value * 1000.0).round() / 1000.0;
+    // (+ 0.0: no "-0.0" for a small negative value)
+    let value = (body.value * 1000.0).round() / 1000.0 + 0.0;
     app.engine
         .execute(
             Operation::SetAnalogOutput(AnalogOutputRequest {
@@ -417,7 +472,8 @@ pub(super) fn router() -> OpenApiRouter<AppState> {
     OpenApiRouter::new()
         .routes(routes!(get_io_config, put_io_config, delete_io_config))
         .routes(routes!(get_analog))
-        .routes(routes!(put_analog_output))
+        .routes(routes!(get_analog_output, put_analog_output))
+        .routes(routes!(get_analog_input))
         .routes(routes!(get_io))
         .routes(routes!(get_input))
         .routes(routes!(get_output, put_output))

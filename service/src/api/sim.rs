@@ -159,7 +159,10 @@ async fn acknowledge(State(app): State<AppState>) -> Result<axum::http::StatusCo
 
 /// A change of the simulated cell's safety circuit.
 #[derive(Debug, Clone, Deserialize, ToSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "an object such as {\"emergency_stop\": true}"
+)]
 #[schema(example = json!({"emergency_stop": true}))]
 pub struct SafetyChange {
     /// Press (`true`) or release (`false`) the emergency stop
@@ -209,18 +212,18 @@ async fn put_safety(
 
 /// The value of a simulated digital input.
 #[derive(Debug, Clone, serde::Deserialize, utoipa::ToSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "an object such as {\"value\": true}")]
 #[schema(example = json!({"value": true}))]
 pub struct InputValue {
     /// `$IN[index]`.
     pub value: bool,
 }
 
-/// Set a digital input of the simulated controller (`$IN[index]`, 1..=4096),
-/// as the plant would: a part-present sensor, a button. The controller
+/// Set a digital input of the simulated controller (`$IN[index]`, 1..=4096,
+/// or an input's name from the site's `[io]`), as the plant would: a part-present sensor, a button. The controller
 /// reports it in its next state file (`GET /api/v1/io`).
 #[utoipa::path(put, path = "/api/v1/sim/inputs/{index}", tag = "simulator",
-    params(("index" = u16, Path, minimum = 1, maximum = 4096, description = "1..=4096")),
+    params(("index" = String, Path, description = "1..=4096, or an input's name from the site's [io] configuration")),
     request_body = InputValue,
     responses((status = 204, description = "Set"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON), (status = 422, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn put_input(
@@ -228,17 +231,24 @@ async fn put_input(
     axum::extract::Path(index): axum::extract::Path<String>,
     JsonBody(v): JsonBody<InputValue>,
 ) -> Result<axum::http::StatusCode, Problem> {
-    let index: u16 = index
-        .parse()
-        .ok()
-        .filter(|i| (1..=kuka_protocol::MAX_IO_INDEX).contains(i))
-        .ok_or_else(|| {
-            BridgeError::invalid(format!(
-                "$IN[{}] does not exist: a simulated input is given by its number, 1..={}",
-                index.chars().take(12).collect::<String>(),
+    // A number, or an input name from the site's [io] configuration.
+    let index: u16 = match index.parse::<u16>() {
+        Ok(i) if (1..=kuka_protocol::MAX_IO_INDEX).contains(&i) => i,
+        _ if index.starts_with(|c: char| c.is_ascii_lowercase()) => {
+            app.engine
+                .io_config()
+                .resolve(crate::io::IoKind::Input, &index)?
+                .0
+        }
+        _ => {
+            return Err(BridgeError::invalid(format!(
+                "$IN[{}] does not exist: a simulated input is given by its number, 1..={}, or its name",
+                crate::io::clip(&index, 24),
                 kuka_protocol::MAX_IO_INDEX
             ))
-        })?;
+            .into());
+        }
+    };
     let set = match sim(&app)? {
         Simulated::Native(sim) => sim.set_input(index, v.value),
         Simulated::Krc(krc) => krc.set_bool_element("$IN", i64::from(index), v.value),
@@ -256,7 +266,7 @@ async fn put_input(
 
 /// The body of a simulated analog input.
 #[derive(Debug, Clone, Deserialize, ToSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "an object such as {\"value\": 0.25}")]
 #[schema(example = json!({"value": 0.25}))]
 pub struct AnalogInputValue {
     /// `$ANIN[index]`, normalised −1..=1.
@@ -284,12 +294,12 @@ async fn put_analog_input(
         .ok_or_else(|| {
             BridgeError::invalid(format!(
                 "$ANIN[{}] does not exist: a simulated analog input is given by its number, 1..={max}",
-                index.chars().take(12).collect::<String>()
+                crate::io::clip(&index, 12)
             ))
         })?;
     if !(v.value.is_finite() && (-1.0..=1.0).contains(&v.value)) {
         return Err(BridgeError::invalid(format!(
-            "value = {} is not in -1..=1 (the normalised analog range)",
+            "value = {:.6e} is not in -1..=1 (the normalised analog range)",
             v.value
         ))
         .into());

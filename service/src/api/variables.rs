@@ -18,7 +18,7 @@ use crate::variables::Variable;
 
 /// The body of a variable write.
 #[derive(Debug, Clone, Deserialize, ToSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "an object such as {\"value\": 42}")]
 #[schema(example = json!({"value": 50}))]
 pub struct VariableWrite {
     /// The new value: a number, a boolean, a string (printable ASCII
@@ -129,7 +129,7 @@ async fn entry(app: &AppState, tool: bool, number: &str) -> Result<TableEntry, B
         .ok_or_else(|| {
             BridgeError::invalid(format!(
                 "{name} has the entries 1..={size}, not {:?}",
-                number.chars().take(12).collect::<String>()
+                crate::io::clip(number, 12)
             ))
         })?;
     let v = app.variables.read(&format!("{name}[{number}]")).await?;

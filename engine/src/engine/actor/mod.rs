@@ -858,10 +858,8 @@ impl Actor {
             add(ErrorCode::ProtocolError, fault);
         }
         if let Some(e) = self.ctl.state.as_ref().and_then(state_error) {
-            out.push(BridgeError::new(
-                ErrorCode::ControllerError,
-                format!("the controller is in its error state ({}): acknowledge it with POST /api/v1/reset", e.detail),
-            ));
+            // (The detail says what clears it.)
+            out.push(BridgeError::new(ErrorCode::ControllerError, e.detail));
         } else if self
             .ctl
             .state

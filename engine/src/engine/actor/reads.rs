@@ -150,6 +150,16 @@ impl Actor {
         self.path_state(&s);
         self.io_changes(&s);
         self.analog_changes(&s);
+        // The override changed on the controller (a variable write of
+        // $OV_PRO, the pendant): the speeds follow it. (Only a change
+        // between two state files: a state written before a SETSPEED ran
+        // must not take back the value it set.)
+        if let Some(prev) = self.ctl.state.as_ref()
+            && (s.override_pct - prev.override_pct).abs() > 1e-9
+            && (0.0..=100.0).contains(&s.override_pct)
+        {
+            self.speeds.override_pct = s.override_pct;
+        }
         self.ctl.state = Some(s);
     }
 

@@ -1143,7 +1143,9 @@ fn krl_of(v: &Value) -> Option<String> {
     Some(match v {
         Value::Unset(_) | Value::Opaque(_) => return None,
         Value::Int(i) => i.to_string(),
-        Value::Real(r) => kuka_kvp::KrlValue::Real(*r).to_krl(),
+        // (6 decimals: a KRC's REAL is a 32-bit float; the runtime's f64
+        // arithmetic leaves noise such as 355.0000000000001 below that.)
+        Value::Real(r) => kuka_kvp::KrlValue::Real((r * 1e6).round() / 1e6 + 0.0).to_krl(),
         Value::Bool(b) => if *b { "TRUE" } else { "FALSE" }.into(),
         Value::Char(c) => format!("'{}'", char::from(*c)),
         Value::Str(s) => format!("\"{s}\""),

@@ -15,7 +15,7 @@ from typing import cast
 
 
 def _get_kwargs(
-    index: int,
+    index: str,
     *,
     body: InputValue,
 
@@ -118,14 +118,15 @@ def _build_response(*, client: AuthenticatedClient | Client, response: httpx.Res
 
 
 def sync_detailed(
-    index: int,
+    index: str,
     *,
     client: AuthenticatedClient,
     body: InputValue,
 
 ) -> Response[Any | ProblemDetails]:
-    """ Set a digital input of the simulated controller (`$IN[index]`, 1..=4096),
-    as the plant would: a part-present sensor, a button. The controller
+    """ Set a digital input of the simulated controller (`$IN[index]`, 1..=4096,
+    or an input's name from the site's `[io]`), as the plant would: a part-present sensor, a button. The
+    controller
     reports it in its next state file (`GET /api/v1/io`).
 
      
@@ -134,7 +135,7 @@ def sync_detailed(
     control.
 
     Args:
-        index (int):
+        index (str):
         body (InputValue): The value of a simulated digital input. Example: {'value': True}.
 
     Raises:
@@ -159,14 +160,15 @@ body=body,
     return _build_response(client=client, response=response)
 
 def sync(
-    index: int,
+    index: str,
     *,
     client: AuthenticatedClient,
     body: InputValue,
 
 ) -> Any | ProblemDetails | None:
-    """ Set a digital input of the simulated controller (`$IN[index]`, 1..=4096),
-    as the plant would: a part-present sensor, a button. The controller
+    """ Set a digital input of the simulated controller (`$IN[index]`, 1..=4096,
+    or an input's name from the site's `[io]`), as the plant would: a part-present sensor, a button. The
+    controller
     reports it in its next state file (`GET /api/v1/io`).
 
      
@@ -175,7 +177,7 @@ def sync(
     control.
 
     Args:
-        index (int):
+        index (str):
         body (InputValue): The value of a simulated digital input. Example: {'value': True}.
 
     Raises:
@@ -195,14 +197,15 @@ body=body,
     ).parsed
 
 async def asyncio_detailed(
-    index: int,
+    index: str,
     *,
     client: AuthenticatedClient,
     body: InputValue,
 
 ) -> Response[Any | ProblemDetails]:
-    """ Set a digital input of the simulated controller (`$IN[index]`, 1..=4096),
-    as the plant would: a part-present sensor, a button. The controller
+    """ Set a digital input of the simulated controller (`$IN[index]`, 1..=4096,
+    or an input's name from the site's `[io]`), as the plant would: a part-present sensor, a button. The
+    controller
     reports it in its next state file (`GET /api/v1/io`).
 
      
@@ -211,7 +214,7 @@ async def asyncio_detailed(
     control.
 
     Args:
-        index (int):
+        index (str):
         body (InputValue): The value of a simulated digital input. Example: {'value': True}.
 
     Raises:
@@ -236,14 +239,15 @@ body=body,
     return _build_response(client=client, response=response)
 
 async def asyncio(
-    index: int,
+    index: str,
     *,
     client: AuthenticatedClient,
     body: InputValue,
 
 ) -> Any | ProblemDetails | None:
-    """ Set a digital input of the simulated controller (`$IN[index]`, 1..=4096),
-    as the plant would: a part-present sensor, a button. The controller
+    """ Set a digital input of the simulated controller (`$IN[index]`, 1..=4096,
+    or an input's name from the site's `[io]`), as the plant would: a part-present sensor, a button. The
+    controller
     reports it in its next state file (`GET /api/v1/io`).
 
      
@@ -252,7 +256,7 @@ async def asyncio(
     control.
 
     Args:
-        index (int):
+        index (str):
         body (InputValue): The value of a simulated digital input. Example: {'value': True}.
 
     Raises:

@@ -66,13 +66,6 @@ def _parse_response(*, client: AuthenticatedClient | Client, response: httpx.Res
 
         return response_404
 
-    if response.status_code == 409:
-        response_409 = ProblemDetails.from_dict(response.json())
-
-
-
-        return response_409
-
     if response.status_code == 422:
         response_422 = ProblemDetails.from_dict(response.json())
 
@@ -133,8 +126,7 @@ def sync_detailed(
     circuit is closed again — and, if a job was ended, `POST
     /api/v1/reset`. `GET /api/v1/state` shows it in `controller.safety`.
 
-    **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds
-    control.
+    **Access:** role `operator` or higher.
 
     Args:
         body (SafetyChange): A change of the simulated cell's safety circuit. Example:
@@ -177,8 +169,7 @@ def sync(
     circuit is closed again — and, if a job was ended, `POST
     /api/v1/reset`. `GET /api/v1/state` shows it in `controller.safety`.
 
-    **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds
-    control.
+    **Access:** role `operator` or higher.
 
     Args:
         body (SafetyChange): A change of the simulated cell's safety circuit. Example:
@@ -216,8 +207,7 @@ async def asyncio_detailed(
     circuit is closed again — and, if a job was ended, `POST
     /api/v1/reset`. `GET /api/v1/state` shows it in `controller.safety`.
 
-    **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds
-    control.
+    **Access:** role `operator` or higher.
 
     Args:
         body (SafetyChange): A change of the simulated cell's safety circuit. Example:
@@ -260,8 +250,7 @@ async def asyncio(
     circuit is closed again — and, if a job was ended, `POST
     /api/v1/reset`. `GET /api/v1/state` shows it in `controller.safety`.
 
-    **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds
-    control.
+    **Access:** role `operator` or higher.
 
     Args:
         body (SafetyChange): A change of the simulated cell's safety circuit. Example:
