@@ -75,17 +75,22 @@ pub fn motion_request(m: host::Motion) -> MotionRequest {
             approx_mm: m.params.approx_mm,
         },
         host::Motion::Circ(m) => MotionRequest::Circ {
-            aux: AuxPoint {
-                x: Some(m.aux.x),
-                y: Some(m.aux.y),
-                z: Some(m.aux.z),
-            },
+            aux: aux_point(&m.aux),
             target: target(&m.target, None, None),
             relative: false,
             velocity_m_s: m.params.velocity,
             acceleration_pct: m.params.acceleration_pct,
             approx_mm: m.params.approx_mm,
         },
+    }
+}
+
+/// A plugin's auxiliary point (CIRC, SCIRC) as the REST API's.
+fn aux_point(p: &host::Point) -> AuxPoint {
+    AuxPoint {
+        x: Some(p.x),
+        y: Some(p.y),
+        z: Some(p.z),
     }
 }
 
@@ -111,11 +116,7 @@ pub fn any_motion_request(m: host::AnyMotion) -> MotionRequest {
             approx_mm: m.params.approx_mm,
         },
         host::AnyMotion::Scirc(m) => MotionRequest::Scirc {
-            aux: AuxPoint {
-                x: Some(m.aux.x),
-                y: Some(m.aux.y),
-                z: Some(m.aux.z),
-            },
+            aux: aux_point(&m.aux),
             target: target(&m.target, None, None),
             relative: false,
             velocity_m_s: m.params.velocity,
