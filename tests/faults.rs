@@ -868,6 +868,19 @@ async fn an_emergency_stop_stops_the_robot_until_released_and_acknowledged() {
         (409, Some("controller_error")),
         "{v}"
     );
+    // Nor can a reset clear the error: it says why and what clears it.
+    let (st, v) = t.post("/api/v1/reset").await;
+    assert_eq!(
+        (st, v["code"].as_str()),
+        (409, Some("controller_error")),
+        "{v}"
+    );
+    assert!(
+        v["detail"].as_str().is_some_and(|d| d.contains("reset")
+            && d.contains("operator safety")
+            && d.contains("release it")),
+        "{v}"
+    );
     let (st, v) = t
         .put_json("/api/v1/sim/safety", &json!({"user_safety": true}))
         .await;

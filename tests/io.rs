@@ -797,6 +797,23 @@ async fn an_admin_edits_the_allow_list_and_it_applies_at_once_and_after_a_restar
             "{bad}: {v}"
         );
     }
+    // A list with several mistakes names each of them at once.
+    let bad = json!({
+        "inputs": [{"name": "Part", "index": 3}],
+        "outputs": [{"name": "lamp", "index": 5000}, {"name": "horn", "index": 2, "pulse_ms": 70000}],
+        "analog_outputs": [{"name": "lamp", "index": 1}]
+    });
+    let (s, v) = call_as(&t, Method::PUT, "/api/v1/io/config", &admin, Some(&bad)).await;
+    assert_eq!(s, 422, "{v}");
+    let detail = v["detail"].as_str().unwrap_or_default();
+    for problem in [
+        "io.inputs: name \"Part\"",
+        "io.outputs: \"lamp\" has index 5000",
+        "io.outputs: \"horn\" has pulse_ms 70000",
+        "io.analog_outputs: the name \"lamp\" is used twice",
+    ] {
+        assert!(detail.contains(problem), "{problem} missing in {v}");
+    }
     let (_, now) = call_as(&t, Method::GET, "/api/v1/io/config", &operator, None).await;
     assert_eq!(now, cfg, "unchanged after refused edits");
     let (s, v) = call_as(&t, Method::PUT, "/api/v1/io/config", &admin, Some(&edited)).await;

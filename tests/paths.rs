@@ -227,6 +227,13 @@ async fn a_refused_motion_mid_stream() {
         e["motion"], 11,
         "path-wide index of the refused motion: {e}"
     );
+    // The sentence numbers it in the append and in the path.
+    assert!(
+        e["detail"]
+            .as_str()
+            .is_some_and(|d| d.ends_with("(motion 11 of the path)")),
+        "{e}"
+    );
     let (_, j) = t.get(&format!("/api/v1/paths/{id}")).await;
     assert_eq!(
         j["path"]["appended"], 10,

@@ -784,6 +784,16 @@ async fn misbehaving_plugins_get_their_error_and_the_service_keeps_running() {
     let (status, v) = draw_circle(&t, json!({"x": 2000, "y": 0, "z": 100, "radius": 40})).await;
     assert_eq!(status, 422, "{v}");
     assert_eq!(v["code"], "unreachable", "{v}");
+    // With the title that code has everywhere in the API.
+    let (_, native) = t
+        .motions(json!([{"type": "lin", "target": {"x": 2000, "y": 0, "z": 100}}]))
+        .await;
+    assert_eq!(native["code"], "unreachable", "{native}");
+    assert_eq!(
+        (&v["type"], &v["title"]),
+        (&native["type"], &native["title"]),
+        "{v}"
+    );
     let (status, v) = draw_circle(
         &t,
         json!({"x": 300, "y": 0, "z": 100, "radius": 40, "speed_m_s": 50}),

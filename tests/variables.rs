@@ -123,7 +123,15 @@ async fn a_tool_written_and_selected_by_number_changes_the_tcp() {
     assert_eq!((s, e["name"].as_str()), (200, Some("gripper")), "{e}");
     let (s, e) = t.get("/api/v1/tools/4").await;
     assert_eq!((s, &e["name"]), (200, &Value::Null), "{e}");
-    let (s, e) = t.post("/api/v1/tools/3/select").await;
+    // Selecting takes no options: a body that looks like one is refused,
+    // not ignored (and nothing is selected).
+    let (s, v) = t
+        .post_json("/api/v1/tools/3/select", &json!({"number": 4}))
+        .await;
+    assert_eq!((s, v["code"].as_str()), (422, Some("invalid_input")), "{v}");
+    let (_, tool) = t.get("/api/v1/tool").await;
+    assert_eq!(tool["z"], 0.0, "nothing selected: {tool}");
+    let (s, e) = t.post_json("/api/v1/tools/3/select", &json!({})).await;
     assert_eq!(s, 200, "{e}");
     let (_, tool) = t.get("/api/v1/tool").await;
     assert_eq!(tool["z"], 120.5, "{tool}");

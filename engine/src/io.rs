@@ -162,97 +162,76 @@ fn signal_name(name: &str) -> bool {
 }
 
 impl IoConfig {
-    /// Checks names, numbers and pulses; the sentence names the entry.
+    /// Checks names, numbers and pulses. Every problem is reported, each
+    /// naming its entry, joined with "; ", so that a site fixes its list
+    /// in one go.
     pub fn validate(&self) -> std::result::Result<(), String> {
+        let mut bad = Vec::new();
         let mut names = std::collections::HashSet::new();
-        for (kind, list) in [("inputs", &self.inputs), ("outputs", &self.outputs)] {
-            let mut indices = std::collections::HashSet::new();
-            for s in list {
-                if !signal_name(s.name.as_str()) {
-                    return Err(format!(
-                        "io.{kind}: name {:?} must be a lower-case letter, then lower-case letters, digits or _, at most 32 characters",
-                        s.name
-                    ));
-                }
-                if !names.insert(s.name.clone()) {
-                    return Err(format!(
-                        "io.{kind}: the name {:?} is used twice (names are unique over inputs and outputs)",
-                        s.name
-                    ));
-                }
-                if s.index == 0 || s.index > MAX_IO_INDEX {
-                    return Err(format!(
-                        "io.{kind}: {:?} has index {}, not in 1..={MAX_IO_INDEX}",
-                        s.name, s.index
-                    ));
-                }
-                if !indices.insert(s.index) {
-                    return Err(format!("io.{kind}: index {} is named twice", s.index));
-                }
-                if s.pulse_ms > MAX_PULSE_MS || (kind == "inputs" && s.pulse_ms > 0) {
-                    return Err(format!(
-                        "io.{kind}: {:?} has pulse_ms {} (outputs only, at most {MAX_PULSE_MS})",
-                        s.name, s.pulse_ms
-                    ));
-                }
-            }
-        }
-        self.validate_analog()
-    }
-
-    /// Checks the analog channels (names as for digital signals, unique
-    /// over every list; indices 1..=32).
-    fn validate_analog(&self) -> std::result::Result<(), String> {
-        let mut names: std::collections::HashSet<&str> = self
-            .inputs
-            .iter()
-            .chain(&self.outputs)
-            .map(|s| s.name.as_str())
-            .collect();
-        for (kind, list) in [
+        let digital = [("inputs", &self.inputs), ("outputs", &self.outputs)]
+            .into_iter()
+            .flat_map(|(kind, list)| {
+                list.iter()
+                    .map(move |s| (kind, s.name.as_str(), s.index, s.pulse_ms, None))
+            });
+        let analog = [
             ("analog_inputs", &self.analog_inputs),
             ("analog_outputs", &self.analog_outputs),
-        ] {
-            let mut indices = std::collections::HashSet::new();
-            for a in list {
-                if !signal_name(a.name.as_str()) {
-                    return Err(format!(
-                        "io.{kind}: name {:?} must be a lower-case letter, then lower-case letters, digits or _, at most 32 characters",
-                        a.name
-                    ));
-                }
-                if !names.insert(a.name.as_str()) {
-                    return Err(format!(
-                        "io.{kind}: the name {:?} is used twice (names are unique over all signals)",
-                        a.name
-                    ));
-                }
-                if a.index == 0 || a.index > MAX_ANALOG_INDEX {
-                    return Err(format!(
-                        "io.{kind}: {:?} has index {}, not in 1..={MAX_ANALOG_INDEX}",
-                        a.name, a.index
-                    ));
-                }
-                if !indices.insert(a.index) {
-                    return Err(format!("io.{kind}: index {} is named twice", a.index));
-                }
-                if a.watch && usize::from(a.index) > AnalogState::WIDTH {
-                    return Err(format!(
-                        "io.{kind}: {:?} (index {}) cannot be watched: the controller reports channels 1..={} only",
-                        a.name,
-                        a.index,
-                        AnalogState::WIDTH
-                    ));
-                }
-                if !(a.deadband.is_finite() && a.deadband >= 0.001 && a.deadband <= 2.0) {
-                    return Err(format!(
-                        "io.{kind}: {:?} has deadband {}, not in 0.001..=2 (normalised units)",
-                        a.name, a.deadband
-                    ));
-                }
+        ]
+        .into_iter()
+        .flat_map(|(kind, list)| {
+            list.iter()
+                .map(move |a| (kind, a.name.as_str(), u16::from(a.index), 0, Some(a)))
+        });
+        let mut indices = std::collections::HashSet::new();
+        for (kind, name, index, pulse_ms, analog) in digital.chain(analog) {
+            let max = if analog.is_some() {
+                u16::from(MAX_ANALOG_INDEX)
+            } else {
+                MAX_IO_INDEX
+            };
+            if !signal_name(name) {
+                bad.push(format!(
+                    "io.{kind}: name {:?} must be a lower-case letter, then lower-case letters, digits or _, at most 32 characters",
+                    clip(name, 40)
+                ));
+            } else if !names.insert(name) {
+                bad.push(format!(
+                    "io.{kind}: the name {name:?} is used twice (names are unique over all signals)"
+                ));
+            }
+            if index == 0 || index > max {
+                bad.push(format!(
+                    "io.{kind}: {name:?} has index {index}, not in 1..={max}"
+                ));
+            } else if !indices.insert((kind, index)) {
+                bad.push(format!("io.{kind}: index {index} is named twice"));
+            }
+            if pulse_ms > MAX_PULSE_MS || (kind == "inputs" && pulse_ms > 0) {
+                bad.push(format!(
+                    "io.{kind}: {name:?} has pulse_ms {pulse_ms} (outputs only, at most {MAX_PULSE_MS})"
+                ));
+            }
+            let Some(a) = analog else { continue };
+            if a.watch && usize::from(a.index) > AnalogState::WIDTH {
+                bad.push(format!(
+                    "io.{kind}: {name:?} (index {}) cannot be watched: the controller reports channels 1..={} only",
+                    a.index,
+                    AnalogState::WIDTH
+                ));
+            }
+            if !(a.deadband.is_finite() && a.deadband >= 0.001 && a.deadband <= 2.0) {
+                bad.push(format!(
+                    "io.{kind}: {name:?} has deadband {}, not in 0.001..=2 (normalised units)",
+                    a.deadband
+                ));
             }
         }
-        Ok(())
+        if bad.is_empty() {
+            Ok(())
+        } else {
+            Err(bad.join("; "))
+        }
     }
 
     /// The analog channel a client's `signal` (a number 1..=32 or a

@@ -152,23 +152,13 @@ impl Variables {
                 // write-protected variable), not the name.
                 KvpError::Refused(_) => BridgeError::invalid(format!(
                     "the controller did not accept {} for {name} (out of its range, too long, or the variable is write-protected)",
-                    shorten(&v.to_krl())
+                    kuka_engine::io::clip(&v.to_krl(), 40)
                 )),
                 e => Self::error(name, e),
             })?;
         tracing::info!(variable = name, value = %v.to_krl(), "variable written");
         Ok(Self::answer(name, text))
     }
-}
-
-/// A value as a client may see it again in an error: at most 40
-/// characters.
-fn shorten(text: &str) -> String {
-    let mut s: String = text.chars().take(40).collect();
-    if text.chars().count() > 40 {
-        s.push('…');
-    }
-    s
 }
 
 /// Whether `new` can be assigned to a variable holding `now`: numbers to

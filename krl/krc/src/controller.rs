@@ -8,6 +8,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use kuka_kinematics::Axes;
+use kuka_protocol::AcknowledgeRefused;
 use serde::Serialize;
 
 use crate::config::KrcConfig;
@@ -100,15 +101,6 @@ struct Shared {
     shutdown: AtomicBool,
     /// The controller is frozen (tests of a hung controller).
     paused: AtomicBool,
-}
-
-/// Why [`KrcController::acknowledge`] could not switch the drives on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum AcknowledgeRefused {
-    /// The emergency stop is still pressed (`$ALARM_STOP` FALSE).
-    EmergencyStop,
-    /// The operator safety is still open (`$USER_SAF` FALSE).
-    UserSafety,
 }
 
 /// A running KRC-like runtime. Dropping it stops the thread.

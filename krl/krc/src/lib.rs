@@ -40,6 +40,6 @@ mod port;
 mod scheduler;
 
 pub use config::KrcConfig;
-pub use controller::{AcknowledgeRefused, KrcController, KrcError, KrcSnapshot, KrcStats};
+pub use controller::{KrcController, KrcError, KrcSnapshot, KrcStats};
 pub use modules::{KRL_FILES, shipped_program, simulated_config_dat};
 pub use scheduler::KrcTraceSample;

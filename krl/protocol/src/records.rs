@@ -432,6 +432,18 @@ pub struct SafetyState {
     pub program_state: u8,
 }
 
+/// Why a simulated controller could not switch the drives on when the
+/// operator acknowledged: the part of the safety circuit still open.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum AcknowledgeRefused {
+    /// The emergency stop is still pressed (`$ALARM_STOP` FALSE).
+    #[error("the emergency stop is still pressed")]
+    EmergencyStop,
+    /// The operator safety is still open (`$USER_SAF` FALSE).
+    #[error("the operator safety is still open")]
+    UserSafety,
+}
+
 /// What a command asks the controller to do.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {

@@ -18,7 +18,7 @@
 
 use std::collections::BTreeMap;
 
-use kuka_kinematics::plan::Sample;
+use kuka_kinematics::plan::{Junction, Sample};
 use kuka_protocol::MotionRecord;
 
 /// An output to switch: `$OUT` index, value, pulse length in ms (0 = none).
@@ -193,6 +193,24 @@ pub(crate) fn decide(sample: &Sample, rest: &[&Sample], ok: bool) -> Wait {
         (true, None) => Wait::Goes,
         (false, Some(_)) => Wait::Goes,
         (false, None) => Wait::TimedOut,
+    }
+}
+
+/// Runs the rest of a plan `dt` seconds earlier once a wait's input came
+/// at time `at`: the samples `later` (those after the dropped standstill)
+/// and the junctions after `at` move back by `dt`. The native simulator's
+/// batch and path runs share this.
+pub(crate) fn run_earlier<'a>(
+    later: impl IntoIterator<Item = &'a mut Sample>,
+    junctions: impl IntoIterator<Item = &'a mut Junction>,
+    at: f64,
+    dt: f64,
+) {
+    for x in later {
+        x.t -= dt;
+    }
+    for j in junctions.into_iter().filter(|j| j.t > at) {
+        j.t -= dt;
     }
 }
 

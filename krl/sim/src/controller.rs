@@ -11,12 +11,12 @@ use kuka_krl_runtime::interp::{self, RunError};
 use kuka_krl_runtime::program::{Phase, PrepareError, phases};
 use kuka_krl_runtime::{frame_to_pose, pose_to_frame, to_motions};
 use kuka_protocol::{
-    Cid, Command, ControllerStatus, Frame, IoState, OperatingMode, RESULT_HISTORY, ResultCode,
-    ResultRecord, SpeedRecord, StateFile, whole_blocks,
+    AcknowledgeRefused, Cid, Command, ControllerStatus, Frame, IoState, OperatingMode,
+    RESULT_HISTORY, ResultCode, ResultRecord, SpeedRecord, StateFile, whole_blocks,
 };
 use serde::Serialize;
 
-use crate::actions::{Actions, OutputAction, Wait, decide};
+use crate::actions::{Actions, OutputAction, Wait, decide, run_earlier};
 use crate::path::{PathEnd, PathRun};
 
 /// One executed point of the TCP trace.
@@ -209,15 +209,6 @@ impl Default for SafetyCircuit {
             stop_message: false,
         }
     }
-}
-
-/// Why [`Controller::acknowledge`] could not switch the drives on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum AcknowledgeRefused {
-    /// The emergency stop is still pressed.
-    EmergencyStop,
-    /// The operator safety is still open.
-    UserSafety,
 }
 
 /// Entries of `TOOL_DATA`.
@@ -1004,12 +995,8 @@ impl Controller {
                     Wait::Came(dt) => {
                         let n = rest.len();
                         e.samples.drain(active.next_sample..active.next_sample + n);
-                        for x in &mut e.samples[active.next_sample..] {
-                            x.t -= dt;
-                        }
-                        for j in e.junctions.iter_mut().filter(|j| j.t > s.t) {
-                            j.t -= dt;
-                        }
+                        let later = &mut e.samples[active.next_sample..];
+                        run_earlier(later, &mut e.junctions, s.t, dt);
                         e.duration_s -= dt;
                     }
                     Wait::TimedOut => {

@@ -19,5 +19,5 @@ mod path;
 mod runner;
 mod vars;
 
-pub use controller::{AcknowledgeRefused, TraceSample};
+pub use controller::TraceSample;
 pub use runner::{SimConfig, SimController, SimError, SimSnapshot};

@@ -16,7 +16,7 @@ use kuka_kinematics::plan::{self, Junction, Sample};
 use kuka_kinematics::{Axes, Motion, MotionError, PlanSettings, Pose, RobotModel};
 use kuka_protocol::{Cid, MotionRecord};
 
-use crate::actions::{Actions, OutputAction, Wait, decide};
+use crate::actions::{Actions, OutputAction, Wait, decide, run_earlier};
 
 /// Motions the stream buffer holds (stored and not yet started), as the
 /// shipped KRL program's ring `kb_sq` (`kb_main.dat`).
@@ -238,12 +238,7 @@ impl PathRun {
                     Wait::Came(dt) => {
                         let n = rest.len();
                         self.samples.drain(..n);
-                        for x in &mut self.samples {
-                            x.t -= dt;
-                        }
-                        for j in self.junctions.iter_mut().filter(|j| j.t > s.t) {
-                            j.t -= dt;
-                        }
+                        run_earlier(&mut self.samples, &mut self.junctions, s.t, dt);
                         self.end_t -= dt;
                     }
                     Wait::TimedOut => {

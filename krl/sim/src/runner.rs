@@ -17,7 +17,9 @@ use kuka_protocol::{
 };
 use notify::{RecursiveMode, Watcher};
 
-use crate::controller::{AcknowledgeRefused, Changes, Controller, TraceSample};
+use kuka_protocol::AcknowledgeRefused;
+
+use crate::controller::{Changes, Controller, TraceSample};
 
 /// Errors starting the simulator.
 #[derive(Debug, thiserror::Error)]

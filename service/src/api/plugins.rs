@@ -302,9 +302,14 @@ fn plugin_response(plugin: &str, status: u16, body: String) -> Response {
         .and_then(|c| super::errors::ALL.iter().find(|k| k.as_str() == c).copied());
     let type_uri = known.map_or_else(|| "about:blank".to_string(), super::problem::type_uri);
     problem.insert("type".into(), json!(type_uri));
-    problem
-        .entry("title")
-        .or_insert_with(|| json!(http.canonical_reason().unwrap_or("Plugin error")));
+    // The title a bridge code has everywhere else; a plugin's own code
+    // gets the status's reason.
+    problem.entry("title").or_insert_with(|| {
+        json!(known.map_or_else(
+            || http.canonical_reason().unwrap_or("Plugin error"),
+            |k| k.title()
+        ))
+    });
     problem.insert("status".into(), json!(status));
     problem.insert("plugin".into(), json!(plugin));
     json_response(status, PROBLEM_JSON, &Value::Object(problem))

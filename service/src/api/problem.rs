@@ -184,6 +184,36 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for JsonBody<T> {
     }
 }
 
+/// The body of a request that takes none: empty, or an empty JSON object
+/// (what some clients send by default). Anything else is refused with
+/// `invalid_input` rather than ignored, so that a client that thinks the
+/// request takes options learns that it does not.
+pub struct NoBody;
+
+impl<S: Send + Sync> FromRequest<S> for NoBody {
+    type Rejection = Problem;
+
+    async fn from_request(req: Request, state: &S) -> Result<Self, Self::Rejection> {
+        let bytes = axum::body::Bytes::from_request(req, state)
+            .await
+            .map_err(|_| BridgeError::invalid("request body: it could not be read"))?;
+        let empty = match std::str::from_utf8(&bytes).map(str::trim) {
+            Ok("") => true,
+            Ok(text) => serde_json::from_str::<serde_json::Map<String, serde_json::Value>>(text)
+                .is_ok_and(|m| m.is_empty()),
+            Err(_) => false,
+        };
+        if empty {
+            Ok(NoBody)
+        } else {
+            Err(
+                BridgeError::invalid("request body: this request takes none (send no body, or {})")
+                    .into(),
+            )
+        }
+    }
+}
+
 fn json_rejection(e: &JsonRejection) -> BridgeError {
     let code = match e.status().as_u16() {
         413 => ErrorCode::PayloadTooLarge,

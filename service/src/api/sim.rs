@@ -3,6 +3,7 @@
 
 use axum::extract::State;
 use axum::response::Response;
+use kuka_protocol::AcknowledgeRefused;
 use serde::Deserialize;
 use utoipa::{IntoParams, ToSchema};
 use utoipa_axum::router::OpenApiRouter;
@@ -132,24 +133,18 @@ async fn clear_trace(State(app): State<AppState>) -> Result<axum::http::StatusCo
 #[utoipa::path(post, path = "/api/v1/sim/acknowledge", tag = "simulator",
     responses((status = 204, description = "Acknowledged; drives on (and kb_main restarted on the KRC-like runtime)"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON), (status = 409, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn acknowledge(State(app): State<AppState>) -> Result<axum::http::StatusCode, Problem> {
-    let refused = match sim(&app)? {
-        Simulated::Native(sim) => sim.acknowledge().err().map(|r| match r {
-            kuka_sim::AcknowledgeRefused::EmergencyStop => true,
-            kuka_sim::AcknowledgeRefused::UserSafety => false,
-        }),
-        Simulated::Krc(krc) => krc.acknowledge().err().map(|r| match r {
-            kuka_krc::AcknowledgeRefused::EmergencyStop => true,
-            kuka_krc::AcknowledgeRefused::UserSafety => false,
-        }),
+    let acknowledged = match sim(&app)? {
+        Simulated::Native(sim) => sim.acknowledge(),
+        Simulated::Krc(krc) => krc.acknowledge(),
     };
-    match refused {
-        None => Ok(axum::http::StatusCode::NO_CONTENT),
-        Some(true) => Err(BridgeError::new(
+    match acknowledged {
+        Ok(()) => Ok(axum::http::StatusCode::NO_CONTENT),
+        Err(AcknowledgeRefused::EmergencyStop) => Err(BridgeError::new(
             ErrorCode::ControllerError,
             "the emergency stop is still pressed: release it first (PUT /api/v1/sim/safety {\"emergency_stop\": false})",
         )
         .into()),
-        Some(false) => Err(BridgeError::new(
+        Err(AcknowledgeRefused::UserSafety) => Err(BridgeError::new(
             ErrorCode::ControllerError,
             "the operator safety is still open: close it first (PUT /api/v1/sim/safety {\"user_safety\": true})",
         )

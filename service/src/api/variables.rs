@@ -10,7 +10,7 @@ use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
 use super::auth::Who;
-use super::problem::{JsonBody, PROBLEM_JSON, Problem, ProblemDetails};
+use super::problem::{JsonBody, NoBody, PROBLEM_JSON, Problem, ProblemDetails};
 use super::{AppState, ok_json};
 use crate::engine::{CartesianFrame, Operation};
 use crate::error::{BridgeError, ErrorCode};
@@ -185,6 +185,7 @@ async fn select_tool(
     State(app): State<AppState>,
     who: Who,
     Path(number): Path<String>,
+    _: NoBody,
 ) -> Result<Response, Problem> {
     select(&app, &who, true, &number).await
 }
@@ -212,6 +213,7 @@ async fn select_base(
     State(app): State<AppState>,
     who: Who,
     Path(number): Path<String>,
+    _: NoBody,
 ) -> Result<Response, Problem> {
     select(&app, &who, false, &number).await
 }

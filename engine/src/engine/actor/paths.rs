@@ -351,7 +351,11 @@ impl Actor {
             let at = |mut e: BridgeError| {
                 if let Some(m) = e.motion {
                     e.motion = Some(first + m);
-                    e.detail = format!("{} (motion {} of the path)", e.detail, first + m);
+                    // The path-wide number, unless the detail already
+                    // says it (the first append's own numbering).
+                    if first > 0 || !e.detail.starts_with(&format!("motion {m}")) {
+                        e.detail = format!("{} (motion {} of the path)", e.detail, first + m);
+                    }
                 }
                 e
             };

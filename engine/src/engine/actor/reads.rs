@@ -343,8 +343,8 @@ impl Actor {
             op if !is_frame_op(op) => self.ctl.pose = Some((r.position, r.s, r.t)),
             _ => {}
         }
-        let mut error = result_error(&r)
-            .map(|e| explain_safety(e, self.ctl.state.as_ref().and_then(|s| s.safety.as_ref())));
+        let safety = self.ctl.state.as_ref().and_then(|s| s.safety.as_ref());
+        let mut error = result_error(&r).map(|e| explain_safety(e, safety));
         if error.is_none()
             && let Some(refused) = self
                 .path
@@ -354,6 +354,21 @@ impl Actor {
         {
             // The path ran what was accepted; it ends with the refusal.
             error = Some(refused);
+        }
+        if matches!(f.op, Operation::Reset)
+            && error.is_none()
+            && let Some(s) = safety.filter(|s| !s.alarm_stop || !s.user_safety)
+        {
+            // The controller took the RESET, but an open safety circuit
+            // keeps it stopped (the KRL program stays NOT_READY): say so
+            // rather than answer "done".
+            error = Some(explain_safety(
+                BridgeError::new(
+                    ErrorCode::ControllerError,
+                    "the reset cannot clear the controller's error yet",
+                ),
+                Some(s),
+            ));
         }
         if !matches!(f.op, Operation::Move(_) | Operation::Path(_))
             && let Some(e) = &mut error
