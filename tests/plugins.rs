@@ -1904,3 +1904,96 @@ async fn pick_and_place_plugin_runs_unattended_with_a_simulated_sensor() {
         .await;
     assert_eq!(seen, [true, false]);
 }
+
+/// The `steps` interface: the cycle's straight motions as SLINs (spline
+/// family), and the gripper opened 20 mm before the place point while the
+/// robot descends (a `set-output` with `path-mm` after a spline motion).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn pick_and_place_with_splines_releases_at_a_distance_before_the_place_point() {
+    let link = kuka_bridge::sim_plant::InputLink {
+        output: 1,
+        input: 3,
+        delay_ms: 150,
+        invert: false,
+    };
+    let t = pick_and_place_cell_with(vec![link]).await;
+    let mut body = cycle_body(5000);
+    body["spline"] = json!(true);
+    body["release_before_mm"] = json!(20);
+    let call = {
+        let http = t.http.clone();
+        let url = t.url("/api/v1/plugins/pick-and-place/cycle");
+        tokio::spawn(async move {
+            let r = http
+                .post(url)
+                .json(&body)
+                .send()
+                .await
+                .expect("plugin call");
+            let status = r.status().as_u16();
+            (status, r.json::<Value>().await.expect("JSON"))
+        })
+    };
+    // Where the gripper opened: the last state at the place (y = 60) with
+    // it closed and the first with it open, polled back to back.
+    let mut closed_z: Option<f64> = None;
+    let open_z = kuka_bridge_tests::wait_for(
+        Duration::from_secs(60),
+        "the gripper to open at the place",
+        async || {
+            let (_, s) = t.get("/api/v1/state").await;
+            let (y, z) = (
+                s["position"]["y"].as_f64().unwrap_or(f64::NAN),
+                s["position"]["z"].as_f64().unwrap_or(f64::NAN),
+            );
+            let at_place = (y - 60.0).abs() < 0.5;
+            match s["io"]["outputs"][0].as_bool() {
+                Some(true) if at_place => {
+                    closed_z = Some(z);
+                    Err(format!("closed at z={z}"))
+                }
+                Some(false) if at_place && closed_z.is_some() => Ok(z),
+                other => Err(format!("y={y} z={z} gripper closed: {other:?}")),
+            }
+        },
+    )
+    .await;
+    let closed_z = closed_z.expect("a state with the gripper closed at the place");
+    // Descending from z 150 to 100 at 0.1 m/s: it opens at z 120, within
+    // one 12 ms step (1.2 mm). The first state with it open is written at
+    // once by the native simulator, within the 100 ms heartbeat by the KRL
+    // program (10 mm): either way well before the bottom, where it would
+    // open without `path-mm`.
+    assert!(
+        closed_z >= 119.0 && open_z <= 121.0 && open_z > 104.0,
+        "opened between z {closed_z} and {open_z}, not at 120"
+    );
+    let (status, v) = call.await.expect("task");
+    assert_eq!((status, v["completed"].as_u64()), (200, Some(11)), "{v}");
+    // The plan as published: a PTP, then spline straight lines only.
+    let (_, plans) = t.get("/api/v1/events/recent?types=plan&limit=1").await;
+    let kinds: Vec<&str> = plans[0]["data"]["motions"]
+        .as_array()
+        .expect("planned motions")
+        .iter()
+        .filter_map(|m| m["type"].as_str())
+        .filter(|k| !["set_output", "wait_input", "dwell"].contains(k))
+        .collect();
+    assert_eq!(
+        kinds,
+        ["ptp", "slin", "slin", "slin", "slin", "slin"],
+        "{plans}"
+    );
+    // A distance too long for the descent is refused before anything runs.
+    let mut too_far = cycle_body(5000);
+    too_far["spline"] = json!(true);
+    too_far["release_before_mm"] = json!(80);
+    let (status, v) = t
+        .post_json("/api/v1/plugins/pick-and-place/cycle", &too_far)
+        .await;
+    assert_eq!(
+        (status, v["code"].as_str(), v["step"].as_u64()),
+        (422, Some("invalid_input"), Some(8)),
+        "{v}"
+    );
+}

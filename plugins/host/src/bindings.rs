@@ -14,6 +14,7 @@ wasmtime::component::bindgen!({
 pub use exports::kuka_bridge::plugin::plugin::{Description, Request, Response};
 pub use kuka_bridge::plugin::io::{SetOutput, Step, WaitInput};
 pub use kuka_bridge::plugin::splines::{AnyMotion, ScircMotion, SlinMotion, SplPoint, SptpMotion};
+pub use kuka_bridge::plugin::steps::{Step as AnyStep, SwitchOutput};
 pub use kuka_bridge::plugin::types::{
     Axes, CircMotion, Done, HostError, LinMotion, LogLevel, Motion, MotionParams, Point, Pose,
     Position, PtpAxesMotion, PtpMotion,

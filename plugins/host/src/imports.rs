@@ -16,7 +16,9 @@ use wasmtime_wasi::p2::pipe::MemoryOutputPipe;
 use wasmtime_wasi::{WasiCtx, WasiCtxBuilder, WasiCtxView, WasiView};
 
 use crate::PluginLimits;
-use crate::bindings::{AnyMotion, Done, HostError, LogLevel, Motion, Pose, Position, Step};
+use crate::bindings::{
+    AnyMotion, AnyStep, Done, HostError, LogLevel, Motion, Pose, Position, Step,
+};
 
 /// A boxed future, as [`BridgeApi::run_motions`] returns it.
 pub type BoxFuture<'a, T> = Pin<Box<dyn Future<Output = T> + Send + 'a>>;
@@ -138,6 +140,28 @@ pub trait BridgeApi: Send + Sync + 'static {
         let _ = (ctx, path, motions);
         Box::pin(async { Err(splines_unavailable()) })
     }
+    /// Validates steps (motions of either family and I/O actions, outputs
+    /// switched at a distance) and runs them as one continuous batch;
+    /// resolves when the batch has ended.
+    fn run_any_steps<'a>(
+        &'a self,
+        ctx: &'a CallContext,
+        steps: Vec<AnyStep>,
+    ) -> BoxFuture<'a, Result<Done, HostError>> {
+        let _ = (ctx, steps);
+        Box::pin(async { Err(steps_unavailable()) })
+    }
+    /// Appends such steps to a path (all or none, waiting while it is
+    /// full); how many motions it holds now.
+    fn append_any_steps<'a>(
+        &'a self,
+        ctx: &'a CallContext,
+        path: u64,
+        steps: Vec<AnyStep>,
+    ) -> BoxFuture<'a, Result<u32, HostError>> {
+        let _ = (ctx, path, steps);
+        Box::pin(async { Err(steps_unavailable()) })
+    }
     /// A path the plugin's request left open when it ended (returned,
     /// trapped, timed out): closed in the background, so the robot ends at
     /// its last appended motion and the controller is free again.
@@ -158,6 +182,14 @@ fn splines_unavailable() -> HostError {
     host_error(
         "not_allowed",
         "spline motions are not available in this bridge",
+        None,
+    )
+}
+
+fn steps_unavailable() -> HostError {
+    host_error(
+        "not_allowed",
+        "motion steps are not available in this bridge",
         None,
     )
 }
@@ -483,6 +515,41 @@ impl crate::bindings::kuka_bridge::plugin::splines::Host for RequestState {
         };
         let started = Instant::now();
         let result = api.append_spline_motions(&self.ctx, path, motions).await;
+        self.host_time += started.elapsed();
+        Ok(result)
+    }
+}
+
+impl crate::bindings::kuka_bridge::plugin::steps::Host for RequestState {
+    async fn run_steps(
+        &mut self,
+        steps: Vec<AnyStep>,
+    ) -> wasmtime::Result<Result<Done, HostError>> {
+        let api = match self.api("steps.run-steps") {
+            Ok(api) => api,
+            Err(e) => return Ok(Err(e)),
+        };
+        if let Err(e) = self.take_motions(steps.len()) {
+            return Ok(Err(e));
+        }
+        tracing::debug!(plugin = %self.ctx.plugin, steps = steps.len(), "plugin runs steps of either family");
+        let started = Instant::now();
+        let result = api.run_any_steps(&self.ctx, steps).await;
+        self.host_time += started.elapsed();
+        Ok(result)
+    }
+
+    async fn append_steps(
+        &mut self,
+        path: u64,
+        steps: Vec<AnyStep>,
+    ) -> wasmtime::Result<Result<u32, HostError>> {
+        let api = match self.own_path(path) {
+            Ok(api) => api,
+            Err(e) => return Ok(Err(e)),
+        };
+        let started = Instant::now();
+        let result = api.append_any_steps(&self.ctx, path, steps).await;
         self.host_time += started.elapsed();
         Ok(result)
     }

@@ -32,9 +32,9 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pub use bindings::{
-    AnyMotion, Axes, CircMotion, Description, Done, HostError, LinMotion, LogLevel, Motion,
-    MotionParams, Point, Pose, Position, PtpAxesMotion, PtpMotion, Request, Response, ScircMotion,
-    SetOutput, SlinMotion, SplPoint, SptpMotion, Step, WaitInput,
+    AnyMotion, AnyStep, Axes, CircMotion, Description, Done, HostError, LinMotion, LogLevel,
+    Motion, MotionParams, Point, Pose, Position, PtpAxesMotion, PtpMotion, Request, Response,
+    ScircMotion, SetOutput, SlinMotion, SplPoint, SptpMotion, Step, SwitchOutput, WaitInput,
 };
 pub use cache::sha256_hex;
 pub use describe::{METHODS, RouteSpec, check_name};

@@ -156,6 +156,27 @@ pub fn step_request(s: host::Step) -> MotionRequest {
     }
 }
 
+/// A step of the `steps` interface (a motion of either family or an I/O
+/// action, an output possibly at a distance along the path) as the REST
+/// API's request.
+pub fn any_step_request(s: host::AnyStep) -> MotionRequest {
+    match s {
+        host::AnyStep::Motion(m) => any_motion_request(m),
+        host::AnyStep::SetOutput(o) => MotionRequest::SetOutput {
+            signal: SignalRef::Name(o.signal),
+            value: o.value,
+            pulse_ms: o.pulse_ms,
+            path_mm: o.path_mm,
+        },
+        host::AnyStep::WaitInput(w) => MotionRequest::WaitInput {
+            signal: SignalRef::Name(w.signal),
+            value: w.value,
+            timeout_ms: w.timeout_ms,
+        },
+        host::AnyStep::Dwell(ms) => MotionRequest::Dwell { ms },
+    }
+}
+
 /// `[x, y, z, a, b, c]` as a plugin pose.
 fn pose([x, y, z, a, b, c]: [f64; 6]) -> host::Pose {
     host::Pose { x, y, z, a, b, c }
@@ -288,6 +309,25 @@ impl host::BridgeApi for EngineBridge {
         motions: Vec<host::AnyMotion>,
     ) -> host::BoxFuture<'a, Result<u32, host::HostError>> {
         let requests: Vec<MotionRequest> = motions.into_iter().map(any_motion_request).collect();
+        Box::pin(self.append_requests(ctx, path, requests))
+    }
+
+    fn run_any_steps<'a>(
+        &'a self,
+        ctx: &'a host::CallContext,
+        steps: Vec<host::AnyStep>,
+    ) -> host::BoxFuture<'a, Result<host::Done, host::HostError>> {
+        let requests: Vec<MotionRequest> = steps.into_iter().map(any_step_request).collect();
+        Box::pin(self.run_batch(ctx, requests))
+    }
+
+    fn append_any_steps<'a>(
+        &'a self,
+        ctx: &'a host::CallContext,
+        path: u64,
+        steps: Vec<host::AnyStep>,
+    ) -> host::BoxFuture<'a, Result<u32, host::HostError>> {
+        let requests: Vec<MotionRequest> = steps.into_iter().map(any_step_request).collect();
         Box::pin(self.append_requests(ctx, path, requests))
     }
 

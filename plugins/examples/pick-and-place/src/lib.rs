@@ -4,7 +4,7 @@
 //! `POST /api/v1/plugins/pick-and-place/cycle` with
 //! `{"pick": {"x": 300, "y": -60, "z": 100}, "place": {"x": 300, "y": 60, "z": 100}}`
 //! (mm, the TCP at the part; optional orientation `a`, `b`, `c`, else the
-//! robot's current one) runs, through the `io` interface's `run-steps`:
+//! robot's current one) runs, through the `steps` interface's `run-steps`:
 //!
 //! 1. PTP above the pick point (`approach_mm` higher);
 //! 2. `set-output` gripper open, switched as the descent starts;
@@ -16,6 +16,11 @@
 //! 8. `set-output` gripper open, at the bottom, and a `dwell` of
 //!    `release_ms` while it opens;
 //! 9. LIN up.
+//!
+//! With `"spline": true` the straight motions are SLINs (the spline
+//! family, `C_SPL` in the transfer). With `"release_before_mm": d` the
+//! gripper opens `d` mm before the place point, while the robot descends
+//! (KRL `TRIGGER WHEN PATH = -d`), instead of at the bottom.
 //!
 //! The gripper signal (`gripper`, default `gripper_close`: true = closed)
 //! and the sensor (`part_present`) are names from the site's `[io]`
@@ -37,7 +42,9 @@ wit_bindgen::generate!({
 
 use exports::kuka_bridge::plugin::plugin::{Description, Guest, Request, Response, Route};
 use kuka_bridge::plugin::host::{self, LogLevel};
-use kuka_bridge::plugin::io::{self, SetOutput, Step, WaitInput};
+use kuka_bridge::plugin::io::WaitInput;
+use kuka_bridge::plugin::splines::{AnyMotion, SlinMotion};
+use kuka_bridge::plugin::steps::{self, Step, SwitchOutput};
 use kuka_bridge::plugin::types::{
     HostError, LinMotion, Motion, MotionParams, Pose, Position, PtpMotion,
 };
@@ -80,6 +87,10 @@ struct CycleRequest {
     speed_m_s: f64,
     #[serde(default = "default_approach_speed")]
     approach_speed_m_s: f64,
+    #[serde(default)]
+    spline: bool,
+    #[serde(default)]
+    release_before_mm: f64,
 }
 
 fn default_approach() -> f64 {
@@ -151,7 +162,7 @@ impl Guest for PickAndPlace {
                 steps.len()
             ),
         );
-        match io::run_steps(&steps) {
+        match steps::run_steps(&steps) {
             Ok(done) => Response {
                 status: 200,
                 body: json!({
@@ -179,57 +190,76 @@ fn pose(s: &Spot, dz: f64, orientation: &Pose) -> Pose {
     }
 }
 
-fn lin(target: Pose, speed: f64, approx_mm: f64) -> Step {
-    Step::Motion(Motion::Lin(LinMotion {
-        target,
-        params: MotionParams {
-            velocity: Some(speed),
-            approx_mm: Some(approx_mm),
-            ..Default::default()
-        },
-    }))
+/// A straight motion: a LIN, or with `spline` an SLIN.
+fn lin(c: &CycleRequest, target: Pose, speed: f64, approx_mm: f64) -> Step {
+    let params = MotionParams {
+        velocity: Some(speed),
+        approx_mm: Some(approx_mm),
+        ..Default::default()
+    };
+    Step::Motion(if c.spline {
+        AnyMotion::Slin(SlinMotion { target, params })
+    } else {
+        AnyMotion::Motion(Motion::Lin(LinMotion { target, params }))
+    })
 }
 
-fn gripper(c: &CycleRequest, closed: bool) -> Step {
-    Step::SetOutput(SetOutput {
+/// The gripper output, switched as the next motion starts, or `path_mm`
+/// from the end point of the motion before it.
+fn gripper(c: &CycleRequest, closed: bool, path_mm: Option<f64>) -> Step {
+    Step::SetOutput(SwitchOutput {
         signal: c.gripper.clone(),
         value: closed,
         pulse_ms: Some(0),
+        path_mm,
     })
 }
 
 /// The whole cycle as one batch of steps.
 fn cycle_steps(c: &CycleRequest, orientation: &Pose) -> Vec<Step> {
     let up = c.approach_mm;
+    let release = (c.release_before_mm > 0.0).then_some(-c.release_before_mm);
     vec![
-        Step::Motion(Motion::Ptp(PtpMotion {
+        Step::Motion(AnyMotion::Motion(Motion::Ptp(PtpMotion {
             target: pose(&c.pick, up, orientation),
             s: None,
             t: None,
             params: MotionParams::default(),
-        })),
-        gripper(c, false),
-        lin(pose(&c.pick, 0.0, orientation), c.approach_speed_m_s, 0.0),
-        gripper(c, true),
+        }))),
+        gripper(c, false, None),
+        lin(
+            c,
+            pose(&c.pick, 0.0, orientation),
+            c.approach_speed_m_s,
+            0.0,
+        ),
+        gripper(c, true, None),
         Step::WaitInput(WaitInput {
             signal: c.part_present.clone(),
             value: true,
             timeout_ms: c.part_timeout_ms,
         }),
         lin(
+            c,
             pose(&c.pick, up, orientation),
             c.speed_m_s,
             TRANSFER_APPROX_MM,
         ),
         lin(
+            c,
             pose(&c.place, up, orientation),
             c.speed_m_s,
             TRANSFER_APPROX_MM,
         ),
-        lin(pose(&c.place, 0.0, orientation), c.approach_speed_m_s, 0.0),
-        gripper(c, false),
+        lin(
+            c,
+            pose(&c.place, 0.0, orientation),
+            c.approach_speed_m_s,
+            0.0,
+        ),
+        gripper(c, false, release),
         Step::Dwell(c.release_ms),
-        lin(pose(&c.place, up, orientation), c.speed_m_s, 0.0),
+        lin(c, pose(&c.place, up, orientation), c.speed_m_s, 0.0),
     ]
 }
 
@@ -301,7 +331,11 @@ fn request_schema() -> serde_json::Value {
             "release_ms": {"type": "integer", "minimum": 0, "maximum": 10000, "default": 200,
                            "description": "standstill after opening at the place point"},
             "speed_m_s": {"type": "number", "exclusiveMinimum": 0, "maximum": 2, "default": 0.2},
-            "approach_speed_m_s": {"type": "number", "exclusiveMinimum": 0, "maximum": 2, "default": 0.05}
+            "approach_speed_m_s": {"type": "number", "exclusiveMinimum": 0, "maximum": 2, "default": 0.05},
+            "spline": {"type": "boolean", "default": false,
+                       "description": "straight motions as SLIN (spline family) instead of LIN"},
+            "release_before_mm": {"type": "number", "minimum": 0, "maximum": 300, "default": 0,
+                                  "description": "open the gripper this far before the place point, while descending (0: at the bottom)"}
         },
         "examples": [{"pick": {"x": 300, "y": -60, "z": 100}, "place": {"x": 300, "y": 60, "z": 100}}]
     })
