@@ -103,3 +103,53 @@ proptest! {
         prop_assert_eq!(sent, whole);
     }
 }
+
+/// A batch of `lin`/`spl` motions, each maybe followed by `set_output`
+/// actions (with and without a distance).
+fn with_outputs(kinds: &[(u8, u8)]) -> Vec<MotionRequest> {
+    let mut out = Vec::new();
+    for (i, (kind, outputs)) in kinds.iter().enumerate() {
+        out.push(motion(*kind, 0, false, i));
+        for k in 0..*outputs {
+            let path = if k % 2 == 0 { json!(null) } else { json!(-0.5) };
+            out.push(
+                serde_json::from_value(json!({"type": "set_output", "signal": 1 + u16::from(k),
+                    "value": true, "path_mm": path}))
+                .expect("an action"),
+            );
+        }
+    }
+    out
+}
+
+proptest! {
+    /// Cut into commands of at most `max` records by `whole_blocks` (as the
+    /// engine streams a batch or a path), no command ends inside a spline
+    /// block, and none starts with a `set_output`: the controller gets
+    /// every output with the motion it follows (it arms them when it plans
+    /// that motion), as long as a motion's outputs fit into one command.
+    #[test]
+    fn commands_keep_blocks_and_a_motions_outputs_whole(
+        kinds in proptest::collection::vec((0u8..2, 0u8..5), 1..40),
+        max in 8usize..41,
+    ) {
+        let reqs = with_outputs(&kinds);
+        let records = resolve(&reqs, &start(), &speeds(), 1.0).expect("resolved");
+        let mut at = 0;
+        while at < records.len() {
+            let n = kuka_protocol::whole_blocks(&records[at..], max);
+            prop_assert!(n >= 1 && n <= max, "{n} of at most {max}");
+            at += n;
+            if let Some(next) = records.get(at) {
+                prop_assert!(
+                    !matches!(next, MotionRecord::SetOutput { .. }),
+                    "a command starts with an output at {at}"
+                );
+                prop_assert!(
+                    !matches!(records[at - 1], MotionRecord::Spl { left, .. } if left > 1),
+                    "a command ends inside a spline block at {at}"
+                );
+            }
+        }
+    }
+}

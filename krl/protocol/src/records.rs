@@ -288,17 +288,31 @@ impl MotionRecord {
 
 /// How many of `motions` (from the first, which starts a block or is no
 /// spline point) can go into one command of at most `max` motions without
-/// splitting a spline block: `max` or fewer, never more.
+/// splitting a spline block, nor a motion from the `set_output` records
+/// after it (the controller arms them when it plans the motion, so they
+/// must arrive with it): `max` or fewer, never more.
 pub fn whole_blocks(motions: &[MotionRecord], max: usize) -> usize {
-    let mut n = 0;
+    let output = |m: &MotionRecord| matches!(m, MotionRecord::SetOutput { .. });
+    // The cuts are between whole blocks (a single record is a block of
+    // one); a good one is not followed by a `set_output`.
+    let (mut n, mut good) = (0, 0);
     while n < motions.len() {
         let block = motions[n].block_left();
         if n + block > max {
             break;
         }
         n += block;
+        if motions.get(n).is_none_or(|m| !output(m)) {
+            good = n;
+        }
     }
-    n.min(motions.len())
+    // No good cut at all (outputs after a motion more than `max`): the
+    // controller switches those cut off as the next motion starts.
+    if good == 0 {
+        n.min(motions.len())
+    } else {
+        good
+    }
 }
 
 /// Speed, acceleration and approximation of one motion.
