@@ -535,8 +535,13 @@ async fn analog_values_round_trip_within_the_protocols_resolution() {
         })
         .await;
     }
-    // A simulated sensor on $ANIN[2] ("force").
-    let (s, v) = put(&t, "/api/v1/sim/analog-inputs/2", &json!({"value": -0.25})).await;
+    // A simulated sensor on $ANIN[2] ("force"), set by its name.
+    let (s, v) = put(
+        &t,
+        "/api/v1/sim/analog-inputs/force",
+        &json!({"value": -0.25}),
+    )
+    .await;
     assert_eq!(s, 204, "{v}");
     wait_for(WAIT, "$ANIN[2] to read -0.25", async || {
         let i = analog(&t, false, 1).await;
@@ -547,6 +552,15 @@ async fn analog_values_round_trip_within_the_protocols_resolution() {
         }
     })
     .await;
+    // A value out of range is shown as sent, in the words of the docs.
+    let (s, v) = put(&t, "/api/v1/io/analog-outputs/1", &json!({"value": 1.0001})).await;
+    assert_eq!(s, 422, "{v}");
+    assert!(
+        v["detail"]
+            .as_str()
+            .is_some_and(|d| d.contains("value = 1.0001 is not between -1 and 1")),
+        "{v}"
+    );
     // Refused before the channel: not on the list, out of range, not a
     // name, not a value.
     let before = last_cid(&t).await;

@@ -1710,6 +1710,18 @@ async fn pick_and_place_cell_with(links: Vec<kuka_bridge::sim_plant::InputLink>)
     t
 }
 
+/// The part-present sensor reports the part 150 ms after the gripper
+/// closes, and loses it 150 ms after it opens (a plant wired to the
+/// simulated controller).
+fn sensor_follows_gripper() -> kuka_bridge::sim_plant::InputLink {
+    kuka_bridge::sim_plant::InputLink {
+        output: 1,
+        input: 3,
+        delay_ms: 150,
+        invert: false,
+    }
+}
+
 /// Pick at (300, -60, 100), place at (300, 60, 100), approach 50 mm.
 fn cycle_body(timeout_ms: u32) -> Value {
     json!({
@@ -1869,16 +1881,7 @@ async fn pick_and_place_plugin_stops_cleanly_when_the_part_never_comes() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn pick_and_place_plugin_runs_unattended_with_a_simulated_sensor() {
-    // The part-present sensor reports the part 150 ms after the gripper
-    // closes, and loses it 150 ms after it opens (a plant wired to the
-    // simulated controller).
-    let link = kuka_bridge::sim_plant::InputLink {
-        output: 1,
-        input: 3,
-        delay_ms: 150,
-        invert: false,
-    };
-    let t = pick_and_place_cell_with(vec![link]).await;
+    let t = pick_and_place_cell_with(vec![sensor_follows_gripper()]).await;
     let (status, v) = t
         .post_json("/api/v1/plugins/pick-and-place/cycle", &cycle_body(5000))
         .await;
@@ -1910,13 +1913,7 @@ async fn pick_and_place_plugin_runs_unattended_with_a_simulated_sensor() {
 /// robot descends (a `set-output` with `path-mm` after a spline motion).
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn pick_and_place_with_splines_releases_at_a_distance_before_the_place_point() {
-    let link = kuka_bridge::sim_plant::InputLink {
-        output: 1,
-        input: 3,
-        delay_ms: 150,
-        invert: false,
-    };
-    let t = pick_and_place_cell_with(vec![link]).await;
+    let t = pick_and_place_cell_with(vec![sensor_follows_gripper()]).await;
     let mut body = cycle_body(5000);
     body["spline"] = json!(true);
     body["release_before_mm"] = json!(20);

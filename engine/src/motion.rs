@@ -405,7 +405,8 @@ pub fn check_switch_points(requests: &[MotionRequest]) -> Result<()> {
             |why: String| Err(BridgeError::invalid(format!("motion {i}: {why}")).at_motion(i));
         if !p.is_finite() || p.abs() > kuka_protocol::MAX_TRIGGER_PATH_MM {
             return refuse(format!(
-                "path_mm = {p} is not within ±{} mm",
+                "path_mm = {} is not within ±{} mm",
+                crate::error::shown(*p),
                 kuka_protocol::MAX_TRIGGER_PATH_MM
             ));
         }

@@ -825,8 +825,8 @@ export interface paths {
         get?: never;
         /**
          * Set an analog input of the simulated controller (`$ANIN[index]`,
-         *     1..=32), as a sensor would; the next state file reports it
-         *     (`GET /api/v1/io/analog`).
+         *     1..=32, or an analog input's name from the site's `[io]`), as a sensor
+         *     would; the next state file reports it (`GET /api/v1/io/analog`).
          * @description **Access:** role `operator` or higher; refused with 409 `control_held` while another client holds control.
          */
         put: operations["setSimAnalogInput"];
@@ -7514,8 +7514,8 @@ export interface operations {
             query?: never;
             header?: never;
             path: {
-                /** @description 1..=32 */
-                index: number;
+                /** @description 1..=32, or an analog input's name from the site's [io] configuration */
+                index: string;
             };
             cookie?: never;
         };

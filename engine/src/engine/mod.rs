@@ -398,8 +398,8 @@ impl Engine {
             self.shared.io().analog_writable(a.index)?;
             if !(a.value.is_finite() && (-1.0..=1.0).contains(&a.value)) {
                 return Err(BridgeError::invalid(format!(
-                    "value = {} is not in -1..=1 (the normalised analog range)",
-                    crate::io::clip(&format!("{:.6e}", a.value), 24)
+                    "value = {} is not between -1 and 1 (the normalised analog range)",
+                    crate::error::shown(a.value)
                 )));
             }
         }

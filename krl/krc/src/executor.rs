@@ -204,6 +204,19 @@ impl Executor {
         if let Some(sample) = chain.samples.get(i.saturating_sub(1)) {
             self.axes = sample.axes;
             self.motion_index = sample.motion;
+            // Between two samples (12 ms of planned motion apart): the
+            // axes in proportion, so that an override below 100 %, which
+            // plays less than a sample per cycle, moves the robot smoothly
+            // instead of holding a sample for several cycles and jumping.
+            if let Some(next) = chain.samples.get(i)
+                && next.t > sample.t
+                && t > sample.t
+            {
+                let f = ((t - sample.t) / (next.t - sample.t)).clamp(0.0, 1.0);
+                for (a, b) in self.axes.iter_mut().zip(next.axes) {
+                    *a += (b - *a) * f;
+                }
+            }
         }
         // Triggers: DISTANCE=0 at the motion's start, =1 at its end, PATH
         // at that many mm along the path from its end, plus DELAY.

@@ -1689,3 +1689,43 @@ fn analog_io_stays_within_the_submit_budget() {
     assert!(s.pass_statements_max <= 5000, "{s:?}");
     krc.shutdown();
 }
+
+/// At 30 % override the robot moves 30 % as far each 12 ms cycle, every
+/// cycle: the position is interpolated between the planner's samples,
+/// not held on one for three cycles and then moved a whole sample on.
+#[test]
+fn an_override_below_100_percent_moves_the_robot_every_cycle() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let p = away_from_home(&krc, dir.path(), 1);
+    krc.write_krl("$OV_PRO", "30").expect("$OV_PRO written");
+    krc.clear_trace();
+    let text = CommandFile {
+        cid: 2,
+        command: Command::Move(vec![lin_to(p, 40.0, 0.0)]),
+    }
+    .encode()
+    .expect("encodes");
+    write_command(&krc, dir.path(), &text);
+    let r = wait_result(&krc, dir.path(), 2, 60);
+    assert_eq!((r.code, r.completed), (ResultCode::Ok, 1), "{r:?}");
+    let xs: Vec<f64> = krc
+        .trace()
+        .iter()
+        .filter(|s| s.cid == 2)
+        .map(|s| s.pose[0])
+        .collect();
+    // The middle of the motion, at its programmed speed: 0.1 m/s × 30 %
+    // is 0.36 mm per cycle.
+    let steps: Vec<f64> = xs.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
+    let middle = &steps[steps.len() / 3..2 * steps.len() / 3];
+    assert!(middle.len() > 20, "{} cycles", steps.len());
+    for (k, d) in middle.iter().enumerate() {
+        assert!(
+            (0.3..0.42).contains(d),
+            "cycle {k} of the middle moved {d:.3} mm, not 0.36: {middle:?}"
+        );
+    }
+    krc.shutdown();
+}

@@ -270,10 +270,10 @@ pub struct AnalogInputValue {
 }
 
 /// Set an analog input of the simulated controller (`$ANIN[index]`,
-/// 1..=32), as a sensor would; the next state file reports it
-/// (`GET /api/v1/io/analog`).
+/// 1..=32, or an analog input's name from the site's `[io]`), as a sensor
+/// would; the next state file reports it (`GET /api/v1/io/analog`).
 #[utoipa::path(put, path = "/api/v1/sim/analog-inputs/{index}", tag = "simulator",
-    params(("index" = u8, Path, minimum = 1, maximum = 32, description = "1..=32")),
+    params(("index" = String, Path, description = "1..=32, or an analog input's name from the site's [io] configuration")),
     request_body = AnalogInputValue,
     responses((status = 204, description = "Set"), (status = 404, body = ProblemDetails, content_type = PROBLEM_JSON), (status = 422, body = ProblemDetails, content_type = PROBLEM_JSON)))]
 async fn put_analog_input(
@@ -281,21 +281,12 @@ async fn put_analog_input(
     axum::extract::Path(index): axum::extract::Path<String>,
     JsonBody(v): JsonBody<AnalogInputValue>,
 ) -> Result<axum::http::StatusCode, Problem> {
-    let max = kuka_protocol::MAX_ANALOG_INDEX;
-    let index: u8 = index
-        .parse()
-        .ok()
-        .filter(|i| (1..=max).contains(i))
-        .ok_or_else(|| {
-            BridgeError::invalid(format!(
-                "$ANIN[{}] does not exist: a simulated analog input is given by its number, 1..={max}",
-                crate::io::clip(&index, 12)
-            ))
-        })?;
+    // A number, or an analog input's name from the site's [io].
+    let (index, _) = app.engine.io_config().resolve_analog(false, &index)?;
     if !(v.value.is_finite() && (-1.0..=1.0).contains(&v.value)) {
         return Err(BridgeError::invalid(format!(
-            "value = {:.6e} is not in -1..=1 (the normalised analog range)",
-            v.value
+            "value = {} is not between -1 and 1 (the normalised analog range)",
+            kuka_engine::error::shown(v.value)
         ))
         .into());
     }

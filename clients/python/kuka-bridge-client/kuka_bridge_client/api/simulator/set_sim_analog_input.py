@@ -15,7 +15,7 @@ from typing import cast
 
 
 def _get_kwargs(
-    index: int,
+    index: str,
     *,
     body: AnalogInputValue,
 
@@ -118,15 +118,15 @@ def _build_response(*, client: AuthenticatedClient | Client, response: httpx.Res
 
 
 def sync_detailed(
-    index: int,
+    index: str,
     *,
     client: AuthenticatedClient,
     body: AnalogInputValue,
 
 ) -> Response[Any | ProblemDetails]:
     """ Set an analog input of the simulated controller (`$ANIN[index]`,
-    1..=32), as a sensor would; the next state file reports it
-    (`GET /api/v1/io/analog`).
+    1..=32, or an analog input's name from the site's `[io]`), as a sensor
+    would; the next state file reports it (`GET /api/v1/io/analog`).
 
      
 
@@ -134,7 +134,7 @@ def sync_detailed(
     control.
 
     Args:
-        index (int):
+        index (str):
         body (AnalogInputValue): The body of a simulated analog input. Example: {'value': 0.25}.
 
     Raises:
@@ -159,15 +159,15 @@ body=body,
     return _build_response(client=client, response=response)
 
 def sync(
-    index: int,
+    index: str,
     *,
     client: AuthenticatedClient,
     body: AnalogInputValue,
 
 ) -> Any | ProblemDetails | None:
     """ Set an analog input of the simulated controller (`$ANIN[index]`,
-    1..=32), as a sensor would; the next state file reports it
-    (`GET /api/v1/io/analog`).
+    1..=32, or an analog input's name from the site's `[io]`), as a sensor
+    would; the next state file reports it (`GET /api/v1/io/analog`).
 
      
 
@@ -175,7 +175,7 @@ def sync(
     control.
 
     Args:
-        index (int):
+        index (str):
         body (AnalogInputValue): The body of a simulated analog input. Example: {'value': 0.25}.
 
     Raises:
@@ -195,15 +195,15 @@ body=body,
     ).parsed
 
 async def asyncio_detailed(
-    index: int,
+    index: str,
     *,
     client: AuthenticatedClient,
     body: AnalogInputValue,
 
 ) -> Response[Any | ProblemDetails]:
     """ Set an analog input of the simulated controller (`$ANIN[index]`,
-    1..=32), as a sensor would; the next state file reports it
-    (`GET /api/v1/io/analog`).
+    1..=32, or an analog input's name from the site's `[io]`), as a sensor
+    would; the next state file reports it (`GET /api/v1/io/analog`).
 
      
 
@@ -211,7 +211,7 @@ async def asyncio_detailed(
     control.
 
     Args:
-        index (int):
+        index (str):
         body (AnalogInputValue): The body of a simulated analog input. Example: {'value': 0.25}.
 
     Raises:
@@ -236,15 +236,15 @@ body=body,
     return _build_response(client=client, response=response)
 
 async def asyncio(
-    index: int,
+    index: str,
     *,
     client: AuthenticatedClient,
     body: AnalogInputValue,
 
 ) -> Any | ProblemDetails | None:
     """ Set an analog input of the simulated controller (`$ANIN[index]`,
-    1..=32), as a sensor would; the next state file reports it
-    (`GET /api/v1/io/analog`).
+    1..=32, or an analog input's name from the site's `[io]`), as a sensor
+    would; the next state file reports it (`GET /api/v1/io/analog`).
 
      
 
@@ -252,7 +252,7 @@ async def asyncio(
     control.
 
     Args:
-        index (int):
+        index (str):
         body (AnalogInputValue): The body of a simulated analog input. Example: {'value': 0.25}.
 
     Raises:
