@@ -1136,6 +1136,49 @@ async fn an_sptp_reaches_its_target_with_a_chosen_configuration() {
     }
 }
 
+/// An SPTP to axis angles (KRL `SPTP` to an E6AXIS, as `SPTP XHOME`):
+/// the robot reaches the angles, absolute and relative; the plan names it;
+/// a Cartesian motion after it in the same batch is refused, as after a
+/// `ptp_axes` (its Cartesian end is the controller's to compute).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_sptp_to_axis_angles_reaches_them() {
+    let t = TestService::start(Options::default()).await;
+    let want = [10.0, -80.0, 100.0, 5.0, 45.0, -20.0];
+    let (s, b) = t
+        .motions(json!([{"type": "sptp_axes", "axes": {"a1": 10, "a2": -80, "a3": 100, "a4": 5, "a5": 45, "a6": -20}, "velocity_pct": 50}]))
+        .await;
+    assert_eq!((s, &b["state"]), (200, &json!("done")), "{b}");
+    let axes = |s: &Value| {
+        ["a1", "a2", "a3", "a4", "a5", "a6"].map(|k| s["axes"][k].as_f64().unwrap_or(f64::NAN))
+    };
+    let (_, st) = t.get("/api/v1/state").await;
+    for (k, (got, want)) in axes(&st).into_iter().zip(want).enumerate() {
+        assert_close(got, want, 0.01, &format!("A{}", k + 1));
+    }
+    let (_, plans) = t.get("/api/v1/events/recent?types=plan&limit=1").await;
+    assert_eq!(
+        plans[0]["data"]["motions"][0]["type"], "sptp_axes",
+        "{plans}"
+    );
+    let (s, b) = t
+        .motions(json!([{"type": "sptp_axes", "axes": {"a1": -15}, "relative": true}]))
+        .await;
+    assert_eq!((s, &b["state"]), (200, &json!("done")), "{b}");
+    let (_, st) = t.get("/api/v1/state").await;
+    assert_close(axes(&st)[0], -5.0, 0.01, "A1 after -15 relative");
+    let (s, e) = t
+        .motions(json!([
+            {"type": "sptp_axes", "axes": {"a1": 0, "a2": -80, "a3": 100, "a4": 0, "a5": 45, "a6": 0}},
+            {"type": "slin", "target": {"x": 10}, "relative": true}
+        ]))
+        .await;
+    assert_eq!(
+        (s, e["code"].as_str(), e["motion"].as_u64()),
+        (422, Some("invalid_input"), Some(0)),
+        "{e}"
+    );
+}
+
 /// Spline points streamed into a path: each append's run of SPL points is
 /// played as blocks (8 points at most), every point once, in order, and
 /// the blocks blend into each other.

@@ -206,6 +206,23 @@ pub enum MotionRequest {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         config: Option<Configuration>,
     },
+    /// SPTP to axis angles (KRL `SPTP` to an E6AXIS, as `SPTP XHOME`):
+    /// the spline family's axis PTP; stops exactly at its end, like
+    /// `ptp_axes`, and follows its rules within a batch.
+    #[schema(example = json!({"type": "sptp_axes", "axes": {"a1": 0, "a2": -90, "a3": 90, "a4": 0, "a5": 0, "a6": 0}}))]
+    SptpAxes {
+        /// Target axis angles.
+        axes: AxesSpec,
+        /// Add to the start instead of replacing.
+        #[serde(default)]
+        relative: bool,
+        /// % of max axis speed.
+        velocity_pct: Option<f64>,
+        /// % of max acceleration.
+        acceleration_pct: Option<f64>,
+        /// Approximation distance in mm (not used: an SPTP stops exactly).
+        approx_mm: Option<f64>,
+    },
     /// SPL: a point of a spline block (KRL `SPLINE … SPL … ENDSPLINE`).
     /// Consecutive `spl` motions of one request form a block: the TCP
     /// follows a smooth curve through their points without stopping. A
@@ -529,6 +546,7 @@ impl MotionRequest {
         match self {
             MotionRequest::Ptp { .. } => "ptp",
             MotionRequest::PtpAxes { .. } => "ptp_axes",
+            MotionRequest::SptpAxes { .. } => "sptp_axes",
             MotionRequest::Lin { .. } => "lin",
             MotionRequest::Circ { .. } => "circ",
             MotionRequest::Slin { .. } => "slin",
@@ -546,11 +564,24 @@ impl MotionRequest {
     pub fn is_ptp(&self) -> bool {
         matches!(
             self,
-            MotionRequest::Ptp { .. } | MotionRequest::PtpAxes { .. } | MotionRequest::Sptp { .. }
+            MotionRequest::Ptp { .. }
+                | MotionRequest::PtpAxes { .. }
+                | MotionRequest::Sptp { .. }
+                | MotionRequest::SptpAxes { .. }
         )
     }
 
-    /// Its Cartesian target, if it has one (all but `ptp_axes`).
+    /// `ptp_axes` or `sptp_axes`: a target in axis angles, whose
+    /// Cartesian end only the controller computes.
+    pub fn is_axis_ptp(&self) -> bool {
+        matches!(
+            self,
+            MotionRequest::PtpAxes { .. } | MotionRequest::SptpAxes { .. }
+        )
+    }
+
+    /// Its Cartesian target, if it has one (all but `ptp_axes`,
+    /// `sptp_axes` and the actions).
     pub fn target(&self) -> Option<&TargetSpec> {
         match self {
             MotionRequest::Ptp { target, .. }
@@ -561,6 +592,7 @@ impl MotionRequest {
             | MotionRequest::Sptp { target, .. }
             | MotionRequest::Spl { target, .. } => Some(target),
             MotionRequest::PtpAxes { .. }
+            | MotionRequest::SptpAxes { .. }
             | MotionRequest::SetOutput { .. }
             | MotionRequest::WaitInput { .. }
             | MotionRequest::Dwell { .. } => None,
@@ -583,6 +615,12 @@ impl MotionRequest {
                 ..
             }
             | MotionRequest::PtpAxes {
+                velocity_pct,
+                acceleration_pct,
+                approx_mm,
+                ..
+            }
+            | MotionRequest::SptpAxes {
                 velocity_pct,
                 acceleration_pct,
                 approx_mm,
@@ -704,6 +742,7 @@ pub fn set_default_approx(
             let params = match rec {
                 MotionRecord::Ptp { params, .. }
                 | MotionRecord::PtpAxes { params, .. }
+                | MotionRecord::SptpAxes { params, .. }
                 | MotionRecord::Lin { params, .. }
                 | MotionRecord::Circ { params, .. }
                 | MotionRecord::Slin { params, .. }
@@ -880,11 +919,16 @@ pub fn resolve(
                 axes: spec,
                 relative,
                 ..
+            }
+            | MotionRequest::SptpAxes {
+                axes: spec,
+                relative,
+                ..
             } => {
                 let given = [spec.a1, spec.a2, spec.a3, spec.a4, spec.a5, spec.a6];
                 let after_cartesian = requests[..i]
                     .iter()
-                    .any(|r| !r.is_action() && !matches!(r, MotionRequest::PtpAxes { .. }));
+                    .any(|r| !r.is_action() && !r.is_axis_ptp());
                 if after_cartesian && (*relative || given.iter().any(Option::is_none)) {
                     return Err(BridgeError::invalid(format!(
                         "motion {i}: an axis PTP after a Cartesian motion in the same batch must give all six axes absolutely"
@@ -894,15 +938,19 @@ pub fn resolve(
                 for (a, g) in axes.iter_mut().zip(given) {
                     *a = pick(g, *relative, *a);
                 }
-                MotionRecord::PtpAxes { axes, params }
+                if matches!(req, MotionRequest::SptpAxes { .. }) {
+                    MotionRecord::SptpAxes { axes, params }
+                } else {
+                    MotionRecord::PtpAxes { axes, params }
+                }
             }
         };
         // After an axis PTP the Cartesian start of the next motion is only
         // known to the controller, so a batch cannot mix them that way.
-        if matches!(req, MotionRequest::PtpAxes { .. }) && i < last {
+        if req.is_axis_ptp() && i < last {
             let needs_pose = requests[i + 1..]
                 .iter()
-                .any(|r| !r.is_action() && !matches!(r, MotionRequest::PtpAxes { .. }));
+                .any(|r| !r.is_action() && !r.is_axis_ptp());
             if needs_pose {
                 return Err(BridgeError::invalid(format!(
                     "motion {i}: an axis PTP may only be followed by other axis PTPs in one batch (its Cartesian end is computed by the controller); send the Cartesian motions as a separate request"

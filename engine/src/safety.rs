@@ -247,7 +247,7 @@ impl Safety {
                         finite(name, v, i)?;
                     }
                 }
-                MotionRequest::PtpAxes { axes, .. } => {
+                MotionRequest::PtpAxes { axes, .. } | MotionRequest::SptpAxes { axes, .. } => {
                     let named = [
                         ("a1", axes.a1),
                         ("a2", axes.a2),

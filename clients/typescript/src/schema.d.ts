@@ -2532,7 +2532,7 @@ export interface components {
          *     start of the motion. An omitted speed is the default speed, not the
          *     previous motion's.
          */
-        MotionRequest: components["schemas"]["PtpMotion"] | components["schemas"]["AxisMotion"] | components["schemas"]["LinMotion"] | components["schemas"]["CircMotion"] | components["schemas"]["SlinMotion"] | components["schemas"]["ScircMotion"] | components["schemas"]["SptpMotion"] | components["schemas"]["SplMotion"] | components["schemas"]["SetOutputAction"] | components["schemas"]["WaitInputAction"] | components["schemas"]["DwellAction"];
+        MotionRequest: components["schemas"]["PtpMotion"] | components["schemas"]["AxisMotion"] | components["schemas"]["LinMotion"] | components["schemas"]["CircMotion"] | components["schemas"]["SlinMotion"] | components["schemas"]["ScircMotion"] | components["schemas"]["SptpMotion"] | components["schemas"]["SptpAxisMotion"] | components["schemas"]["SplMotion"] | components["schemas"]["SetOutputAction"] | components["schemas"]["WaitInputAction"] | components["schemas"]["DwellAction"];
         /**
          * @description A new token.
          * @example {
@@ -2629,7 +2629,7 @@ export interface components {
         PlannedMotion: {
             /** @description Auxiliary point `[x, y, z]` of a `circ` or `scirc`. */
             aux?: number[] | null;
-            /** @description Target axis angles A1..A6 of a `ptp_axes`. */
+            /** @description Target axis angles A1..A6 of a `ptp_axes` or `sptp_axes`. */
             axes?: number[] | null;
             /**
              * Format: int32
@@ -2640,7 +2640,8 @@ export interface components {
             /** @description Target TCP pose in the base frame `[x, y, z, a, b, c]` (not for `ptp_axes`). */
             target?: number[] | null;
             /**
-             * @description `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp`, `spl`,
+             * @description `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp`,
+             *     `sptp_axes`, `spl`,
              *     or an action (`set_output`, `wait_input`, `dwell`: no target).
              */
             type: string;
@@ -3899,6 +3900,48 @@ export interface components {
             /**
              * Format: double
              * @description % of max axis speed (default from config).
+             */
+            velocity_pct?: number | null;
+        };
+        /**
+         * @description SPTP to axis angles (KRL `SPTP` to an E6AXIS, as `SPTP XHOME`):
+         *     the spline family's axis PTP; stops exactly at its end, like
+         *     `ptp_axes`, and follows its rules within a batch.
+         * @example {
+         *       "type": "sptp_axes",
+         *       "axes": {
+         *         "a1": 0,
+         *         "a2": -90,
+         *         "a3": 90,
+         *         "a4": 0,
+         *         "a5": 0,
+         *         "a6": 0
+         *       }
+         *     }
+         */
+        SptpAxisMotion: {
+            /**
+             * Format: double
+             * @description % of max acceleration.
+             */
+            acceleration_pct?: number | null;
+            /**
+             * Format: double
+             * @description Approximation distance in mm (not used: an SPTP stops exactly).
+             */
+            approx_mm?: number | null;
+            /** @description Target axis angles. */
+            axes: components["schemas"]["AxesSpec"];
+            /** @description Add to the start instead of replacing. */
+            relative?: boolean;
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "sptp_axes";
+            /**
+             * Format: double
+             * @description % of max axis speed.
              */
             velocity_pct?: number | null;
         };

@@ -531,7 +531,8 @@ pub struct JobPlan {
 /// One motion of a [`JobPlan`].
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
 pub struct PlannedMotion {
-    /// `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp`, `spl`,
+    /// `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp`,
+    /// `sptp_axes`, `spl`,
     /// or an action (`set_output`, `wait_input`, `dwell`: no target).
     #[serde(rename = "type")]
     pub kind: String,
@@ -541,7 +542,7 @@ pub struct PlannedMotion {
     /// Auxiliary point `[x, y, z]` of a `circ` or `scirc`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub aux: Option<[f64; 3]>,
-    /// Target axis angles A1..A6 of a `ptp_axes`.
+    /// Target axis angles A1..A6 of a `ptp_axes` or `sptp_axes`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub axes: Option<[f64; 6]>,
     /// Of an `spl`: the points of its spline block from this one to the
@@ -556,6 +557,7 @@ impl From<&kuka_protocol::MotionRecord> for PlannedMotion {
         let (kind, target, aux, axes) = match m {
             M::Ptp { target, .. } => ("ptp", Some(target.to_array()), None, None),
             M::PtpAxes { axes, .. } => ("ptp_axes", None, None, Some(*axes)),
+            M::SptpAxes { axes, .. } => ("sptp_axes", None, None, Some(*axes)),
             M::Lin { target, .. } => ("lin", Some(target.to_array()), None, None),
             M::Circ { aux, target, .. } => ("circ", Some(target.to_array()), Some(*aux), None),
             M::Slin { target, .. } => ("slin", Some(target.to_array()), None, None),

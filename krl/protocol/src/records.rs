@@ -132,6 +132,15 @@ pub enum MotionRecord {
         /// Motion parameters.
         params: MotionParams,
     },
+    /// `SPA i a1 a2 a3 a4 a5 a6 vel acc apo K` — SPTP to axis angles
+    /// (degrees; KRL `SPTP` to an E6AXIS, as `SPTP XHOME`). Stops exactly
+    /// at its end, like PTP.
+    SptpAxes {
+        /// Target axis angles.
+        axes: [f64; 6],
+        /// Motion parameters.
+        params: MotionParams,
+    },
     /// `SPL i x y z a b c vel acc apo left K` — a point of a KRL `SPLINE`
     /// block: the curve runs through the block's points without stopping.
     /// `left` counts the block's points from this one to its end (1 = the
@@ -212,6 +221,7 @@ impl MotionRecord {
         match self {
             MotionRecord::Ptp { params, .. }
             | MotionRecord::PtpAxes { params, .. }
+            | MotionRecord::SptpAxes { params, .. }
             | MotionRecord::Lin { params, .. }
             | MotionRecord::Circ { params, .. }
             | MotionRecord::Slin { params, .. }
@@ -247,6 +257,7 @@ impl MotionRecord {
             MotionRecord::Slin { .. }
                 | MotionRecord::Scirc { .. }
                 | MotionRecord::Sptp { .. }
+                | MotionRecord::SptpAxes { .. }
                 | MotionRecord::Spl { .. }
         )
     }
@@ -262,6 +273,7 @@ impl MotionRecord {
             | MotionRecord::Sptp { target, .. }
             | MotionRecord::Spl { target, .. } => Some(target),
             MotionRecord::PtpAxes { .. }
+            | MotionRecord::SptpAxes { .. }
             | MotionRecord::SetOutput { .. }
             | MotionRecord::WaitInput { .. }
             | MotionRecord::Dwell { .. } => None,
@@ -586,12 +598,16 @@ fn encode_motions(
                 params.fields(&mut f)?;
                 "PTP"
             }
-            MotionRecord::PtpAxes { axes, params } => {
+            MotionRecord::PtpAxes { axes, params } | MotionRecord::SptpAxes { axes, params } => {
                 for (name, v) in ["a1", "a2", "a3", "a4", "a5", "a6"].into_iter().zip(axes) {
                     f.push(real(name, *v)?);
                 }
                 params.fields(&mut f)?;
-                "PTA"
+                if matches!(m, MotionRecord::SptpAxes { .. }) {
+                    "SPA"
+                } else {
+                    "PTA"
+                }
             }
             MotionRecord::Lin { target, params } => {
                 target.fields(&mut f)?;
@@ -780,12 +796,18 @@ fn decode_motions(
                 };
                 (l, (idx, m))
             }
-            "PTA" => {
-                let mut l = r.line("PTA", "irrrrrrrrr")?;
+            "PTA" | "SPA" => {
+                let spline = tag == "SPA";
+                let mut l = r.line(if spline { "SPA" } else { "PTA" }, "irrrrrrrrr")?;
                 let idx = l.int();
                 let axes = [l.real(), l.real(), l.real(), l.real(), l.real(), l.real()];
                 let params = MotionParams::read(&mut l);
-                (l, (idx, MotionRecord::PtpAxes { axes, params }))
+                let m = if spline {
+                    MotionRecord::SptpAxes { axes, params }
+                } else {
+                    MotionRecord::PtpAxes { axes, params }
+                };
+                (l, (idx, m))
             }
             "LIN" | "SLN" => {
                 let spline = tag == "SLN";
@@ -923,7 +945,7 @@ fn decode_motions(
             other => {
                 return Err(DecodeError::Tag {
                     line: r.next_line_number(),
-                    expected: "PTP, PTA, LIN, CIR, SLN, SCI, SPT, SPL, SOT, SOP, WIN or DWL",
+                    expected: "PTP, PTA, LIN, CIR, SLN, SCI, SPT, SPA, SPL, SOT, SOP, WIN or DWL",
                     found: other.to_string(),
                 });
             }

@@ -34,6 +34,10 @@ fn sample_commands() -> Vec<CommandFile> {
                     axes: [0.0, -90.0, 90.0, 0.0, 0.0, 0.0],
                     params: params(100.0),
                 },
+                MotionRecord::SptpAxes {
+                    axes: [-185.0, -5.0, 155.999, -350.0, 120.0, 350.0],
+                    params: params(30.0),
+                },
                 MotionRecord::Lin {
                     target: f,
                     params: params(0.25),

@@ -79,7 +79,9 @@ pub fn to_motions(records: &[MotionRecord]) -> Vec<Motion> {
                     s: *s,
                     t: *t,
                 },
-                MotionRecord::PtpAxes { axes, .. } => MotionKind::PtpAxes { axes: *axes },
+                MotionRecord::PtpAxes { axes, .. } | MotionRecord::SptpAxes { axes, .. } => {
+                    MotionKind::PtpAxes { axes: *axes }
+                }
                 MotionRecord::Lin { target, .. } | MotionRecord::Slin { target, .. } => {
                     MotionKind::Lin {
                         target: frame_to_pose(target),
@@ -117,7 +119,10 @@ pub fn to_motions(records: &[MotionRecord]) -> Vec<Motion> {
             let inner = matches!(r, MotionRecord::Spl { left, .. } if *left > 1);
             let ptp = matches!(
                 r,
-                MotionRecord::Ptp { .. } | MotionRecord::PtpAxes { .. } | MotionRecord::Sptp { .. }
+                MotionRecord::Ptp { .. }
+                    | MotionRecord::PtpAxes { .. }
+                    | MotionRecord::Sptp { .. }
+                    | MotionRecord::SptpAxes { .. }
             );
             // (A PTP/SPTP always stops exactly: its approximation would
             // only widen the swept path the checks allow.)

@@ -392,6 +392,10 @@ fn edge_batch() -> CommandFile {
                 axes: [-170.0, -9999.999, 9999.999, -0.001, 120.0, -350.5],
                 params: params(100.0, 100.0, 0.0),
             },
+            MotionRecord::SptpAxes {
+                axes: [185.0, -0.001, 9999.999, 350.5, -120.0, 0.0],
+                params: params(0.001, 1.0, 0.0),
+            },
             MotionRecord::Lin {
                 target: frame(-1.0, -2.0, -3.0, -4.0, -5.0, -6.0),
                 params: params(2.0, 1.0, 9999.999),
@@ -620,6 +624,11 @@ fn command_records(cmd: &CommandFile) -> Vec<(&'static str, Vec<Val>)> {
                         v.extend(axes.iter().copied().map(Val::R));
                         v.extend(params_vals(params));
                         "PTA"
+                    }
+                    MotionRecord::SptpAxes { axes, params } => {
+                        v.extend(axes.iter().copied().map(Val::R));
+                        v.extend(params_vals(params));
+                        "SPA"
                     }
                     MotionRecord::Lin { target, params } => {
                         v.extend(frame_vals(target));
@@ -919,7 +928,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
         tags,
         [
             "ANO", "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP",
-            "SCI", "SLN", "SOP", "SOT", "SPD", "SPL", "SPT", "WIN"
+            "SCI", "SLN", "SOP", "SOT", "SPA", "SPD", "SPL", "SPT", "WIN"
         ],
         "the samples cover every command record"
     );
@@ -936,6 +945,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
     assert_eq!(formats["CMD"], one(4, 0));
     assert_eq!(formats["PTP"], one(12, 0b1110_0111_1110));
     assert_eq!(formats["PTA"], one(10, 0b11_1111_1110));
+    assert_eq!(formats["SPA"], one(10, 0b11_1111_1110));
     assert_eq!(formats["LIN"], one(10, 0b11_1111_1110));
     assert_eq!(formats["CIR"], one(13, 0b1_1111_1111_1110));
     assert_eq!(formats["FRM"], one(6, 0b11_1111));
@@ -973,7 +983,7 @@ fn krl_formats_cover_every_record_of_the_protocol() {
         tags,
         BTreeSet::from([
             "ANO", "APD", "CIR", "CMD", "DWL", "END", "FRM", "LIN", "OUT", "PRG", "PTA", "PTP",
-            "RES", "RSL", "SCI", "SLN", "SOP", "SOT", "SPD", "SPL", "SPT", "STA", "WIN"
+            "RES", "RSL", "SCI", "SLN", "SOP", "SOT", "SPA", "SPD", "SPL", "SPT", "STA", "WIN"
         ]),
         "kb_submit.src parses exactly the protocol's records"
     );
@@ -1589,6 +1599,8 @@ fn assert_motion(g: &Globals, i: usize, m: &MotionRecord) {
             params,
         ),
         MotionRecord::PtpAxes { axes, params } => (2, -1, -1, *axes, [0.0; 3], params),
+        // An SPA is stored as a PTA with S = 1 (kb_main plays it as SPTP).
+        MotionRecord::SptpAxes { axes, params } => (2, 1, -1, *axes, [0.0; 3], params),
         MotionRecord::Lin { target, params } => (3, -1, -1, target.to_array(), [0.0; 3], params),
         MotionRecord::Circ {
             aux,

@@ -111,6 +111,7 @@ const MOTION_KINDS: &[(&str, &str)] = &[
     ("slin", "SlinMotion"),
     ("scirc", "ScircMotion"),
     ("sptp", "SptpMotion"),
+    ("sptp_axes", "SptpAxisMotion"),
     ("spl", "SplMotion"),
     ("set_output", "SetOutputAction"),
     ("wait_input", "WaitInputAction"),

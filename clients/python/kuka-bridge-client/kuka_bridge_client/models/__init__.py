@@ -96,6 +96,8 @@ from .speed_settings import SpeedSettings
 from .speed_update import SpeedUpdate
 from .spl_motion import SplMotion
 from .spl_motion_type import SplMotionType
+from .sptp_axis_motion import SptpAxisMotion
+from .sptp_axis_motion_type import SptpAxisMotionType
 from .sptp_motion import SptpMotion
 from .sptp_motion_type import SptpMotionType
 from .state_event import StateEvent
@@ -213,6 +215,8 @@ __all__ = (
     "SpeedUpdate",
     "SplMotion",
     "SplMotionType",
+    "SptpAxisMotion",
+    "SptpAxisMotionType",
     "SptpMotion",
     "SptpMotionType",
     "StateEvent",

@@ -21,6 +21,7 @@ if TYPE_CHECKING:
   from ..models.set_output_action import SetOutputAction
   from ..models.slin_motion import SlinMotion
   from ..models.spl_motion import SplMotion
+  from ..models.sptp_axis_motion import SptpAxisMotion
   from ..models.sptp_motion import SptpMotion
   from ..models.wait_input_action import WaitInputAction
 
@@ -43,8 +44,8 @@ class AppendBody:
         Attributes:
             close (bool | Unset): Close the path after these motions: it ends when they have run.
             motions (list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction |
-                SlinMotion | SplMotion | SptpMotion | WaitInputAction] | Unset): The motions, in order; they are approximated
-                into each other and
+                SlinMotion | SplMotion | SptpAxisMotion | SptpMotion | WaitInputAction] | Unset): The motions, in order; they
+                are approximated into each other and
                 into what follows (`approx_mm` default of the site) unless they set
                 `approx_mm`. May be empty (with `close`).
             wait_ms (int | None | Unset): How long to wait for room while the path's buffer is full (ms,
@@ -52,7 +53,7 @@ class AppendBody:
      """
 
     close: bool | Unset = UNSET
-    motions: list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpMotion | WaitInputAction] | Unset = UNSET
+    motions: list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpAxisMotion | SptpMotion | WaitInputAction] | Unset = UNSET
     wait_ms: int | None | Unset = UNSET
 
 
@@ -69,6 +70,7 @@ class AppendBody:
         from ..models.set_output_action import SetOutputAction # noqa: PLC0415
         from ..models.slin_motion import SlinMotion # noqa: PLC0415
         from ..models.spl_motion import SplMotion # noqa: PLC0415
+        from ..models.sptp_axis_motion import SptpAxisMotion # noqa: PLC0415
         from ..models.sptp_motion import SptpMotion # noqa: PLC0415
         from ..models.wait_input_action import WaitInputAction # noqa: PLC0415
         close = self.close
@@ -91,6 +93,8 @@ class AppendBody:
                 elif isinstance(motions_item_data, ScircMotion):
                     motions_item = motions_item_data.to_dict()
                 elif isinstance(motions_item_data, SptpMotion):
+                    motions_item = motions_item_data.to_dict()
+                elif isinstance(motions_item_data, SptpAxisMotion):
                     motions_item = motions_item_data.to_dict()
                 elif isinstance(motions_item_data, SplMotion):
                     motions_item = motions_item_data.to_dict()
@@ -138,17 +142,18 @@ class AppendBody:
         from ..models.set_output_action import SetOutputAction # noqa: PLC0415
         from ..models.slin_motion import SlinMotion # noqa: PLC0415
         from ..models.spl_motion import SplMotion # noqa: PLC0415
+        from ..models.sptp_axis_motion import SptpAxisMotion # noqa: PLC0415
         from ..models.sptp_motion import SptpMotion # noqa: PLC0415
         from ..models.wait_input_action import WaitInputAction # noqa: PLC0415
         d = dict(src_dict)
         close = d.pop("close", UNSET)
 
         _motions = d.pop("motions", UNSET)
-        motions: list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpMotion | WaitInputAction] | Unset = UNSET
+        motions: list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpAxisMotion | SptpMotion | WaitInputAction] | Unset = UNSET
         if _motions is not UNSET:
             motions = []
             for motions_item_data in _motions:
-                def _parse_motions_item(data: object) -> AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpMotion | WaitInputAction:
+                def _parse_motions_item(data: object) -> AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpAxisMotion | SptpMotion | WaitInputAction:
                     try:
                         if not isinstance(data, dict):
                             raise TypeError()
@@ -222,7 +227,7 @@ class AppendBody:
                     try:
                         if not isinstance(data, dict):
                             raise TypeError()
-                        componentsschemas_motion_request_type_7 = SplMotion.from_dict(data)
+                        componentsschemas_motion_request_type_7 = SptpAxisMotion.from_dict(data)
 
 
 
@@ -232,7 +237,7 @@ class AppendBody:
                     try:
                         if not isinstance(data, dict):
                             raise TypeError()
-                        componentsschemas_motion_request_type_8 = SetOutputAction.from_dict(data)
+                        componentsschemas_motion_request_type_8 = SplMotion.from_dict(data)
 
 
 
@@ -242,20 +247,30 @@ class AppendBody:
                     try:
                         if not isinstance(data, dict):
                             raise TypeError()
-                        componentsschemas_motion_request_type_9 = WaitInputAction.from_dict(data)
+                        componentsschemas_motion_request_type_9 = SetOutputAction.from_dict(data)
 
 
 
                         return componentsschemas_motion_request_type_9
                     except (TypeError, ValueError, AttributeError, KeyError):
                         pass
+                    try:
+                        if not isinstance(data, dict):
+                            raise TypeError()
+                        componentsschemas_motion_request_type_10 = WaitInputAction.from_dict(data)
+
+
+
+                        return componentsschemas_motion_request_type_10
+                    except (TypeError, ValueError, AttributeError, KeyError):
+                        pass
                     if not isinstance(data, dict):
                         raise TypeError()
-                    componentsschemas_motion_request_type_10 = DwellAction.from_dict(data)
+                    componentsschemas_motion_request_type_11 = DwellAction.from_dict(data)
 
 
 
-                    return componentsschemas_motion_request_type_10
+                    return componentsschemas_motion_request_type_11
 
                 motions_item = _parse_motions_item(motions_item_data)
 

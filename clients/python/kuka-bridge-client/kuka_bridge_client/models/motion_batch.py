@@ -22,6 +22,7 @@ if TYPE_CHECKING:
   from ..models.set_output_action import SetOutputAction
   from ..models.slin_motion import SlinMotion
   from ..models.spl_motion import SplMotion
+  from ..models.sptp_axis_motion import SptpAxisMotion
   from ..models.sptp_motion import SptpMotion
   from ..models.wait_input_action import WaitInputAction
 
@@ -44,8 +45,8 @@ class MotionBatch:
 
         Attributes:
             motions (list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction |
-                SlinMotion | SplMotion | SptpMotion | WaitInputAction]): The motions, executed in order as one continuous batch
-                (approximated
+                SlinMotion | SplMotion | SptpAxisMotion | SptpMotion | WaitInputAction]): The motions, executed in order as one
+                continuous batch (approximated
                 between motions unless `approx_mm` is 0).
             config (Configuration | None | Unset):
             timeout_ms (int | None | Unset): Fail the job (and stop the robot) if it has not finished after this many ms.
@@ -53,7 +54,7 @@ class MotionBatch:
                 with the queued job; poll `/api/v1/jobs/{id}` or listen to events.
      """
 
-    motions: list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpMotion | WaitInputAction]
+    motions: list[AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpAxisMotion | SptpMotion | WaitInputAction]
     config: Configuration | None | Unset = UNSET
     timeout_ms: int | None | Unset = UNSET
     wait: bool | None | Unset = UNSET
@@ -72,6 +73,7 @@ class MotionBatch:
         from ..models.set_output_action import SetOutputAction # noqa: PLC0415
         from ..models.slin_motion import SlinMotion # noqa: PLC0415
         from ..models.spl_motion import SplMotion # noqa: PLC0415
+        from ..models.sptp_axis_motion import SptpAxisMotion # noqa: PLC0415
         from ..models.sptp_motion import SptpMotion # noqa: PLC0415
         from ..models.wait_input_action import WaitInputAction # noqa: PLC0415
         motions = []
@@ -90,6 +92,8 @@ class MotionBatch:
             elif isinstance(motions_item_data, ScircMotion):
                 motions_item = motions_item_data.to_dict()
             elif isinstance(motions_item_data, SptpMotion):
+                motions_item = motions_item_data.to_dict()
+            elif isinstance(motions_item_data, SptpAxisMotion):
                 motions_item = motions_item_data.to_dict()
             elif isinstance(motions_item_data, SplMotion):
                 motions_item = motions_item_data.to_dict()
@@ -152,13 +156,14 @@ class MotionBatch:
         from ..models.set_output_action import SetOutputAction # noqa: PLC0415
         from ..models.slin_motion import SlinMotion # noqa: PLC0415
         from ..models.spl_motion import SplMotion # noqa: PLC0415
+        from ..models.sptp_axis_motion import SptpAxisMotion # noqa: PLC0415
         from ..models.sptp_motion import SptpMotion # noqa: PLC0415
         from ..models.wait_input_action import WaitInputAction # noqa: PLC0415
         d = dict(src_dict)
         motions = []
         _motions = d.pop("motions")
         for motions_item_data in (_motions):
-            def _parse_motions_item(data: object) -> AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpMotion | WaitInputAction:
+            def _parse_motions_item(data: object) -> AxisMotion | CircMotion | DwellAction | LinMotion | PtpMotion | ScircMotion | SetOutputAction | SlinMotion | SplMotion | SptpAxisMotion | SptpMotion | WaitInputAction:
                 try:
                     if not isinstance(data, dict):
                         raise TypeError()
@@ -232,7 +237,7 @@ class MotionBatch:
                 try:
                     if not isinstance(data, dict):
                         raise TypeError()
-                    componentsschemas_motion_request_type_7 = SplMotion.from_dict(data)
+                    componentsschemas_motion_request_type_7 = SptpAxisMotion.from_dict(data)
 
 
 
@@ -242,7 +247,7 @@ class MotionBatch:
                 try:
                     if not isinstance(data, dict):
                         raise TypeError()
-                    componentsschemas_motion_request_type_8 = SetOutputAction.from_dict(data)
+                    componentsschemas_motion_request_type_8 = SplMotion.from_dict(data)
 
 
 
@@ -252,20 +257,30 @@ class MotionBatch:
                 try:
                     if not isinstance(data, dict):
                         raise TypeError()
-                    componentsschemas_motion_request_type_9 = WaitInputAction.from_dict(data)
+                    componentsschemas_motion_request_type_9 = SetOutputAction.from_dict(data)
 
 
 
                     return componentsschemas_motion_request_type_9
                 except (TypeError, ValueError, AttributeError, KeyError):
                     pass
+                try:
+                    if not isinstance(data, dict):
+                        raise TypeError()
+                    componentsschemas_motion_request_type_10 = WaitInputAction.from_dict(data)
+
+
+
+                    return componentsschemas_motion_request_type_10
+                except (TypeError, ValueError, AttributeError, KeyError):
+                    pass
                 if not isinstance(data, dict):
                     raise TypeError()
-                componentsschemas_motion_request_type_10 = DwellAction.from_dict(data)
+                componentsschemas_motion_request_type_11 = DwellAction.from_dict(data)
 
 
 
-                return componentsschemas_motion_request_type_10
+                return componentsschemas_motion_request_type_11
 
             motions_item = _parse_motions_item(motions_item_data)
 

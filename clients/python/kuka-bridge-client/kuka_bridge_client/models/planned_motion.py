@@ -25,10 +25,11 @@ class PlannedMotion:
     """ One motion of a [`JobPlan`].
 
         Attributes:
-            type_ (str): `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp`, `spl`,
+            type_ (str): `ptp`, `ptp_axes`, `lin`, `circ`, `slin`, `scirc`, `sptp`,
+                `sptp_axes`, `spl`,
                 or an action (`set_output`, `wait_input`, `dwell`: no target).
             aux (list[float] | None | Unset): Auxiliary point `[x, y, z]` of a `circ` or `scirc`.
-            axes (list[float] | None | Unset): Target axis angles A1..A6 of a `ptp_axes`.
+            axes (list[float] | None | Unset): Target axis angles A1..A6 of a `ptp_axes` or `sptp_axes`.
             left (int | None | Unset): Of an `spl`: the points of its spline block from this one to the
                 block's end (1 = the last point).
             target (list[float] | None | Unset): Target TCP pose in the base frame `[x, y, z, a, b, c]` (not for
