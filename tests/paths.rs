@@ -857,6 +857,75 @@ async fn a_refused_blended_thesis_call_leaves_no_path_open() {
     assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
 }
 
+/// With blending on, a thesis client learns through its next call that
+/// the calls answered before did not all run: after a Stop the next call
+/// is refused `cancelled` (and runs nothing; the one after starts anew),
+/// and while the controller is in its error state (an emergency stop) a
+/// call is refused `controller_error` instead of being queued and
+/// answered 1 (found by a review).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stop_or_an_emergency_stop_reaches_the_next_blended_thesis_call() {
+    let t = TestService::start(Options {
+        time_scale: 1.0,
+        tweak: Box::new(|c| {
+            c.motion.thesis_blend_ms = 500;
+            c.simulator.kind = kuka_bridge_tests::test_simulator();
+        }),
+        ..Options::default()
+    })
+    .await;
+    to_start(&t, &[200.0, 0.0]).await;
+    for y in [40, -40] {
+        let (s, v) = t.post(&format!("/krl/linmov?y={y}")).await;
+        assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
+    }
+    let (s, v) = t.post("/api/v1/stop").await;
+    assert_eq!(s, 200, "{v}");
+    wait_for(Duration::from_secs(5), "the path cancelled", async || {
+        let (_, jobs) = t.get("/api/v1/jobs?limit=5").await;
+        let path = jobs
+            .as_array()
+            .and_then(|a| a.iter().find(|j| j["operation"] == "path").cloned());
+        match path {
+            Some(j) if j["state"] == "cancelled" => Ok(()),
+            other => Err(format!("{other:?}")),
+        }
+    })
+    .await;
+    let jobs = async || {
+        let (_, jobs) = t.get("/api/v1/jobs?limit=50").await;
+        jobs.as_array().map_or(0, Vec::len)
+    };
+    let before = jobs().await;
+    let (s, v) = t.post("/krl/linmov?y=10").await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (409, Some("cancelled")),
+        "the stop reaches the next call: {v}"
+    );
+    assert_ne!(v["statuscode"], 1, "{v}");
+    assert_eq!(jobs().await, before, "the refused call ran nothing");
+    let (s, v) = t.post("/krl/linmov?y=20").await;
+    assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
+    // An emergency stop: calls are refused while the controller is in error.
+    let (s, v) = t
+        .put_json("/api/v1/sim/safety", &json!({"emergency_stop": true}))
+        .await;
+    assert_eq!(s, 204, "{v}");
+    t.wait_state("the controller in error", |s| {
+        s["controller"]["status"] == "error"
+    })
+    .await;
+    for _ in 0..2 {
+        let (s, v) = t.post("/krl/linmov?y=30").await;
+        assert_eq!(
+            (s, v["code"].as_str()),
+            (409, Some("controller_error")),
+            "{v}"
+        );
+    }
+}
+
 /// An append that waits for room is withdrawn when its client stops
 /// waiting (a client that times out and retries must not get its motions
 /// twice): when room frees up later, it is not appended.

@@ -953,7 +953,7 @@ pub fn resolve(
                 .any(|r| !r.is_action() && !r.is_axis_ptp());
             if needs_pose {
                 return Err(BridgeError::invalid(format!(
-                    "motion {i}: an axis PTP may only be followed by other axis PTPs in one batch (its Cartesian end is computed by the controller); send the Cartesian motions as a separate request"
+                    "motion {i}: an axis PTP may only be followed by other axis PTPs in one batch (its Cartesian end is computed by the controller); send the Cartesian motions in a later request (or, in a path, a later append)"
                 ))
                 .at_motion(i));
             }

@@ -18,7 +18,7 @@ use utoipa_axum::routes;
 use super::AppState;
 use super::auth::Who;
 use super::problem::{PROBLEM_JSON, ProblemDetails, json_response, query_rejection};
-use crate::engine::{CartesianFrame, Job, Operation};
+use crate::engine::{CartesianFrame, Job, JobState, Operation};
 use crate::error::{BridgeError, ErrorCode};
 use crate::motion::{AuxPoint, Configuration, MotionRequest, TargetSpec};
 
@@ -377,6 +377,12 @@ async fn blended(app: &AppState, who: &Who, m: MotionRequest) -> Response {
     let caller = who.caller();
     let key = caller.name.clone().unwrap_or_else(|| "anonymous".into());
     let wait = app.wait_budget(None);
+    // A controller in its error state runs nothing: the call says so, as
+    // an unblended one would, instead of being queued (and answered 1).
+    if let Some(e) = app.engine.state().controller.error {
+        app.thesis_paths.lock().remove(&key);
+        return fail(app, &BridgeError::new(ErrorCode::ControllerError, e.detail));
+    }
     for attempt in 0..2 {
         let open = app.thesis_paths.lock().get(&key).map(|(id, _)| *id);
         let id = match open {
@@ -425,10 +431,38 @@ async fn blended(app: &AppState, who: &Who, m: MotionRequest) -> Response {
                 let e = o.end;
                 return done([e.x, e.y, e.z, e.a, e.b, e.c]);
             }
-            // The path ended meanwhile (stopped, failed, or the controller
-            // closed it): a new one, once.
+            // The path ended meanwhile. Ended as planned (the controller
+            // closed it): a new one, once. Stopped or failed: the calls
+            // answered before did not all run, and this call is how the
+            // client learns it (README: "through its next call"); it runs
+            // nothing, the next call starts a new path.
             Err(e) if e.code == ErrorCode::PathClosed && attempt == 0 => {
                 app.thesis_paths.lock().remove(&key);
+                if let Some(ended) = app
+                    .engine
+                    .job(id)
+                    .ok()
+                    .filter(|j| matches!(j.state, JobState::Failed | JobState::Cancelled))
+                {
+                    let why = ended.error.map_or_else(
+                        || "stopped".to_string(),
+                        |e| format!("{} ({})", e.detail, e.code.as_str()),
+                    );
+                    let code = if ended.state == JobState::Cancelled {
+                        ErrorCode::Cancelled
+                    } else {
+                        ErrorCode::ControllerError
+                    };
+                    return fail(
+                        app,
+                        &BridgeError::new(
+                            code,
+                            format!(
+                                "the blended calls before this one did not all run: {why}; this call ran nothing (the next call starts anew)"
+                            ),
+                        ),
+                    );
+                }
             }
             Err(e) => {
                 // The path ends here: the robot stops at the last call that

@@ -335,7 +335,7 @@ fn request_schema() -> serde_json::Value {
             "spline": {"type": "boolean", "default": false,
                        "description": "straight motions as SLIN (spline family) instead of LIN"},
             "release_before_mm": {"type": "number", "minimum": 0, "maximum": 300, "default": 0,
-                                  "description": "open the gripper this far before the place point, while descending (0: at the bottom)"}
+                                  "description": "open the gripper this far before the place point, while descending (0: at the bottom; at most approach_mm)"}
         },
         "examples": [{"pick": {"x": 300, "y": -60, "z": 100}, "place": {"x": 300, "y": 60, "z": 100}}]
     })
