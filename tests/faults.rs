@@ -800,6 +800,13 @@ async fn an_emergency_stop_stops_the_robot_until_released_and_acknowledged() {
         "{v}"
     );
     assert_close(t.controller_axes()[0], stopped, 0.001, "A1 while stopped");
+    // No path opens while the controller is in its error state.
+    let (st, v) = t.post("/api/v1/paths").await;
+    assert_eq!(
+        (st, v["code"].as_str()),
+        (409, Some("controller_error")),
+        "{v}"
+    );
     // The operator cannot acknowledge while the button is pressed.
     let (st, v) = t.post("/api/v1/sim/acknowledge").await;
     assert_eq!(
@@ -832,6 +839,15 @@ async fn an_emergency_stop_stops_the_robot_until_released_and_acknowledged() {
     .await;
     let (st, v) = t.post("/api/v1/reset").await;
     assert_eq!(st, 200, "{v}");
+    // Ready as soon as the reset is answered: the state says so and a
+    // path opens at once (not only once the next state file is read).
+    let (_, s) = t.get("/api/v1/state").await;
+    assert_eq!(s["controller"]["status"], "idle", "{s}");
+    let (st, v) = t.post("/api/v1/paths").await;
+    assert_eq!(st, 201, "{v}");
+    let id = v["id"].as_u64().expect("path id");
+    let (st, v) = t.delete(&format!("/api/v1/paths/{id}")).await;
+    assert!(st == 200 || st == 204, "{st} {v}");
     t.wait_state("ready again", |s| {
         s["controller"]["status"] == "idle"
             && s["controller"]["safety"]["drives_ready"] == true

@@ -126,6 +126,11 @@ async fn create_path(
         }
         serde_json::from_value(v).map_err(|e| BridgeError::invalid(format!("request body: {e}")))?
     };
+    // A controller in its error state runs no path: say so now, rather
+    // than open one whose first append is refused as closed.
+    if let Some(e) = app.engine.state().controller.error {
+        return Err(BridgeError::new(ErrorCode::ControllerError, e.detail).into());
+    }
     let job = app
         .engine
         .submit(

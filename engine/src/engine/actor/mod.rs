@@ -164,6 +164,9 @@ struct ControllerView {
     result_cid: Option<Cid>,
     /// When the file that last set `pose`/`axes` was read.
     pose_at: Option<Instant>,
+    /// A RESET the controller took with its safety circuit closed: state
+    /// files written before it no longer show the error it cleared.
+    reset_cid: Option<Cid>,
     /// The value each analog channel (inputs, outputs; 1..=8) had when
     /// it last published an `analog` event, or when first reported.
     analog_published: [[Option<f64>; kuka_protocol::AnalogState::WIDTH]; 2],

@@ -96,7 +96,19 @@ impl Actor {
         }
     }
 
-    pub(super) fn on_state(&mut self, s: StateFile, now: Instant) {
+    pub(super) fn on_state(&mut self, mut s: StateFile, now: Instant) {
+        // A state file written before a reset the controller took (it had
+        // not accepted the RESET yet) shows the error the reset cleared.
+        if let Some(rc) = self.ctl.reset_cid {
+            let after_reset = s.last_cid > 0
+                && !kuka_protocol::cid_is_newer(rc, s.last_cid)
+                && !(s.status == ControllerStatus::Busy && s.busy_cid == rc);
+            if after_reset {
+                self.ctl.reset_cid = None;
+            } else {
+                forget_error(&mut s);
+            }
+        }
         // last_cid is the command's id or newer: the controller accepted it.
         let accepted = |cid: Cid| s.last_cid > 0 && !kuka_protocol::cid_is_newer(cid, s.last_cid);
         let running = |cid: Cid| s.status == ControllerStatus::Busy && s.busy_cid == cid;
@@ -369,6 +381,23 @@ impl Actor {
                 ),
                 Some(s),
             ));
+        }
+        let cleared = matches!(f.op, Operation::Reset)
+            && error.is_none()
+            && r.code == ResultCode::Ok
+            && safety
+                .is_none_or(|s| s.alarm_stop && s.user_safety && s.drives_ready && !s.stop_message);
+        if cleared {
+            // A reset the controller took with its safety circuit closed
+            // clears its error state: the state the clients see says so
+            // at once, not only once the next state file is read (a client
+            // that resets and then opens a path must not be refused on the
+            // state file from before the reset). A state file written
+            // before the reset no longer sets the error back (`on_state`).
+            self.ctl.reset_cid = Some(r.cid);
+            if let Some(s) = self.ctl.state.as_mut() {
+                forget_error(s);
+            }
         }
         if !matches!(f.op, Operation::Move(_) | Operation::Path(_))
             && let Some(e) = &mut error
@@ -656,5 +685,15 @@ impl Actor {
             }
         }
         self.shared.publish(Event::Alarm(e));
+    }
+}
+
+/// A state file's error state cleared (by a reset the controller took):
+/// idle, no error.
+fn forget_error(s: &mut StateFile) {
+    if s.status == ControllerStatus::Error {
+        s.status = ControllerStatus::Idle;
+        s.error = None;
+        s.error_axis = 0;
     }
 }
