@@ -209,10 +209,17 @@ fn command(rng: &mut Rng, model: &RobotModel, axes: &[f64; 6], pose: &Pose) -> C
     match rng.pick(19) {
         0 => Command::GetPosition,
         1 => Command::Home,
-        2 => Command::Move(vec![MotionRecord::PtpAxes {
-            axes: random_axes(rng, model),
-            params: params(rng, false, false),
-        }]),
+        2 => {
+            // An axis PTP of either family (PTA, SPA), picked by A6's
+            // sign (no draw of its own: the sequence after it is the one
+            // the seed always gave).
+            let (axes, params) = (random_axes(rng, model), params(rng, false, false));
+            Command::Move(vec![if axes[5] >= 0.0 {
+                MotionRecord::PtpAxes { axes, params }
+            } else {
+                MotionRecord::SptpAxes { axes, params }
+            }])
+        }
         3 => {
             // A Cartesian PTP to a pose reached by known axes, with its
             // Status and Turn: both must arrive at those axes.
