@@ -1957,12 +1957,14 @@ async fn pick_and_place_with_splines_releases_at_a_distance_before_the_place_poi
     .await;
     let closed_z = closed_z.expect("a state with the gripper closed at the place");
     // Descending from z 150 to 100 at 0.1 m/s: it opens at z 120, within
-    // one 12 ms step (1.2 mm). The first state with it open is written at
-    // once by the native simulator, within the 100 ms heartbeat by the KRL
-    // program (10 mm): either way well before the bottom, where it would
-    // open without `path-mm`.
+    // one 12 ms step (1.2 mm) either way (the KRC-like runtime's trigger
+    // fires at the sample nearest its point, before or after; seen: the
+    // first state with it open at z 121.15). The first state with it open
+    // is written at once by the native simulator, within the 100 ms
+    // heartbeat by the KRL program (10 mm): either way well before the
+    // bottom, where it would open without `path-mm`.
     assert!(
-        closed_z >= 119.0 && open_z <= 121.0 && open_z > 104.0,
+        closed_z >= 118.0 && open_z <= 122.0 && open_z > 104.0,
         "opened between z {closed_z} and {open_z}, not at 120"
     );
     let (status, v) = call.await.expect("task");
