@@ -135,25 +135,22 @@ pub fn any_motion_request(m: host::AnyMotion) -> MotionRequest {
     }
 }
 
-/// A plugin step (a motion or an I/O action) as the REST API's request.
+/// A plugin step of the `io` interface (a motion or an I/O action) as the
+/// REST API's request: the `steps` interface's step without a distance.
 pub fn step_request(s: host::Step) -> MotionRequest {
-    match s {
-        host::Step::Motion(m) => motion_request(m),
-        host::Step::SetOutput(o) => MotionRequest::SetOutput {
-            signal: SignalRef::Name(o.signal),
+    any_step_request(match s {
+        host::Step::Motion(m) => host::AnyStep::Motion(host::AnyMotion::Motion(m)),
+        // (The WIT `io.set-output` record has no distance: plugins switch
+        // as the next motion starts.)
+        host::Step::SetOutput(o) => host::AnyStep::SetOutput(host::SwitchOutput {
+            signal: o.signal,
             value: o.value,
             pulse_ms: o.pulse_ms,
-            // (The WIT `io.set-output` record has no distance: plugins
-            // switch as the next motion starts.)
             path_mm: None,
-        },
-        host::Step::WaitInput(w) => MotionRequest::WaitInput {
-            signal: SignalRef::Name(w.signal),
-            value: w.value,
-            timeout_ms: w.timeout_ms,
-        },
-        host::Step::Dwell(ms) => MotionRequest::Dwell { ms },
-    }
+        }),
+        host::Step::WaitInput(w) => host::AnyStep::WaitInput(w),
+        host::Step::Dwell(ms) => host::AnyStep::Dwell(ms),
+    })
 }
 
 /// A step of the `steps` interface (a motion of either family or an I/O
