@@ -314,3 +314,68 @@ async fn an_error_stop_waits_for_the_operator_and_acknowledge_ends_it() {
     assert_eq!((status, &v["state"]), (200, &json!("done")), "{v}");
     t.service.shutdown().await.expect("shutdown");
 }
+
+/// While a path runs, the service removes each command the controller has
+/// read (`channel.remove_read_command`, PROTOCOL.md §9.2 step 4): the
+/// program's polls between APPENDs open nothing and read no line, where
+/// they used to read the same header at every poll (docs/BENCHMARKS.md
+/// §10.5). A batch of 16 slow LINs (sent as a path, 200 ms each, ~10 polls
+/// per motion) in real time: with the removal, `krl_fgets` stay within 1.5
+/// per motion (the command lines and each command's header and APD line);
+/// with the key off, every poll reads the header again.
+#[tokio::test]
+async fn polls_during_a_path_read_no_line_twice() {
+    let mut per_motion = Vec::new();
+    for remove in [true, false] {
+        let t = TestService::start(Options {
+            time_scale: 1.0,
+            tweak: Box::new(move |c| {
+                c.simulator.kind = SimulatorKind::Krc;
+                c.channel.remove_read_command = remove;
+            }),
+            ..Options::default()
+        })
+        .await;
+        let krc = t.service.krc.clone().expect("krc");
+        // Away from home's wrist singularity.
+        let (status, job) = t
+            .motions(json!([{"type": "ptp", "target": {"x": 300, "z": 500}}]))
+            .await;
+        assert_eq!((status, &job["state"]), (200, &json!("done")), "{job}");
+        let fgets = || {
+            krc.stats()
+                .file_calls
+                .get("krl_fgets")
+                .copied()
+                .unwrap_or(0)
+        };
+        let before = fgets();
+        let motions: Vec<_> = (0..16)
+            .map(|i| {
+                let y = if i % 2 == 0 { 10.0 } else { 0.0 };
+                json!({"type": "lin", "target": {"y": y}, "velocity_m_s": 0.05, "approx_mm": 0})
+            })
+            .collect();
+        let (status, job) = t.motions(json!(motions)).await;
+        assert_eq!((status, &job["state"]), (200, &json!("done")), "{job}");
+        let read = (fgets() - before) as f64 / 16.0;
+        per_motion.push(read);
+        let cmd = t.channel_dir().join(kuka_protocol::COMMAND_FILE);
+        if remove {
+            assert!(
+                read <= 1.5,
+                "krl_fgets per motion {read:.2} with the removal"
+            );
+        } else {
+            assert!(
+                cmd.exists(),
+                "the command file was removed with the key off"
+            );
+        }
+    }
+    assert!(
+        per_motion[1] >= 3.0 * per_motion[0],
+        "the polls read the kept command again and again: {per_motion:?} (with, without the removal)"
+    );
+    eprintln!("krl_fgets per motion with / without the removal: {per_motion:?}");
+}

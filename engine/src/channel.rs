@@ -119,6 +119,15 @@ impl Channel {
         Ok(())
     }
 
+    /// Removes the command file (the controller has read it): until the
+    /// next command its polls find no file, which costs a KRL program one
+    /// failed open instead of an open, a line and a close. Locked: the
+    /// controller is reading it; try again later.
+    pub fn remove_command(&mut self) -> Result<(), ChannelError> {
+        self.command.remove()?;
+        Ok(())
+    }
+
     fn read<T>(
         &self,
         name: &str,

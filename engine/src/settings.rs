@@ -57,6 +57,13 @@ pub struct ChannelConfig {
     /// wake-up. 0 turns it off. Unset: 250 with the embedded simulator, 0
     /// otherwise.
     pub request_spin_us: Option<u64>,
+    /// While a path runs (a path, or a batch of more than 4 motions),
+    /// removes the command file once the controller has read it (its state
+    /// or result file says so): the controller's polls until the next
+    /// APPEND then find no file, instead of reading the same header again
+    /// and again (a KRL program's one failed `krl_fopen` against an open,
+    /// a line and a close). false keeps the last command on the channel.
+    pub remove_read_command: bool,
 }
 
 /// How a Cartesian PTP without `s` gets its arm configuration
@@ -221,6 +228,7 @@ impl Default for ChannelConfig {
             lock_timeout_ms: 2000,
             answer_spin_us: None,
             request_spin_us: None,
+            remove_read_command: true,
         }
     }
 }
@@ -299,6 +307,8 @@ pub struct ChannelTiming {
     pub answer_spin: Duration,
     /// Busy-wait for the next request after an answer (zero: off).
     pub request_spin: Duration,
+    /// Remove the command file once the controller has read it, while a path runs.
+    pub remove_read_command: bool,
 }
 
 impl Default for ChannelTiming {
@@ -326,6 +336,7 @@ impl ChannelConfig {
             lock_timeout: ms(self.lock_timeout_ms),
             answer_spin: spin(self.answer_spin_us, 300),
             request_spin: spin(self.request_spin_us, 250),
+            remove_read_command: self.remove_read_command,
         }
     }
 

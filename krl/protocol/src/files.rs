@@ -190,6 +190,28 @@ impl ReplacedFile {
             }
         }
     }
+
+    /// Removes the file, unless another process holds it locked (then
+    /// [`WriteError::Locked`]: try again later). A missing file is fine.
+    /// The service removes a command the controller has read, so that the
+    /// controller's polls until the next command open nothing (PROTOCOL.md
+    /// §9.2).
+    pub fn remove(&mut self) -> Result<(), WriteError> {
+        let display = || self.target.display().to_string();
+        if self.is_locked() {
+            return Err(WriteError::Locked { path: display() });
+        }
+        self.last = None;
+        match fs::remove_file(&self.target) {
+            Ok(()) => Ok(()),
+            Err(e) if e.kind() == ErrorKind::NotFound => Ok(()),
+            Err(e) if is_lock_error(&e) => Err(WriteError::Locked { path: display() }),
+            Err(source) => Err(WriteError::Io {
+                path: display(),
+                source,
+            }),
+        }
+    }
 }
 
 /// True if `f` is still the file at `path` (same device and inode; no
@@ -311,5 +333,25 @@ mod tests {
             atomic_write(dir.path(), "f.txt", "other", "one").expect("other writer");
         }
         assert!(!ReplacedFile::new(dir.path(), "missing.txt", "t").is_locked());
+    }
+
+    /// A locked file stays (the reader is still at it); an unlocked one
+    /// goes; a missing one is no error; a write after a removal creates it.
+    #[test]
+    fn a_file_is_removed_only_when_nobody_holds_it() {
+        let dir = tempfile::tempdir().expect("dir");
+        let mut w = ReplacedFile::new(dir.path(), "f.txt", "t");
+        w.write(b"one").expect("write");
+        let path = dir.path().join("f.txt");
+        let holder = File::open(&path).expect("open");
+        holder.lock_shared().expect("lock");
+        assert!(matches!(w.remove(), Err(WriteError::Locked { .. })));
+        assert!(path.exists(), "removed under a lock");
+        drop(holder);
+        w.remove().expect("remove");
+        assert!(!path.exists());
+        w.remove().expect("a missing file is removed already");
+        w.write(b"two").expect("write after removal");
+        assert_eq!(fs::read_to_string(&path).expect("read"), "two");
     }
 }

@@ -209,6 +209,9 @@ pub(crate) struct Actor {
     probes: u32,
     /// The open path (a path job on the controller).
     path: Option<paths::PathState>,
+    /// The command on the channel, until the controller has read it and
+    /// the file is removed (`channel.remove_read_command`).
+    on_channel: Option<Cid>,
 }
 
 /// How often the engine checks that it can write the channel folder.
@@ -250,6 +253,7 @@ impl Actor {
             probed_at: None,
             probes: 0,
             path: None,
+            on_channel: None,
         }
     }
 
@@ -300,6 +304,7 @@ impl Actor {
             self.dispatch();
             self.reconcile_path();
             self.pump_path();
+            self.remove_read_command();
             self.publish_state();
             if self.shutting_down.is_some() && self.inflight.is_none() && self.pending.is_none() {
                 break;

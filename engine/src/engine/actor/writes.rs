@@ -78,6 +78,7 @@ impl Actor {
         match self.channel.write_command(&p.cmd) {
             Ok(()) => {
                 self.faults.channel = None;
+                self.on_channel = Some(p.cmd.cid);
                 if self.ctl.locked {
                     tracing::warn!(event_id = events::CHANNEL_UNLOCKED, dir = %self.channel.dir().display(), "channel unlocked");
                     self.ctl.locked = false;
@@ -122,6 +123,45 @@ impl Actor {
                 let detail = "the service cannot write the command file into the channel folder; nothing was sent. Check the disk and the folder's permissions";
                 self.faults.channel = Some(detail.into());
                 self.write_failed(BridgeError::new(ErrorCode::StorageUnavailable, detail))
+            }
+        }
+    }
+
+    /// Removes the command file once the controller has read it, while a
+    /// path runs: its state file's `last_cid` has reached the command, or
+    /// its result came. (Between paths the file stays: the polls of an
+    /// idle controller cost no motion anything, and tools that look at or
+    /// lock the last command keep finding it.) The
+    /// controller reads a command whole in the Submit pass that accepts it
+    /// and writes its state and result after closing the file (a MOVE the
+    /// service sends is never longer than the program reads in one pass:
+    /// longer batches go as paths), so a removal never cuts a read short.
+    /// Locked: the controller is at it right now; the next turn of the loop
+    /// tries again.
+    pub(super) fn remove_read_command(&mut self) {
+        let Some(cid) = self.on_channel else { return };
+        if !self.cfg.remove_read_command {
+            self.on_channel = None;
+            return;
+        }
+        if self.pending.is_some() || self.path.is_none() {
+            return;
+        }
+        let last = self.last_accepted();
+        let read =
+            (last > 0 && !kuka_protocol::cid_is_newer(cid, last)) || self.ledger.is_seen(cid);
+        if !read {
+            return;
+        }
+        match self.channel.remove_command() {
+            Ok(()) => {
+                self.on_channel = None;
+                tracing::trace!(cid, "command read by the controller; file removed");
+            }
+            Err(ChannelError::Write(kuka_protocol::files::WriteError::Locked { .. })) => {}
+            Err(e) => {
+                self.on_channel = None;
+                tracing::warn!(cid, error = %crate::error::chain(&e), "command file not removed (the controller reads it again at each poll)");
             }
         }
     }
