@@ -733,8 +733,14 @@ pub struct SimProcess(std::process::Child);
 impl SimProcess {
     /// Starts a simulator on `dir` with a 10 ms heartbeat.
     pub fn spawn(cli: &str, dir: &Path, time_scale: f64) -> SimProcess {
+        SimProcess::spawn_kind(cli, dir, time_scale, "native")
+    }
+
+    /// [`SimProcess::spawn`] of a simulated controller of `kind` (`native`
+    /// or `krc`: the shipped KRL program in the KRC-like runtime).
+    pub fn spawn_kind(cli: &str, dir: &Path, time_scale: f64, kind: &str) -> SimProcess {
         let child = std::process::Command::new(cli)
-            .args(["simulate", "--channel-dir"])
+            .args(["simulate", "--kind", kind, "--channel-dir"])
             .arg(dir)
             .args([
                 "--time-scale",

@@ -907,6 +907,40 @@ async fn a_stop_or_an_emergency_stop_reaches_the_next_blended_thesis_call() {
     assert_eq!(jobs().await, before, "the refused call ran nothing");
     let (s, v) = t.post("/krl/linmov?y=20").await;
     assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
+    // The same when the next call comes after the blend window: the path
+    // has been closed meanwhile, and the Stop still reaches the client.
+    let (s, v) = t.post("/krl/linmov?y=-30").await;
+    assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
+    let (s, v) = t.post("/api/v1/stop").await;
+    assert_eq!(s, 200, "{v}");
+    wait_for(
+        Duration::from_secs(5),
+        "the second path cancelled",
+        async || {
+            let (_, jobs) = t.get("/api/v1/jobs?limit=5").await;
+            let path = jobs
+                .as_array()
+                .and_then(|a| a.iter().find(|j| j["operation"] == "path").cloned());
+            match path {
+                Some(j) if j["state"] == "cancelled" => Ok(()),
+                other => Err(format!("{other:?}")),
+            }
+        },
+    )
+    .await;
+    // On purpose: the 500 ms blend window runs out (its end is what is
+    // tested; nothing to wait on).
+    tokio::time::sleep(Duration::from_millis(800)).await;
+    let before = jobs().await;
+    let (s, v) = t.post("/krl/linmov?y=10").await;
+    assert_eq!(
+        (s, v["code"].as_str()),
+        (409, Some("cancelled")),
+        "the stop reaches the next call after the window: {v}"
+    );
+    assert_eq!(jobs().await, before, "the refused call ran nothing");
+    let (s, v) = t.post("/krl/linmov?y=20").await;
+    assert_eq!((s, v["statuscode"].as_i64()), (200, Some(1)), "{v}");
     // An emergency stop: calls are refused while the controller is in error.
     let (s, v) = t
         .put_json("/api/v1/sim/safety", &json!({"emergency_stop": true}))

@@ -224,6 +224,50 @@ async fn a_controller_restarted_mid_batch_resolves_the_job_at_once() {
     t.service.shutdown().await.expect("shutdown");
 }
 
+/// The KRL program in the KRC-like runtime is killed in the middle of a path
+/// (a batch of 8 motions) and started again at once, as after a reboot:
+/// its Submit start ends the path (PROTOCOL.md §5.5 rule 9) and rewrites
+/// its result file before the service sees it idle. The job ends at once
+/// with `command_lost`, and the next job runs (before: `executing` for
+/// good, because the result file was compared from the moment the
+/// controller looked idle, after its rewrite).
+#[tokio::test]
+async fn the_krl_program_rebooted_mid_path_resolves_the_job_at_once() {
+    let root = tempfile::tempdir().expect("tempdir");
+    let channel = root.path().join("channel");
+    let mut sim = SimProcess::spawn_kind(cli(), &channel, 1.0, "krc");
+    let t = TestService::start_without_sim(root.path()).await;
+    t.wait_connection("online").await;
+    let batch: Vec<Value> = [10.0, 0.0, 10.0, 0.0, 10.0, 0.0, 10.0, 0.0]
+        .iter()
+        .map(|a| slow_motion(*a))
+        .collect();
+    let (s, job) = t
+        .post_json("/api/v1/motions", &json!({"motions": batch, "wait": false}))
+        .await;
+    assert_eq!(s, 202, "{job}");
+    let id = job["id"].as_u64().expect("id");
+    let j = t
+        .wait_job(id, "the path running", |j| {
+            j["completed"].as_u64() >= Some(1) || terminal(j)
+        })
+        .await;
+    assert_eq!(j["state"], "executing", "{j}");
+    sim.kill();
+    let restarted = Instant::now();
+    let _sim = SimProcess::spawn_kind(cli(), &channel, 1.0, "krc");
+    let j = t.wait_job(id, "the job", terminal).await;
+    let took = restarted.elapsed();
+    assert_eq!(j["state"], "failed", "{j}");
+    assert_eq!(j["error"]["code"], "command_lost", "{j}");
+    assert!(took < Duration::from_secs(5), "resolved in {took:?}");
+    let (s, v) = t
+        .motions(json!([{"type": "ptp", "target": {"x": 300}}]))
+        .await;
+    assert_eq!(s, 200, "the next job runs: {v}");
+    t.service.shutdown().await.expect("shutdown");
+}
+
 /// The controller cannot write its result (the file is locked) until after
 /// the job's timeout: the job first fails with `timeout`, then takes the
 /// controller's late OK (`late_result`), instead of staying failed although

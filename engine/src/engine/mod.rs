@@ -41,6 +41,9 @@ pub(crate) enum Msg {
     Files(crate::channel::Changed),
     Submit(actor::QueuedJob),
     Cancel(JobId, oneshot::Sender<Result<Job>>),
+    /// Cancels the job only if it is still in the queue (true), in one step
+    /// of the engine thread: a job dispatched meanwhile is left alone.
+    CancelQueued(JobId, oneshot::Sender<bool>),
     Stop(oneshot::Sender<Result<()>>),
     Shutdown(oneshot::Sender<()>),
     /// The dry run of a program job has finished (on its own thread).
@@ -609,6 +612,19 @@ impl Engine {
         let (tx, rx) = oneshot::channel();
         self.tx.send(Msg::Cancel(id, tx)).map_err(|_| stopped())?;
         rx.await.map_err(|_| stopped())?
+    }
+
+    /// Cancels job `id` if it is still waiting in the queue, and says
+    /// whether it did. Unlike reading its state and then cancelling, a job
+    /// sent to the controller in between is not touched (nothing is
+    /// stopped): closing a path that has just started must not stop it.
+    pub async fn cancel_if_queued(&self, id: JobId) -> Result<bool> {
+        self.job(id)?;
+        let (tx, rx) = oneshot::channel();
+        self.tx
+            .send(Msg::CancelQueued(id, tx))
+            .map_err(|_| stopped())?;
+        rx.await.map_err(|_| stopped())
     }
 
     /// Appends motions to the open path `path` (a job of

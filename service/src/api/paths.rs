@@ -501,11 +501,11 @@ async fn end_path(
         // path's final record when it has (or as it is after 5 s).
         return Ok(ok_json(&app.engine.wait(id, Duration::from_secs(5)).await?));
     }
-    if job.state == crate::engine::JobState::Queued {
+    if job.state == crate::engine::JobState::Queued && app.engine.cancel_if_queued(id).await? {
         // Still behind other jobs: it has no motions yet (appends wait for
         // it to start), so closing it ends it now, without waiting for the
-        // jobs ahead.
-        app.engine.cancel(id).await?;
+        // jobs ahead. (One step of the engine: a path that started in the
+        // meantime is closed below instead, and finishes its motions.)
         return Ok(ok_json(&app.engine.job(id)?));
     }
     if !job.state.is_terminal() {

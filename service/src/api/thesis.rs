@@ -269,6 +269,12 @@ async fn run_with(
                 .engine
                 .append(id, Vec::new(), true, Duration::from_secs(10))
                 .await;
+            app.thesis_paths.closed().insert(key.clone(), id);
+        }
+        if matches!(op, Operation::Move(_))
+            && let Some(e) = unreported_end(app, &key)
+        {
+            return fail(app, &e);
         }
     }
     match app
@@ -353,10 +359,14 @@ async fn linmov(
 }
 
 /// The open path of each thesis client whose motion calls blend
-/// (`motion.thesis_blend_ms`): its job id and how many calls went to it.
+/// (`motion.thesis_blend_ms`): its job id and how many calls went to it;
+/// and the last path closed for each client whose outcome the client has
+/// not heard yet (a Stop or a failure after its calls were answered is
+/// told by its next motion call, however late that comes).
 #[derive(Default)]
 pub struct BlendPaths {
     open: std::sync::Mutex<std::collections::HashMap<String, (crate::engine::JobId, u64)>>,
+    closed: std::sync::Mutex<std::collections::HashMap<String, crate::engine::JobId>>,
 }
 
 impl BlendPaths {
@@ -366,6 +376,53 @@ impl BlendPaths {
     {
         self.open.lock().unwrap_or_else(|p| p.into_inner())
     }
+
+    fn closed(
+        &self,
+    ) -> std::sync::MutexGuard<'_, std::collections::HashMap<String, crate::engine::JobId>> {
+        self.closed.lock().unwrap_or_else(|p| p.into_inner())
+    }
+}
+
+/// The outcome of the client's last closed blending path, once: the error
+/// its next motion call answers with (and runs nothing) if the path was
+/// stopped or failed. A path still running stays to be looked at by the
+/// call after.
+fn unreported_end(app: &AppState, key: &str) -> Option<BridgeError> {
+    let id = app.thesis_paths.closed().get(key).copied()?;
+    let job = app.engine.job(id).ok();
+    let state = job.as_ref().map(|j| j.state);
+    match state {
+        Some(JobState::Failed | JobState::Cancelled) => {
+            app.thesis_paths.closed().remove(key);
+            job.map(|j| unran(&j))
+        }
+        Some(JobState::Done) | None => {
+            app.thesis_paths.closed().remove(key);
+            None
+        }
+        Some(_) => None,
+    }
+}
+
+/// The answer for calls that were answered 1 but did not all run: the
+/// path `ended` was stopped (`cancelled`) or failed (`controller_error`).
+fn unran(ended: &Job) -> BridgeError {
+    let why = ended.error.as_ref().map_or_else(
+        || "stopped".to_string(),
+        |e| format!("{} ({})", e.detail, e.code.as_str()),
+    );
+    let code = if ended.state == JobState::Cancelled {
+        ErrorCode::Cancelled
+    } else {
+        ErrorCode::ControllerError
+    };
+    BridgeError::new(
+        code,
+        format!(
+            "the blended calls before this one did not all run: {why}; this call ran nothing (the next call starts anew)"
+        ),
+    )
 }
 
 /// A thesis motion call that blends: appended to the client's open path
@@ -381,7 +438,11 @@ async fn blended(app: &AppState, who: &Who, m: MotionRequest) -> Response {
     // an unblended one would, instead of being queued (and answered 1).
     if let Some(e) = app.engine.state().controller.error {
         app.thesis_paths.lock().remove(&key);
+        app.thesis_paths.closed().remove(&key);
         return fail(app, &BridgeError::new(ErrorCode::ControllerError, e.detail));
+    }
+    if let Some(e) = unreported_end(app, &key) {
+        return fail(app, &e);
     }
     for attempt in 0..2 {
         let open = app.thesis_paths.lock().get(&key).map(|(id, _)| *id);
@@ -423,6 +484,7 @@ async fn blended(app: &AppState, who: &Who, m: MotionRequest) -> Response {
                     tokio::time::sleep(window).await;
                     let last = paths.lock().remove_if_unchanged(&key, id, seq);
                     if last {
+                        paths.closed().insert(key, id);
                         let _ = engine
                             .append(id, Vec::new(), true, Duration::from_secs(10))
                             .await;
@@ -444,24 +506,7 @@ async fn blended(app: &AppState, who: &Who, m: MotionRequest) -> Response {
                     .ok()
                     .filter(|j| matches!(j.state, JobState::Failed | JobState::Cancelled))
                 {
-                    let why = ended.error.map_or_else(
-                        || "stopped".to_string(),
-                        |e| format!("{} ({})", e.detail, e.code.as_str()),
-                    );
-                    let code = if ended.state == JobState::Cancelled {
-                        ErrorCode::Cancelled
-                    } else {
-                        ErrorCode::ControllerError
-                    };
-                    return fail(
-                        app,
-                        &BridgeError::new(
-                            code,
-                            format!(
-                                "the blended calls before this one did not all run: {why}; this call ran nothing (the next call starts anew)"
-                            ),
-                        ),
-                    );
+                    return fail(app, &unran(&ended));
                 }
             }
             Err(e) => {

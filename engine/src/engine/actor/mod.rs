@@ -63,6 +63,11 @@ struct InFlight {
     /// write its result (a locked file) leaves it unchanged, a restarted
     /// one rewrites it.
     idle_stamp: Option<FileStamp>,
+    /// The result file's stamp when a state file last showed the command
+    /// running: a controller restarted between that state and the first
+    /// that shows it idle (a KRL program rewrites its result file at
+    /// start) has already changed the file by then.
+    busy_stamp: Option<FileStamp>,
 }
 
 /// How long the controller may look idle after accepting a command before
@@ -384,6 +389,20 @@ impl Actor {
             Msg::Cancel(id, reply) => {
                 let result = self.cancel(id);
                 let _ = reply.send(result);
+            }
+            Msg::CancelQueued(id, reply) => {
+                let queued = self.queue.iter().position(|j| j.id == id);
+                if let Some(job) = queued.and_then(|pos| self.queue.remove(pos)) {
+                    self.finish_queued(
+                        job.id,
+                        JobState::Cancelled,
+                        BridgeError::new(
+                            ErrorCode::Cancelled,
+                            "ended before it started; nothing was sent",
+                        ),
+                    );
+                }
+                let _ = reply.send(queued.is_some());
             }
             Msg::Stop(reply) => self.stop(reply),
             Msg::ProgramChecked(job, result) => self.program_checked(job, result),

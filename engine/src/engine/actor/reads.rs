@@ -140,14 +140,25 @@ impl Actor {
             }
             _ => None,
         };
+        // While it runs, a stat per state file: the stamp a restart changes.
+        let busy_stamp = match &self.inflight {
+            Some(f) if running(f.cid) => self.channel.results_stamp(),
+            _ => None,
+        };
         if let Some(f) = &mut self.inflight {
             if (accepted(f.cid) || s.busy_cid == f.cid) && !f.acked {
                 f.acked = true;
             }
+            if running(f.cid) {
+                f.busy_stamp = busy_stamp;
+            }
             if accepted(f.cid) && !running(f.cid) {
                 if f.idle_since.is_none() {
                     f.idle_since = Some(now);
-                    f.idle_stamp = stamp;
+                    // Compared with the file as it was while the command
+                    // ran, if a state showed that: a result file rewritten
+                    // since then without its result means a restart.
+                    f.idle_stamp = f.busy_stamp.or(stamp);
                 }
             } else {
                 f.idle_since = None;

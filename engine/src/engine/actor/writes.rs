@@ -129,9 +129,9 @@ impl Actor {
 
     /// Removes the command file once the controller has read it, while a
     /// path runs: its state file's `last_cid` has reached the command, or
-    /// its result came. (Between paths the file stays: the polls of an
-    /// idle controller cost no motion anything, and tools that look at or
-    /// lock the last command keep finding it.) The
+    /// its result came. (Outside paths nothing is removed: the polls of an
+    /// idle controller cost no motion anything, and a single command stays
+    /// on the channel until the next one; after a path there is none.) The
     /// controller reads a command whole in the Submit pass that accepts it
     /// and writes its state and result after closing the file (a MOVE the
     /// service sends is never longer than the program reads in one pass:
@@ -245,6 +245,7 @@ impl Actor {
                     acked: false,
                     idle_since: None,
                     idle_stamp: None,
+                    busy_stamp: None,
                 });
             }
             None => {
