@@ -290,6 +290,31 @@ async fn a_refused_motion_mid_stream() {
         "{j}"
     );
 
+    // A refused append and then a cancel while the accepted motions still
+    // run: the path ends with the refusal on either simulator (the stop
+    // only cut the accepted motions short).
+    to_start(&t, &pts[0]).await;
+    let id = open_path(&t).await;
+    let url = format!("/api/v1/paths/{id}/motions");
+    let slow: Vec<Value> = pts[1..6].iter().map(|p| lin(p, 0.02)).collect();
+    let (s, o) = t.post_json(&url, &json!({"motions": slow})).await;
+    assert_eq!(s, 200, "{o}");
+    let (s, e) = t
+        .post_json(
+            &url,
+            &json!({"motions": [{"type": "lin", "target": {"x": 2000}}]}),
+        )
+        .await;
+    assert_eq!((s, e["code"].as_str()), (422, Some("unreachable")), "{e}");
+    let (s, j) = t.delete(&format!("/api/v1/paths/{id}?cancel=true")).await;
+    assert_eq!(s, 200, "{j}");
+    let j = wait_path_end(&t, id).await;
+    assert_eq!(
+        (j["state"].as_str(), j["error"]["code"].as_str()),
+        (Some("failed"), Some("unreachable")),
+        "{j}"
+    );
+
     // A stream with a bad line: the lines before it run, then the path ends.
     to_start(&t, &pts[0]).await;
     let id = open_path(&t).await;

@@ -1082,6 +1082,8 @@ async fn position_is_live_while_a_motion_runs() {
             );
             if gy > -99.0 && gy < 99.0 && t.get(&location).await.1["state"] == "executing" {
                 thesis_mid_path += 1;
+                // From the live state, with its age.
+                assert!(g["age_ms"].as_u64().expect("age_ms") < 1000, "{g}");
             }
         } else if j["state"] == "done" {
             break;

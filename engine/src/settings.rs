@@ -367,6 +367,11 @@ impl ChannelConfig {
     }
 }
 
+/// The longest blend window for thesis calls (ms): a path held open longer
+/// waits on a client that is gone (the controller closes an idle path
+/// after 5 s anyway).
+pub const MAX_THESIS_BLEND_MS: u64 = 5_000;
+
 impl MotionConfig {
     /// Every problem of this section (keys without the `motion.` prefix).
     pub fn problems(&self) -> Vec<Problem> {
@@ -421,6 +426,10 @@ impl MotionConfig {
                 "must be in [0, max_approx_mm]",
             ));
         }
+        check_maximums(
+            &mut bad,
+            &[("thesis_blend_ms", self.thesis_blend_ms, MAX_THESIS_BLEND_MS)],
+        );
         if self.max_batch == 0 || self.max_batch > kuka_protocol::MAX_BATCH {
             bad.push(Problem::new(
                 "max_batch",

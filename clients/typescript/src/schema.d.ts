@@ -1255,7 +1255,7 @@ export interface paths {
         /**
          * Current position (thesis method 3): read through the controller program while
          *     the robot stands; while a motion runs, at once from the controller's live state
-         *     (as `GET /api/v1/position` with `source: live`).
+         *     (as `GET /api/v1/position` with `source: live`), with `age_ms`, the age of that sample.
          * @description **Access:** role `viewer` or higher.
          */
         post: operations["getPositionThesis"];
@@ -3428,6 +3428,13 @@ export interface components {
          *     }
          */
         ThesisResponse: {
+            /**
+             * Format: int64
+             * @description `getpos` while a motion runs: the position comes from the
+             *     controller's live state, read this many ms ago (absent otherwise:
+             *     read through the controller program when the robot stands).
+             */
+            age_ms?: number | null;
             /** @description `[x, y, z, a, b, c]`: the robot position (for `tcp`/`gettcp`: the tool frame). */
             position: number[];
             /**
@@ -6470,8 +6477,26 @@ export interface operations {
                     "application/problem+json": components["schemas"]["ProblemDetails"];
                 };
             };
+            /** @description `not_found`: no job with this id, or the job is not a path */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
             /** @description `path_closed`: the path is not open (closed, refused a motion, ended, stopped) */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["ProblemDetails"];
+                };
+            };
+            /** @description `unsupported_media_type`: the body is neither JSON nor JSON lines */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -81,9 +81,9 @@ pub struct KrcStats {
     pub passes: u64,
     /// Statements of the longest pass.
     pub pass_statements_max: u64,
-    /// Median statements per pass.
+    /// Median statements per pass (of the last 100,000 passes).
     pub pass_statements_p50: u64,
-    /// 99th percentile of statements per pass.
+    /// 99th percentile of statements per pass (of the last 100,000 passes).
     pub pass_statements_p99: u64,
     /// Passes that needed more statements than one cycle's Submit budget
     /// ([`KrcConfig::submit_budget`](crate::KrcConfig::submit_budget)):
@@ -182,7 +182,7 @@ impl KrcController {
     pub fn stats(&self) -> KrcStats {
         let s = self.lock();
         let p = s.passes.lock().unwrap_or_else(|e| e.into_inner()).clone();
-        let mut sorted = p.statements.clone();
+        let mut sorted: Vec<u64> = p.recent.iter().copied().collect();
         sorted.sort_unstable();
         let pct = |q: f64| {
             if sorted.is_empty() {
@@ -199,8 +199,8 @@ impl KrcController {
             motions_done: s.exec.motions_done,
             chains_started: s.exec.chains_started,
             last_chain_start_ms: s.counters.last_chain_start_ms,
-            passes: p.statements.len() as u64,
-            pass_statements_max: sorted.last().copied().unwrap_or(0),
+            passes: p.count,
+            pass_statements_max: p.max,
             pass_statements_p50: pct(0.5),
             pass_statements_p99: p99,
             file_calls: s
@@ -208,10 +208,7 @@ impl KrcController {
                 .lock()
                 .unwrap_or_else(|e| e.into_inner())
                 .clone(),
-            passes_overrun: sorted
-                .iter()
-                .filter(|n| **n > s.config.submit_budget)
-                .count() as u64,
+            passes_overrun: p.over,
             motion_errors: s
                 .exec
                 .failures

@@ -65,19 +65,64 @@ pub(crate) struct Resume {
     pub(crate) cancel: bool,
 }
 
+/// How many passes [`PassStats::recent`] keeps for the percentiles: a
+/// controller that runs for days must not grow with every pass.
+pub(crate) const RECENT_PASSES: usize = 100_000;
+
 /// Statistics of the Submit loop's passes.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct PassStats {
-    /// Statements of each completed pass of `kb_submit_cycle`.
-    pub(crate) statements: Vec<u64>,
+    /// Statements of the last [`RECENT_PASSES`] completed passes of
+    /// `kb_submit_cycle`.
+    pub(crate) recent: std::collections::VecDeque<u64>,
+    /// Completed passes.
+    pub(crate) count: u64,
+    /// Statements of the longest pass.
+    pub(crate) max: u64,
+    /// Passes over the budget.
+    pub(crate) over: u64,
+    /// One cycle's Submit budget (statements).
+    pub(crate) budget: u64,
     current_statements: u64,
     started: bool,
 }
 
 impl PassStats {
+    /// Statistics against a Submit budget of `budget` statements per cycle.
+    pub(crate) fn new(budget: u64) -> Self {
+        PassStats {
+            budget,
+            ..PassStats::default()
+        }
+    }
+
     fn pass_starts(&mut self) {
         if self.started {
-            self.statements.push(self.current_statements);
+            let n = self.current_statements;
+            if self.recent.len() == RECENT_PASSES {
+                self.recent.pop_front();
+            }
+            self.recent.push_back(n);
+            self.count += 1;
+            self.max = self.max.max(n);
+            if n > self.budget {
+                self.over += 1;
+                // The 1st, 10th, 100th … overrun: visible in the log
+                // without a line per pass.
+                if self
+                    .over
+                    .checked_ilog10()
+                    .is_some_and(|e| 10u64.pow(e) == self.over)
+                {
+                    tracing::warn!(
+                        statements = n,
+                        budget = self.budget,
+                        overruns = self.over,
+                        passes = self.count,
+                        "a Submit pass needed more statements than one cycle's budget (it continued in the next cycle)"
+                    );
+                }
+            }
         }
         self.started = true;
         self.current_statements = 0;

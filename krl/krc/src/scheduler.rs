@@ -153,6 +153,7 @@ pub struct KrcTraceSample {
 
 impl Scheduler {
     pub(crate) fn new(config: KrcConfig) -> Result<Self, String> {
+        let budget = config.submit_budget;
         let program =
             modules::shipped_program(config.krl_dir.as_deref()).map_err(|e| e.to_string())?;
         let axes: Axes = config.start_axes.unwrap_or(config.model.home);
@@ -170,7 +171,7 @@ impl Scheduler {
             program: Arc::new(program),
             pro_state: ProState::Free,
             pro_name: String::new(),
-            passes: Arc::new(Mutex::new(PassStats::default())),
+            passes: Arc::new(Mutex::new(PassStats::new(budget))),
             file_calls: Arc::new(Mutex::new(BTreeMap::new())),
             counters: Counters::default(),
             fired: Vec::new(),

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use std::collections::HashMap;
 
-use crate::ast::{DatFile, SrcFile, Stmt, StmtKind};
+use crate::ast::{DatFile, Declarator, RoutineKind, SrcFile, Stmt, StmtKind};
 use crate::{SyntaxError, parse_dat, parse_src};
 
 /// What a KRL file holds, by its extension.
@@ -49,7 +49,8 @@ pub fn decode(bytes: &[u8]) -> Cow<'_, str> {
 /// it loads a parsed file: a routine defined twice, a name declared twice
 /// in one routine (or data list), a label defined twice or a `GOTO` to a
 /// label its routine does not have, `GLOBAL` in a data list that is not
-/// `PUBLIC`.
+/// `PUBLIC`, `EXIT` outside a loop, `RETURN` with a value in a `DEF` or
+/// without one in a `DEFFCT`, an array of more than 3 dimensions.
 pub fn check(kind: FileKind, text: &str) -> Result<(), SyntaxError> {
     match kind {
         FileKind::Src => check_src(&parse_src(text)?),
@@ -97,6 +98,16 @@ fn check_src(file: &SrcFile) -> Result<(), SyntaxError> {
         let mut labels: HashMap<String, u32> = HashMap::new();
         let mut gotos: Vec<(String, u32)> = Vec::new();
         jumps(&r.body, &mut labels, &mut gotos)?;
+        if let Some(p) = r.params.iter().find(|p| p.array_dims > MAX_ARRAY_DIMS) {
+            return refuse(
+                r.line,
+                format!(
+                    "parameter `{}` has {} dimensions; KRL arrays have at most {MAX_ARRAY_DIMS}",
+                    p.name, p.array_dims
+                ),
+            );
+        }
+        blocks(&r.body, &r.kind, &r.name, false)?;
         if let Some((l, line)) = gotos
             .iter()
             .find(|(l, _)| !labels.contains_key(&l.to_ascii_uppercase()))
@@ -105,6 +116,80 @@ fn check_src(file: &SrcFile) -> Result<(), SyntaxError> {
                 *line,
                 format!("GOTO `{l}`: `{}` has no label `{l}`", r.name),
             );
+        }
+    }
+    Ok(())
+}
+
+/// Most dimensions of a KRL array.
+const MAX_ARRAY_DIMS: usize = 3;
+
+/// An array declared with more than [`MAX_ARRAY_DIMS`] dimensions.
+fn array_dims(vars: &[Declarator], line: u32) -> Result<(), SyntaxError> {
+    match vars.iter().find(|v| v.dims.len() > MAX_ARRAY_DIMS) {
+        Some(v) => refuse(
+            line,
+            format!(
+                "`{}` has {} dimensions; KRL arrays have at most {MAX_ARRAY_DIMS}",
+                v.name,
+                v.dims.len()
+            ),
+        ),
+        None => Ok(()),
+    }
+}
+
+/// What the statements of a routine may not be where they are: `EXIT`
+/// outside a loop, `RETURN` with a value in a `DEF` or without one in a
+/// `DEFFCT`, arrays of more than 3 dimensions; in every nested block.
+fn blocks(
+    body: &[Stmt],
+    kind: &RoutineKind,
+    routine: &str,
+    in_loop: bool,
+) -> Result<(), SyntaxError> {
+    for st in body {
+        match &st.kind {
+            StmtKind::Exit if !in_loop => {
+                return refuse(
+                    st.line,
+                    "EXIT outside a loop (LOOP, FOR, WHILE or REPEAT)".to_string(),
+                );
+            }
+            StmtKind::Return(Some(_)) if *kind == RoutineKind::Def => {
+                return refuse(
+                    st.line,
+                    format!("RETURN with a value in DEF `{routine}` (only a DEFFCT returns one)"),
+                );
+            }
+            StmtKind::Return(None) if matches!(kind, RoutineKind::DefFct(_)) => {
+                return refuse(
+                    st.line,
+                    format!("RETURN without a value in DEFFCT `{routine}`"),
+                );
+            }
+            StmtKind::Decl { vars, .. } => array_dims(vars, st.line)?,
+            StmtKind::If {
+                then_body,
+                else_body,
+                ..
+            } => {
+                blocks(then_body, kind, routine, in_loop)?;
+                blocks(else_body, kind, routine, in_loop)?;
+            }
+            StmtKind::While { body, .. }
+            | StmtKind::For { body, .. }
+            | StmtKind::Loop { body }
+            | StmtKind::Repeat { body, .. } => blocks(body, kind, routine, true)?,
+            StmtKind::Switch { cases, default, .. } => {
+                for (_, b) in cases {
+                    blocks(b, kind, routine, in_loop)?;
+                }
+                if let Some(b) = default {
+                    blocks(b, kind, routine, in_loop)?;
+                }
+            }
+            _ => {}
         }
     }
     Ok(())
@@ -158,6 +243,7 @@ fn check_dat(file: &DatFile) -> Result<(), SyntaxError> {
     let mut names: HashMap<String, u32> = HashMap::new();
     for st in &file.items {
         if let StmtKind::Decl { global, vars, .. } = &st.kind {
+            array_dims(vars, st.line)?;
             if *global && !file.public {
                 return refuse(
                     st.line,
@@ -218,6 +304,38 @@ mod tests {
         );
         let e = line(FileKind::Src, "DEF a()\n  DECL INT END\nEND\n").unwrap_err();
         assert!(e.0 == 2 && e.1.contains("keyword"), "{e:?}");
+        // EXIT belongs in a loop (at any depth of IF/SWITCH within it).
+        let e = line(
+            FileKind::Src,
+            "DEF a()\n  IF TRUE THEN\n    EXIT\n  ENDIF\nEND\n",
+        )
+        .unwrap_err();
+        assert!(e.0 == 3 && e.1.contains("EXIT outside a loop"), "{e:?}");
+        assert!(
+            line(
+                FileKind::Src,
+                "DEF a()\n  LOOP\n    IF TRUE THEN\n      EXIT\n    ENDIF\n  ENDLOOP\nEND\n"
+            )
+            .is_ok()
+        );
+        // RETURN's value: only in a DEFFCT, and always there.
+        let e = line(FileKind::Src, "DEF a()\n  RETURN 5\nEND\n").unwrap_err();
+        assert!(e.0 == 2 && e.1.contains("RETURN with a value"), "{e:?}");
+        let e = line(FileKind::Src, "DEFFCT INT f()\n  RETURN\nENDFCT\n").unwrap_err();
+        assert!(e.0 == 2 && e.1.contains("without a value"), "{e:?}");
+        assert!(
+            line(
+                FileKind::Src,
+                "DEF a()\n  RETURN\nEND\nDEFFCT INT f()\n  RETURN 1\nENDFCT\n"
+            )
+            .is_ok()
+        );
+        // At most 3 array dimensions, in modules and data lists.
+        let e = line(FileKind::Src, "DEF a()\n  DECL INT q[2,2,2,2]\nEND\n").unwrap_err();
+        assert!(e.0 == 2 && e.1.contains("4 dimensions"), "{e:?}");
+        let e = line(FileKind::Dat, "DEFDAT d\n  DECL INT q[2,2,2,2]\nENDDAT\n").unwrap_err();
+        assert!(e.0 == 2 && e.1.contains("at most 3"), "{e:?}");
+        assert!(line(FileKind::Dat, "DEFDAT d\n  DECL INT q[2,2,2]\nENDDAT\n").is_ok());
     }
 
     #[test]

@@ -171,7 +171,9 @@ async fn create_path(
     )),
     responses(
         (status = 200, description = "Appended", body = AppendOutcome),
+        (status = 404, description = "`not_found`: no job with this id, or the job is not a path", body = ProblemDetails, content_type = PROBLEM_JSON),
         (status = 409, description = "`path_closed`: the path is not open (closed, refused a motion, ended, stopped)", body = ProblemDetails, content_type = PROBLEM_JSON),
+        (status = 415, description = "`unsupported_media_type`: the body is neither JSON nor JSON lines", body = ProblemDetails, content_type = PROBLEM_JSON),
         (status = 422, description = "A refused motion (`motion` = its index in the path): the path is closed at the last accepted motion; nothing of a JSON object was appended, a JSON-lines stream kept the lines before it", body = ProblemDetails, content_type = PROBLEM_JSON),
         (status = 503, description = "`path_full`: no room within `wait_ms`; nothing appended", body = ProblemDetails, content_type = PROBLEM_JSON,
             headers(("Retry-After" = u64, description = "Seconds to wait before appending again (1)"))),

@@ -142,6 +142,11 @@ pub struct ThesisResponse {
     pub statuscode: i32,
     /// `[x, y, z, a, b, c]`: the robot position (for `tcp`/`gettcp`: the tool frame).
     pub position: [f64; 6],
+    /// `getpos` while a motion runs: the position comes from the
+    /// controller's live state, read this many ms ago (absent otherwise:
+    /// read through the controller program when the robot stands).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub age_ms: Option<u64>,
 }
 
 /// A thesis failure: the problem details plus `statuscode` and `position`.
@@ -237,12 +242,18 @@ pub(super) fn fail_at(e: &BridgeError, position: [f64; 6]) -> Response {
 }
 
 fn done(position: [f64; 6]) -> Response {
+    answer(position, None)
+}
+
+/// A success with the age of a live position, if it is one.
+fn answer(position: [f64; 6], age_ms: Option<u64>) -> Response {
     json_response(
         200,
         "application/json",
         &ThesisResponse {
             statuscode: 1,
             position,
+            age_ms,
         },
     )
 }
@@ -600,7 +611,7 @@ async fn circ(
 
 /// Current position (thesis method 3): read through the controller program while
 /// the robot stands; while a motion runs, at once from the controller's live state
-/// (as `GET /api/v1/position` with `source: live`).
+/// (as `GET /api/v1/position` with `source: live`), with `age_ms`, the age of that sample.
 #[utoipa::path(post, path = "/krl/getpos", tag = "thesis",
     responses((status = 200, body = ThesisResponse), (status = "4XX", body = ThesisProblem, content_type = PROBLEM_JSON), (status = "5XX", body = ThesisProblem, content_type = PROBLEM_JSON)))]
 async fn getpos(State(app): State<AppState>, who: Who, _: ThesisQuery<NoParams>) -> Response {
@@ -609,7 +620,8 @@ async fn getpos(State(app): State<AppState>, who: Who, _: ThesisQuery<NoParams>)
         .live_position_within(kuka_engine::engine::LIVE_POSITION_WAIT)
         .await
     {
-        return done(live.position.xyzabc());
+        let age = u64::try_from(live.age.as_millis()).unwrap_or(u64::MAX);
+        return answer(live.position.xyzabc(), Some(age));
     }
     run(&app, &who, Operation::GetPosition, false).await
 }

@@ -169,6 +169,8 @@ struct ControllerView {
     result_cid: Option<Cid>,
     /// When the file that last set `pose`/`axes` was read.
     pose_at: Option<Instant>,
+    /// Probes in a row that found the command file locked.
+    lock_probes: u32,
     /// A RESET the controller took with its safety circuit closed: state
     /// files written before it no longer show the error it cleared.
     reset_cid: Option<Cid>,

@@ -368,14 +368,23 @@ impl Actor {
         }
         let safety = self.ctl.state.as_ref().and_then(|s| s.safety.as_ref());
         let mut error = result_error(&r).map(|e| explain_safety(e, safety));
-        if error.is_none()
-            && let Some(refused) = self
+        if (error.is_none() || r.code == ResultCode::Cancelled)
+            && let Some(mut refused) = self
                 .path
                 .as_ref()
                 .filter(|p| p.cid == r.cid)
                 .and_then(|p| p.refused.clone())
         {
-            // The path ran what was accepted; it ends with the refusal.
+            // The path ran what was accepted; it ends with the refusal,
+            // also when a stop cut the accepted motions short afterwards
+            // (the refusal ended the path first; the simulators then agree
+            // however fast the stop came).
+            if r.code == ResultCode::Cancelled {
+                refused.detail = format!(
+                    "{}; the motions accepted before it were then stopped by request",
+                    refused.detail
+                );
+            }
             error = Some(refused);
         }
         if matches!(f.op, Operation::Reset)
@@ -456,6 +465,14 @@ impl Actor {
                 // A path that ran what was accepted of it but refused a motion.
                 ResultCode::Ok if error.is_some() => JobState::Failed,
                 ResultCode::Ok => JobState::Done,
+                // A stop after a refusal: the refusal is how it ended.
+                ResultCode::Cancelled
+                    if error
+                        .as_ref()
+                        .is_some_and(|e| e.code != ErrorCode::Cancelled) =>
+                {
+                    JobState::Failed
+                }
                 ResultCode::Cancelled => JobState::Cancelled,
                 _ => JobState::Failed,
             };
@@ -635,8 +652,11 @@ impl Actor {
             return;
         }
         self.probed_at = Some(now);
-        // A lock shows before a command meets it.
-        if !self.ctl.locked && self.pending.is_none() && self.channel.command_locked() {
+        // A lock shows before a command meets it: when two probes in a row
+        // (a second apart) find it; one may meet the controller reading.
+        let held = self.pending.is_none() && self.channel.command_locked();
+        self.ctl.lock_probes = if held { self.ctl.lock_probes + 1 } else { 0 };
+        if !self.ctl.locked && self.ctl.lock_probes >= 2 {
             tracing::warn!(event_id = events::CHANNEL_LOCKED, dir = %self.channel.dir().display(), "command file locked by another process");
             self.ctl.locked = true;
             self.shared.publish(Event::Alarm(BridgeError::new(

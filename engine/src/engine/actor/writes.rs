@@ -3,6 +3,11 @@
 
 use super::*;
 
+/// How long a write must meet a locked command file before the channel
+/// counts as locked (the alarm, `connection: locked`): a controller that
+/// reads the file holds it for a Submit cycle or two, which is no fault.
+pub(super) const LOCK_ALARM_AFTER: Duration = Duration::from_millis(100);
+
 impl Actor {
     /// The id the controller last accepted, as its state file says. Only
     /// the state counts: result lines are not a floor for new ids (a
@@ -106,7 +111,11 @@ impl Actor {
                 }
                 p.next_try = now + p.backoff;
                 p.backoff = (p.backoff * 2).min(Duration::from_millis(50));
-                if !self.ctl.locked {
+                // A controller reading the file holds it for a moment (the
+                // shipped KRL program for a Submit pass or two): only a lock
+                // that lasts is reported.
+                let first_try = p.give_up_at - self.cfg.lock_timeout;
+                if !self.ctl.locked && now.duration_since(first_try) >= LOCK_ALARM_AFTER {
                     tracing::warn!(event_id = events::CHANNEL_LOCKED, %path, "command file locked by another process; retrying");
                     self.ctl.locked = true;
                     self.shared.publish(Event::Alarm(BridgeError::new(

@@ -414,10 +414,13 @@ fn error(status: u16, code: &str, detail: &str) -> Response {
 }
 
 /// A failed host call as a response: 503 when the controller is offline or
-/// timed out (try again later), 422 for everything else (the motion is wrong).
+/// timed out (try again later), 409 when it was stopped or is in a state
+/// that refuses motions (a conflict with the controller, not a wrong
+/// motion), 422 for everything else (the motion is wrong).
 fn host_error(e: &HostError) -> Response {
     let status = match e.code.as_str() {
         "controller_offline" | "timeout" => 503,
+        "cancelled" | "controller_busy" | "controller_error" | "path_closed" => 409,
         _ => 422,
     };
     Response {

@@ -8,6 +8,7 @@ from attrs import field as _attrs_field
 
 from ..types import UNSET, Unset
 
+from ..types import UNSET, Unset
 from typing import cast
 
 
@@ -29,10 +30,14 @@ class ThesisResponse:
         Attributes:
             position (list[float]): `[x, y, z, a, b, c]`: the robot position (for `tcp`/`gettcp`: the tool frame).
             statuscode (int): 1 on success; see docs/errors.md for the other values.
+            age_ms (int | None | Unset): `getpos` while a motion runs: the position comes from the
+                controller's live state, read this many ms ago (absent otherwise:
+                read through the controller program when the robot stands).
      """
 
     position: list[float]
     statuscode: int
+    age_ms: int | None | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
 
@@ -46,6 +51,12 @@ class ThesisResponse:
 
         statuscode = self.statuscode
 
+        age_ms: int | None | Unset
+        if isinstance(self.age_ms, Unset):
+            age_ms = UNSET
+        else:
+            age_ms = self.age_ms
+
 
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
@@ -53,6 +64,8 @@ class ThesisResponse:
             "position": position,
             "statuscode": statuscode,
         })
+        if age_ms is not UNSET:
+            field_dict["age_ms"] = age_ms
 
         return field_dict
 
@@ -66,9 +79,20 @@ class ThesisResponse:
 
         statuscode = d.pop("statuscode")
 
+        def _parse_age_ms(data: object) -> int | None | Unset:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(int | None | Unset, data)
+
+        age_ms = _parse_age_ms(d.pop("age_ms", UNSET))
+
+
         thesis_response = cls(
             position=position,
             statuscode=statuscode,
+            age_ms=age_ms,
         )
 
 

@@ -110,7 +110,7 @@ def sync_detailed(
 ) -> Response[ProblemDetails | ThesisProblem | ThesisResponse]:
     """ Current position (thesis method 3): read through the controller program while
     the robot stands; while a motion runs, at once from the controller's live state
-    (as `GET /api/v1/position` with `source: live`).
+    (as `GET /api/v1/position` with `source: live`), with `age_ms`, the age of that sample.
 
      
 
@@ -147,7 +147,7 @@ def sync(
 ) -> ProblemDetails | ThesisProblem | ThesisResponse | None:
     """ Current position (thesis method 3): read through the controller program while
     the robot stands; while a motion runs, at once from the controller's live state
-    (as `GET /api/v1/position` with `source: live`).
+    (as `GET /api/v1/position` with `source: live`), with `age_ms`, the age of that sample.
 
      
 
@@ -179,7 +179,7 @@ async def asyncio_detailed(
 ) -> Response[ProblemDetails | ThesisProblem | ThesisResponse]:
     """ Current position (thesis method 3): read through the controller program while
     the robot stands; while a motion runs, at once from the controller's live state
-    (as `GET /api/v1/position` with `source: live`).
+    (as `GET /api/v1/position` with `source: live`), with `age_ms`, the age of that sample.
 
      
 
@@ -216,7 +216,7 @@ async def asyncio(
 ) -> ProblemDetails | ThesisProblem | ThesisResponse | None:
     """ Current position (thesis method 3): read through the controller program while
     the robot stands; while a motion runs, at once from the controller's live state
-    (as `GET /api/v1/position` with `source: live`).
+    (as `GET /api/v1/position` with `source: live`), with `age_ms`, the age of that sample.
 
      
 
