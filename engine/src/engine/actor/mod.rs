@@ -553,7 +553,19 @@ impl Actor {
             ..
         }) = self.pending.take_if(|p| p.job.is_some())
         {
-            self.shared.finish(job.id, state, error);
+            // A path that had already refused a motion ends with that.
+            let refused = self
+                .path
+                .as_ref()
+                .filter(|p| p.job == job.id)
+                .and_then(|p| p.refused.clone());
+            match refused {
+                Some(mut e) if state == JobState::Cancelled => {
+                    e.detail = format!("{}; then {}", e.detail, error.detail);
+                    self.shared.finish(job.id, JobState::Failed, e);
+                }
+                _ => self.shared.finish(job.id, state, error),
+            }
         }
     }
 

@@ -343,7 +343,20 @@ impl Actor {
                         "stopped before the controller started it; nothing moved",
                     )
                 };
-                self.shared.finish(f.id, JobState::Cancelled, why);
+                // A path that had already refused a motion: the refusal is
+                // how it ended (as when the stop comes after it started).
+                let refused = self
+                    .path
+                    .as_ref()
+                    .filter(|p| p.cid == f.cid)
+                    .and_then(|p| p.refused.clone());
+                match refused {
+                    Some(mut e) => {
+                        e.detail = format!("{}; then {}", e.detail, why.detail);
+                        self.shared.finish(f.id, JobState::Failed, e);
+                    }
+                    None => self.shared.finish(f.id, JobState::Cancelled, why),
+                }
             }
             return;
         }
