@@ -179,14 +179,7 @@ impl ReplacedFile {
             }
             Err(e) => {
                 let _ = fs::remove_file(&self.tmp);
-                if is_lock_error(&e) {
-                    Err(WriteError::Locked { path: display() })
-                } else {
-                    Err(WriteError::Io {
-                        path: display(),
-                        source: e,
-                    })
-                }
+                Err(self.target_error(e))
             }
         }
     }
@@ -203,13 +196,18 @@ impl ReplacedFile {
         }
         self.last = None;
         match fs::remove_file(&self.target) {
-            Ok(()) => Ok(()),
-            Err(e) if e.kind() == ErrorKind::NotFound => Ok(()),
-            Err(e) if is_lock_error(&e) => Err(WriteError::Locked { path: display() }),
-            Err(source) => Err(WriteError::Io {
-                path: display(),
-                source,
-            }),
+            Err(e) if e.kind() != ErrorKind::NotFound => Err(self.target_error(e)),
+            _ => Ok(()),
+        }
+    }
+
+    /// An OS error on the target: "locked" when another process holds it.
+    fn target_error(&self, source: io::Error) -> WriteError {
+        let path = self.target.display().to_string();
+        if is_lock_error(&source) {
+            WriteError::Locked { path }
+        } else {
+            WriteError::Io { path, source }
         }
     }
 }

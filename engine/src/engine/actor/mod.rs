@@ -393,18 +393,11 @@ impl Actor {
                 let _ = reply.send(result);
             }
             Msg::CancelQueued(id, reply) => {
-                let queued = self.queue.iter().position(|j| j.id == id);
-                if let Some(job) = queued.and_then(|pos| self.queue.remove(pos)) {
-                    self.finish_queued(
-                        job.id,
-                        JobState::Cancelled,
-                        BridgeError::new(
-                            ErrorCode::Cancelled,
-                            "ended before it started; nothing was sent",
-                        ),
-                    );
-                }
-                let _ = reply.send(queued.is_some());
+                let why = BridgeError::new(
+                    ErrorCode::Cancelled,
+                    "ended before it started; nothing was sent",
+                );
+                let _ = reply.send(self.cancel_queued(id, why));
             }
             Msg::Stop(reply) => self.stop(reply),
             Msg::ProgramChecked(job, result) => self.program_checked(job, result),
@@ -447,12 +440,22 @@ impl Actor {
         }
     }
 
+    /// Cancels job `id` if it waits in the queue; whether it did.
+    fn cancel_queued(&mut self, id: JobId, why: BridgeError) -> bool {
+        let pos = self.queue.iter().position(|j| j.id == id);
+        match pos.and_then(|pos| self.queue.remove(pos)) {
+            Some(job) => {
+                self.finish_queued(job.id, JobState::Cancelled, why);
+                true
+            }
+            None => false,
+        }
+    }
+
     fn cancel(&mut self, id: JobId) -> Result<Job> {
         let why = || BridgeError::new(ErrorCode::Cancelled, "cancelled by request");
-        if let Some(pos) = self.queue.iter().position(|j| j.id == id) {
-            if let Some(job) = self.queue.remove(pos) {
-                self.finish_queued(job.id, JobState::Cancelled, why());
-            }
+        if self.cancel_queued(id, why()) {
+            // Taken out of the queue: nothing was sent.
         } else if self
             .pending
             .as_ref()
@@ -553,19 +556,12 @@ impl Actor {
             ..
         }) = self.pending.take_if(|p| p.job.is_some())
         {
-            // A path that had already refused a motion ends with that.
-            let refused = self
-                .path
-                .as_ref()
-                .filter(|p| p.job == job.id)
-                .and_then(|p| p.refused.clone());
-            match refused {
-                Some(mut e) if state == JobState::Cancelled => {
-                    e.detail = format!("{}; then {}", e.detail, error.detail);
-                    self.shared.finish(job.id, JobState::Failed, e);
-                }
-                _ => self.shared.finish(job.id, state, error),
-            }
+            let (state, error) = if state == JobState::Cancelled {
+                self.stopped_path(job.id, error)
+            } else {
+                (state, error)
+            };
+            self.shared.finish(job.id, state, error);
         }
     }
 

@@ -616,6 +616,25 @@ impl Actor {
         }
     }
 
+    /// How the job `job` ends when a stop ends it: with the refusal that
+    /// closed its path first, if it is a path that refused a motion
+    /// (failed, "…; then" the stop's sentence: the simulators agree
+    /// however fast the stop came), else cancelled with `stop`.
+    pub(super) fn stopped_path(&self, job: JobId, stop: BridgeError) -> (JobState, BridgeError) {
+        let refused = self
+            .path
+            .as_ref()
+            .filter(|p| p.job == job)
+            .and_then(|p| p.refused.clone());
+        match refused {
+            Some(mut e) => {
+                e.detail = format!("{}; then {}", e.detail, stop.detail);
+                (JobState::Failed, e)
+            }
+            None => (JobState::Cancelled, stop),
+        }
+    }
+
     /// The path cannot go on (its APPEND could not be written): its job
     /// fails and the robot stops.
     pub(super) fn fail_path(&mut self, e: BridgeError) {

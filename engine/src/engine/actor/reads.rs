@@ -343,20 +343,8 @@ impl Actor {
                         "stopped before the controller started it; nothing moved",
                     )
                 };
-                // A path that had already refused a motion: the refusal is
-                // how it ended (as when the stop comes after it started).
-                let refused = self
-                    .path
-                    .as_ref()
-                    .filter(|p| p.cid == f.cid)
-                    .and_then(|p| p.refused.clone());
-                match refused {
-                    Some(mut e) => {
-                        e.detail = format!("{}; then {}", e.detail, why.detail);
-                        self.shared.finish(f.id, JobState::Failed, e);
-                    }
-                    None => self.shared.finish(f.id, JobState::Cancelled, why),
-                }
+                let (state, why) = self.stopped_path(f.id, why);
+                self.shared.finish(f.id, state, why);
             }
             return;
         }
@@ -381,24 +369,21 @@ impl Actor {
         }
         let safety = self.ctl.state.as_ref().and_then(|s| s.safety.as_ref());
         let mut error = result_error(&r).map(|e| explain_safety(e, safety));
-        if (error.is_none() || r.code == ResultCode::Cancelled)
-            && let Some(mut refused) = self
+        if error.is_none()
+            && let Some(refused) = self
                 .path
                 .as_ref()
                 .filter(|p| p.cid == r.cid)
                 .and_then(|p| p.refused.clone())
         {
-            // The path ran what was accepted; it ends with the refusal,
-            // also when a stop cut the accepted motions short afterwards
-            // (the refusal ended the path first; the simulators then agree
-            // however fast the stop came).
-            if r.code == ResultCode::Cancelled {
-                refused.detail = format!(
-                    "{}; the motions accepted before it were then stopped by request",
-                    refused.detail
-                );
-            }
+            // The path ran what was accepted; it ends with the refusal.
             error = Some(refused);
+        }
+        if r.code == ResultCode::Cancelled
+            && let Some(stop) = error.take()
+        {
+            // Also when a stop cut the accepted motions short afterwards.
+            error = Some(self.stopped_path(f.id, stop).1);
         }
         if matches!(f.op, Operation::Reset)
             && error.is_none()
