@@ -11,7 +11,8 @@ use std::thread::JoinHandle;
 use kuka_kinematics::Axes;
 use kuka_krl::Program;
 use kuka_krl_runtime::interp::{
-    ANALOG_CHANNELS, Globals, HostedFiles, RunError, Start, Wait, run_hosted,
+    ANALOG_CHANNELS, Globals, HostedFiles, OpenFiles, RunError, SharedOpenFiles, Start, Wait,
+    run_hosted,
 };
 use kuka_protocol::SpeedRecord;
 
@@ -97,6 +98,10 @@ pub(crate) struct Scheduler {
     /// File functions called through `CWRITE($FCT_CALL, …)`, by name
     /// (both interpreters).
     pub(crate) file_calls: Arc<Mutex<BTreeMap<String, u64>>>,
+    /// The files open through `CWRITE($FCT_CALL, …)`, shared by every run
+    /// of both interpreters for the controller's life: a leaked handle
+    /// holds its file until `krl_fclose_all` or a reboot (a new runtime).
+    pub(crate) open_files: SharedOpenFiles,
     pub(crate) counters: Counters,
     fired: Vec<u64>,
     commands: VecDeque<String>,
@@ -173,6 +178,7 @@ impl Scheduler {
             pro_name: String::new(),
             passes: Arc::new(Mutex::new(PassStats::new(budget))),
             file_calls: Arc::new(Mutex::new(BTreeMap::new())),
+            open_files: OpenFiles::shared(),
             counters: Counters::default(),
             fired: Vec::new(),
             commands: VecDeque::new(),
@@ -251,6 +257,8 @@ impl Scheduler {
             root: self.config.channel_dir.clone(),
             success: self.config.fct_success.clone(),
             text_offset_base: self.config.text_offset_base,
+            open: self.open_files.clone(),
+            interpreter: format!("{who:?}").to_ascii_lowercase(),
         };
         let entry = entry.to_string();
         let thread = std::thread::Builder::new()

@@ -3,6 +3,7 @@
 //! and system variables, and the [`Globals`] a run leaves.
 
 use std::collections::{BTreeMap, HashMap};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use kuka_krl::Expr;
 
@@ -369,12 +370,68 @@ impl Globals {
     }
 }
 
+/// The files a controller holds open through `CWRITE($FCT_CALL, …)`, with
+/// their handles. A hosted run shares one table with every other run of
+/// the same controller ([`HostedFiles::open`](super::HostedFiles)): on a
+/// KRC a handle outlives the run that opened it (an error stop, a CANCEL)
+/// until `krl_fclose_all` or a reboot. Each handle belongs to the
+/// interpreter that opened it ([`HostedFiles::interpreter`](super::HostedFiles)):
+/// KUKA's text says a file opened by one interpreter may not be accessed
+/// (written, closed) by the other, so the other's `krl_fgets`,
+/// `krl_fclose` … find no such handle, and `krl_fclose_all` closes the
+/// calling interpreter's files only (CONTROLLER.md points 1 and 3).
+#[derive(Debug)]
+pub struct OpenFiles {
+    open: BTreeMap<i64, OpenFile>,
+    next_handle: i64,
+}
+
+impl Default for OpenFiles {
+    fn default() -> Self {
+        OpenFiles {
+            open: BTreeMap::new(),
+            next_handle: 1,
+        }
+    }
+}
+
+impl OpenFiles {
+    /// A shared, empty table (a controller after a cold start).
+    pub fn shared() -> SharedOpenFiles {
+        Arc::new(Mutex::new(OpenFiles::default()))
+    }
+
+    /// The names of the files open now, by handle.
+    pub fn names(&self) -> Vec<String> {
+        self.open.values().map(|f| f.name.clone()).collect()
+    }
+
+    /// The file of `handle` if `interpreter` opened it.
+    fn of(&mut self, handle: i64, interpreter: &str) -> Option<&mut OpenFile> {
+        self.open
+            .get_mut(&handle)
+            .filter(|f| f.interpreter == interpreter)
+    }
+}
+
+/// One [`OpenFiles`] table shared by the runs of a controller.
+pub type SharedOpenFiles = Arc<Mutex<OpenFiles>>;
+
+/// The table, also after a thread panicked holding it (the table itself
+/// stays consistent: every change is a single map operation).
+pub(super) fn lock_open(open: &SharedOpenFiles) -> MutexGuard<'_, OpenFiles> {
+    open.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
 /// The in-memory file system of [`run_with_files`](super::run_with_files).
 #[derive(Debug)]
 pub(super) struct Harness {
     pub(super) files: BTreeMap<String, String>,
-    pub(super) open: BTreeMap<i64, OpenFile>,
-    next_handle: i64,
+    /// The open files: private to an in-memory run, the controller's
+    /// shared table in hosted mode.
+    pub(super) open: SharedOpenFiles,
+    /// The interpreter this run is in: its handles are its own.
+    pub(super) interpreter: String,
     /// Hosted mode: the folder the file functions work in (real files);
     /// `None`: the in-memory `files` only.
     pub(super) root: Option<std::path::PathBuf>,
@@ -389,9 +446,14 @@ pub(super) struct Harness {
 #[derive(Debug)]
 pub(super) struct OpenFile {
     pub(super) name: String,
+    /// The interpreter that opened it.
+    interpreter: String,
     write: bool,
     /// Read position (bytes).
     pos: usize,
+    /// Hosted mode: the text of a file opened for reading, as it was when
+    /// it was opened (the handle may outlive the run that opened it).
+    text: Option<String>,
     /// The real file while it is open (hosted mode): locked, as an open
     /// file is on a KRC's Windows — the service cannot replace it.
     file: Option<std::fs::File>,
@@ -435,8 +497,8 @@ impl<'a> Interp<'a> {
     pub(super) fn enable_harness(&mut self, files: BTreeMap<String, String>) {
         self.harness = Some(Harness {
             files,
-            open: BTreeMap::new(),
-            next_handle: 1,
+            open: OpenFiles::shared(),
+            interpreter: String::new(),
             root: None,
             success: "DATA_OK".into(),
             text_offset_base: 0,
@@ -582,16 +644,25 @@ impl<'a> Interp<'a> {
                     return Err(self.err("krl_fclose takes a handle"));
                 };
                 let h = self.eval_int(h)?;
-                match self.harness_mut()?.open.remove(&h) {
-                    Some(_) => 0,
-                    None => MSG_NO_HANDLE,
+                let hs = self.harness_mut()?;
+                let open = hs.open.clone();
+                let mut open = lock_open(&open);
+                if open.of(h, &hs.interpreter).is_some() {
+                    open.open.remove(&h);
+                    0
+                } else {
+                    MSG_NO_HANDLE
                 }
             }
             "krl_fclose_all" => {
                 if !rest.is_empty() {
                     return Err(self.err("krl_fclose_all takes no arguments"));
                 }
-                self.harness_mut()?.open.clear();
+                let hs = self.harness_mut()?;
+                let open = hs.open.clone();
+                lock_open(&open)
+                    .open
+                    .retain(|_, f| f.interpreter != hs.interpreter);
                 0
             }
             other => {
@@ -632,19 +703,23 @@ impl<'a> Interp<'a> {
         let mode = self.eval_text(mode)?.to_ascii_lowercase();
         let handle = self.out_place(handle, "the handle")?;
         let hs = self.harness_mut()?;
+        let open = hs.open.clone();
+        let mut open = lock_open(&open);
         let mut file = None;
+        let mut snapshot = None;
         if let Some(root) = hs.root.clone() {
             // Only names in the folder itself, as KRL's UserFiles root.
             if name.is_empty() || name.contains(['/', '\\', ':']) || name.contains("..") {
                 return Ok(MSG_NO_OPEN);
             }
-            if hs.open.len() >= MAX_OPEN_FILES {
+            if open.open.len() >= MAX_OPEN_FILES {
                 return Ok(MSG_NO_TOO_MANY);
             }
             match open_real(&root.join(&name), &mode) {
                 Ok((f, text)) => {
                     if let Some(text) = text {
-                        hs.files.insert(name.clone(), text);
+                        hs.files.insert(name.clone(), text.clone());
+                        snapshot = Some(text);
                     } else {
                         hs.files.remove(&name);
                     }
@@ -664,17 +739,20 @@ impl<'a> Interp<'a> {
             }
             _ => return Ok(MSG_NO_OPEN),
         }
-        let h = hs.next_handle;
-        hs.next_handle += 1;
-        hs.open.insert(
+        let h = open.next_handle;
+        open.next_handle += 1;
+        open.open.insert(
             h,
             OpenFile {
                 name,
+                interpreter: hs.interpreter.clone(),
                 write: mode != "r",
                 pos: 0,
+                text: snapshot,
                 file,
             },
         );
+        drop(open);
         self.write_place(&handle, Value::Int(h))?;
         Ok(0)
     }
@@ -697,10 +775,15 @@ impl<'a> Interp<'a> {
         }
         let room = size.min(elems.len());
         let hs = self.harness_mut()?;
-        let Some(f) = hs.open.get_mut(&h).filter(|f| !f.write) else {
+        let open = hs.open.clone();
+        let mut open = lock_open(&open);
+        let Some(f) = open.of(h, &hs.interpreter).filter(|f| !f.write) else {
             return Ok(MSG_NO_HANDLE);
         };
-        let text = hs.files.get(&f.name).map_or(&[][..], |t| t.as_bytes());
+        let text = match &f.text {
+            Some(t) => t.as_bytes(),
+            None => hs.files.get(&f.name).map_or(&[][..], |t| t.as_bytes()),
+        };
         let Some(rest) = text.get(f.pos..).filter(|r| !r.is_empty()) else {
             return Ok(MSG_NO_EOF);
         };
@@ -715,11 +798,12 @@ impl<'a> Interp<'a> {
             line = &line[..room];
             used = room;
         }
-        f.pos += used;
         let n = line.len();
         for (e, &b) in elems.iter_mut().zip(line) {
             *e = Value::Char(b);
         }
+        f.pos += used;
+        drop(open);
         if let Some(e) = elems.get_mut(n) {
             *e = Value::Char(0);
         }
@@ -739,7 +823,9 @@ impl<'a> Interp<'a> {
             text.push('\n');
         }
         let hs = self.harness_mut()?;
-        let Some(f) = hs.open.get_mut(&h).filter(|f| f.write) else {
+        let open = hs.open.clone();
+        let mut open = lock_open(&open);
+        let Some(f) = open.of(h, &hs.interpreter).filter(|f| f.write) else {
             return Ok(MSG_NO_HANDLE);
         };
         if let Some(file) = f.file.as_mut() {
@@ -1023,20 +1109,31 @@ fn open_real(
     use std::io::Read as _;
     let mut opts = std::fs::OpenOptions::new();
     match mode {
+        // "w" truncates only once the lock is held: a file another handle
+        // holds keeps its text.
         "r" => opts.read(true),
-        "w" => opts.write(true).create(true).truncate(true),
+        "w" => opts.write(true).create(true).truncate(false),
         "a" => opts.append(true).create(true),
         _ => return Err(std::io::Error::other("unknown mode")),
     };
     let mut f = opts.open(path)?;
+    // Never wait for a lock: a handle another run leaked may hold it for
+    // good (the open fails, as a sharing violation does on Windows).
+    let locked = if mode == "r" {
+        f.try_lock_shared()
+    } else {
+        f.try_lock()
+    };
+    locked.map_err(std::io::Error::other)?;
     if mode == "r" {
-        f.lock_shared()?;
         let mut bytes = Vec::new();
         f.read_to_end(&mut bytes)?;
         let text = kuka_krl::check::decode(&bytes).into_owned();
         Ok((f, Some(text)))
     } else {
-        f.lock()?;
+        if mode == "w" {
+            f.set_len(0)?;
+        }
         Ok((f, None))
     }
 }

@@ -106,7 +106,7 @@ use kuka_kinematics::{Axes, Motion, Pose, RobotModel};
 use kuka_krl::{Expr, Program, Routine};
 use kuka_protocol::SpeedRecord;
 
-pub use harness::Globals;
+pub use harness::{Globals, OpenFiles, SharedOpenFiles};
 pub use host::{Cancelled, Host, TriggerAt, Turn, Wait};
 pub use subset::check_subset;
 
@@ -354,7 +354,7 @@ pub fn run_with_files(
     let mut open_files = Vec::new();
     if let Some(h) = it.harness.take() {
         *files = h.files;
-        open_files = h.open.into_values().map(|f| f.name).collect();
+        open_files = harness::lock_open(&h.open).names();
     }
     r?;
     Ok(Globals {
@@ -376,6 +376,14 @@ pub struct HostedFiles {
     /// 1-based position of the next character (the other reading of
     /// KUKA's text, to test that the shipped program copes with it).
     pub text_offset_base: i64,
+    /// The controller's open files, shared by all its runs: a file a run
+    /// leaves open (an error stop, a CANCEL, a forgotten `krl_fclose`)
+    /// stays open and locked until `krl_fclose_all` or a new table (a
+    /// reboot), as on a KRC.
+    pub open: SharedOpenFiles,
+    /// The interpreter the run is in (`"robot"`, `"submit"`): a handle
+    /// belongs to the interpreter that opened it ([`OpenFiles`]).
+    pub interpreter: String,
 }
 
 /// Runs `entry` on a [`Host`], a KRC-like runtime (see the `host`
@@ -403,6 +411,8 @@ pub fn run_hosted(
         h.root = Some(files.root);
         h.success = files.success;
         h.text_offset_base = files.text_offset_base;
+        h.open = files.open;
+        h.interpreter = files.interpreter;
     }
     it.max_statements = u64::MAX;
     it.max_evaluations = u64::MAX;
@@ -414,10 +424,8 @@ pub fn run_hosted(
     let r = it
         .run_entry(routine)
         .and_then(|()| it.host_wait(host::Wait::Standstill));
-    // Files a cancelled program left open are closed (their locks go).
-    if let Some(h) = it.harness.as_mut() {
-        h.open.clear();
-    }
+    // Files the run left open stay open in the shared table (their locks
+    // hold) until krl_fclose_all or a reboot: a KRC does not close them.
     let globals = match r {
         Err(RunError::Cancelled) => None,
         _ => Some(Globals {
