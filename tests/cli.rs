@@ -297,4 +297,26 @@ fn krl_check_lints_files_and_folders() {
         ],
         "{out}"
     );
+    // A module named unlike its file: a warning, the check still passes;
+    // a GOTO into a block: a problem.
+    let renamed = dir.path().join("renamed.src");
+    std::fs::write(&renamed, "; header\nDEF other()\nEND\n").expect("write");
+    let (code, out) = run(&[renamed.as_os_str()]);
+    assert_eq!(code, Some(0), "{out}");
+    assert!(
+        out.starts_with(&format!("{}:2:1: warning:", renamed.display())) && out.contains("`other`"),
+        "{out}"
+    );
+    let jump = dir.path().join("jump.src");
+    std::fs::write(
+        &jump,
+        "DEF jump()\n  GOTO inside\n  LOOP\n    inside:\n  ENDLOOP\nEND\n",
+    )
+    .expect("write");
+    let (code, out) = run(&[jump.as_os_str()]);
+    assert_eq!(code, Some(1), "{out}");
+    assert!(
+        out.starts_with(&format!("{}:2:", jump.display())) && out.contains("into a block"),
+        "{out}"
+    );
 }

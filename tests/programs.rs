@@ -146,15 +146,31 @@ async fn bad_programs_are_refused_with_their_line_before_reaching_the_controller
         .post_json("/api/v1/programs", &json!({"name": "irq", "src": src}))
         .await;
     if t.service.krc.is_some() {
-        // The KRC-like runtime runs all the KRL it knows: an upload is
-        // checked for syntax, entry point and declared names only.
+        // The KRC-like runtime runs interrupts: accepted, checked against
+        // what the runtime runs.
         assert_eq!(
             (status, &v["simulator_checked"]),
-            (201, &json!(false)),
+            (201, &json!(true)),
             "{v}"
         );
         let (status, _) = t.delete("/api/v1/programs/irq").await;
         assert_eq!(status, 204);
+        // It cannot run a GOTO nor a $config.dat global it lacks: refused
+        // with the line rather than stopping the program there.
+        for (src, line) in [
+            ("DEF jump()\n  PTP {A1 0}\n  GOTO over\n  over:\nEND\n", 3),
+            ("DEF jump()\n  PTP {A1 0}\n  PDAT_ACT = PDEFAULT\nEND\n", 3),
+        ] {
+            let (status, v) = t
+                .post_json("/api/v1/programs", &json!({"name": "jump", "src": src}))
+                .await;
+            assert_eq!(status, 422, "{v}");
+            assert_eq!(
+                (&v["code"], &v["line"]),
+                (&json!("program_unsupported"), &json!(line)),
+                "{v}"
+            );
+        }
     } else {
         assert_eq!(status, 422, "{v}");
         assert_eq!(v["code"], "program_unsupported");

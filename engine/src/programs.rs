@@ -63,8 +63,9 @@ pub struct ProgramInfo {
     pub bytes: usize,
     /// Upload time (ms since the Unix epoch).
     pub uploaded_ms: u64,
-    /// Checked against the simulated controller's KRL subset (true when the
-    /// service runs the simulator; a real controller runs all of KRL).
+    /// Checked against what the simulated controller can run (true when the
+    /// service runs a simulator, native or KRC-like; a real controller runs
+    /// all of KRL).
     pub simulator_checked: bool,
 }
 
@@ -158,14 +159,17 @@ pub fn program_error(e: &ProgramError) -> BridgeError {
 
 /// How much an upload is checked beyond its syntax and entry point, by the
 /// controller that will run it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum UploadCheck {
     /// A real controller: syntax and entry point only (it runs all of KRL
     /// and knows names the service cannot see).
     Syntax,
     /// The KRC-like runtime: also every name declared, as a KRC's compiler
-    /// wants it.
-    Declared,
+    /// wants it, and what the runtime runs
+    /// ([`check_hosted`](kuka_krl_runtime::interp::check_hosted)), with
+    /// the names of the variables the runtime provides (system variables
+    /// and the globals of its `.dat` files).
+    Hosted(Arc<std::collections::BTreeSet<String>>),
     /// The native simulator: also declared names and its KRL subset.
     NativeSubset,
 }
@@ -273,11 +277,17 @@ impl ProgramStore {
                 BridgeError::new(ErrorCode::InvalidProgram, u.to_string()).at_line("src", u.line)
             })?;
         }
-        if self.check == UploadCheck::NativeSubset {
-            kuka_krl_runtime::interp::check_subset(&program).map_err(|u| {
-                BridgeError::new(ErrorCode::ProgramUnsupported, u.to_string())
-                    .at_line("src", u.line)
-            })?;
+        let unsupported = |u: kuka_krl_runtime::interp::Unsupported| {
+            BridgeError::new(ErrorCode::ProgramUnsupported, u.to_string()).at_line("src", u.line)
+        };
+        match &self.check {
+            UploadCheck::Syntax => {}
+            UploadCheck::Hosted(globals) => {
+                kuka_krl_runtime::interp::check_hosted(&program, globals).map_err(unsupported)?
+            }
+            UploadCheck::NativeSubset => {
+                kuka_krl_runtime::interp::check_subset(&program).map_err(unsupported)?
+            }
         }
         let info = ProgramInfo {
             name: upload.name.clone(),
@@ -290,7 +300,7 @@ impl ProgramStore {
             dat_lines: upload.dat.as_deref().map(count_lines),
             bytes,
             uploaded_ms: now_ms(),
-            simulator_checked: self.check == UploadCheck::NativeSubset,
+            simulator_checked: self.check != UploadCheck::Syntax,
         };
         Ok((program, info))
     }

@@ -212,10 +212,10 @@ pub async fn start(config: Config) -> Result<Service, AppError> {
             &config.data_dir.join("programs"),
             config.programs.max_bytes,
             Duration::from_millis(config.programs.run_timeout_ms),
-            match (config.simulator.enabled, config.simulator.kind) {
-                (false, _) => crate::programs::UploadCheck::Syntax,
-                (true, SimulatorKind::Krc) => crate::programs::UploadCheck::Declared,
-                (true, SimulatorKind::Native) => crate::programs::UploadCheck::NativeSubset,
+            match (&krc, config.simulator.enabled) {
+                (Some(k), _) => crate::programs::UploadCheck::Hosted(Arc::new(k.global_names())),
+                (None, true) => crate::programs::UploadCheck::NativeSubset,
+                (None, false) => crate::programs::UploadCheck::Syntax,
             },
         )
         .map_err(|source| AppError::Programs {

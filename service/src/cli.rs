@@ -502,9 +502,10 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
                 use std::io::Write as _;
                 let _ = writeln!(
                     std::io::stderr(),
-                    "{} KRL file(s) checked, {} with problems{empty}",
+                    "{} KRL file(s) checked, {} with problems, {} warning(s){empty}",
                     report.files,
-                    report.failed
+                    report.failed,
+                    report.warnings
                 );
             }
             if report.failed > 0 || report.empty > 0 {

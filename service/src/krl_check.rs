@@ -3,7 +3,9 @@
 //! UTF-8); with `--simulator`, a module (`.src` with its `.dat` beside it)
 //! is also checked the way the service checks an upload it will run on a
 //! simulated controller (declared names, the simulator's KRL subset).
-//! Every problem is one `file:line:column: message` line on stdout.
+//! Every problem is one `file:line:column: message` line on stdout; a
+//! warning (`file:line:column: warning: message`) is printed the same way
+//! and does not fail the check.
 
 use std::path::{Path, PathBuf};
 
@@ -18,6 +20,9 @@ pub struct Report {
     pub files: usize,
     /// Files with at least one problem.
     pub failed: usize,
+    /// Warnings (`file:line:column: warning: message`), in file order
+    /// among the problems; they do not count as failures.
+    pub warnings: usize,
     /// Arguments that name no KRL file: a missing path, a folder without
     /// KRL files.
     pub empty: usize,
@@ -50,8 +55,9 @@ pub fn run(paths: &[PathBuf], simulator: bool) -> Report {
     for f in files {
         report.files += 1;
         let before = report.problems.len();
-        check_one(&f, simulator, &mut report.problems);
-        if report.problems.len() > before {
+        let warnings = check_one(&f, simulator, &mut report.problems);
+        report.warnings += warnings;
+        if report.problems.len() > before + warnings {
             report.failed += 1;
         }
     }
@@ -80,17 +86,18 @@ fn collect(dir: &Path, out: &mut Vec<PathBuf>, report: &mut Report) {
     }
 }
 
-fn check_one(path: &Path, simulator: bool, problems: &mut Vec<String>) {
+/// Checks one file; returns how many of the lines it added are warnings.
+fn check_one(path: &Path, simulator: bool, problems: &mut Vec<String>) -> usize {
     let shown = path.display();
     let Some(kind) = FileKind::from_path(path) else {
         problems.push(format!("{shown}: not a KRL file (.src, .sub or .dat)"));
-        return;
+        return 0;
     };
     let bytes = match std::fs::read(path) {
         Ok(b) => b,
         Err(e) => {
             problems.push(format!("{shown}: cannot read the file: {e}"));
-            return;
+            return 0;
         }
     };
     let text = decode(&bytes);
@@ -101,11 +108,47 @@ fn check_one(path: &Path, simulator: bool, problems: &mut Vec<String>) {
             e.col,
             printable(&e.message)
         ));
-        return;
+        return 0;
+    }
+    let mut warnings = 0;
+    if let Some(w) = name_mismatch(path, kind, &text) {
+        problems.push(format!("{shown}:{w}"));
+        warnings += 1;
     }
     if simulator && kind == FileKind::Src {
         simulator_check(path, &text, problems);
     }
+    warnings
+}
+
+/// `line:1: warning: …` when the module's name (its first DEF, or its
+/// DEFDAT) is not the file's name. A KRC selects and links a module by its
+/// file name, so the service names every module it writes itself
+/// (`kbu<n>`, DEF and DEFDAT renamed). A warning, not a problem: 18 of the
+/// 364 public files of the test corpus differ (files renamed in their
+/// repositories, such as ROS-Industrial's `ros_rsi.src` with
+/// `DEF RSI_AxisCorr()`), and no public source says whether a KSS refuses
+/// to load such a file or only to select it (docs/CONTROLLER.md).
+fn name_mismatch(path: &Path, kind: FileKind, text: &str) -> Option<String> {
+    let stem = path.file_stem()?.to_str()?;
+    let (name, line, what) = match kind {
+        FileKind::Dat => {
+            let dat = kuka_krl::parse_dat(text).ok()?;
+            (dat.name, dat.line, "DEFDAT")
+        }
+        FileKind::Src => {
+            let src = kuka_krl::parse_src(text).ok()?;
+            let first = src.routines.into_iter().next()?;
+            (first.name, first.line, "its first DEF")
+        }
+    };
+    (!name.eq_ignore_ascii_case(stem)).then(|| {
+        format!(
+            "{line}:1: warning: the module is named `{}` ({what}) but the file `{}`: a KRC finds a module by its file name",
+            printable(&name),
+            printable(stem)
+        )
+    })
 }
 
 /// The `.dat` beside a `.src` (same stem, any case), if there is one.

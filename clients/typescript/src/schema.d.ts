@@ -2896,8 +2896,9 @@ export interface components {
             /** @description Program name. */
             name: string;
             /**
-             * @description Checked against the simulated controller's KRL subset (true when the
-             *     service runs the simulator; a real controller runs all of KRL).
+             * @description Checked against what the simulated controller can run (true when the
+             *     service runs a simulator, native or KRC-like; a real controller runs
+             *     all of KRL).
              */
             simulator_checked: boolean;
             /**

@@ -236,6 +236,18 @@ impl KrcController {
         }
     }
 
+    /// The upper-case names of every variable the controller provides to
+    /// a program: its system variables and the globals of its `.dat`
+    /// files (`$config.dat` included). What an uploaded program may use
+    /// without declaring it (the service's upload check).
+    pub fn global_names(&self) -> std::collections::BTreeSet<String> {
+        self.lock()
+            .vars
+            .as_ref()
+            .map(|v| v.names().map(str::to_string).collect())
+            .unwrap_or_default()
+    }
+
     /// A global variable of the running program in the interpreter's debug
     /// form, read between two cycles (diagnostics); `None` when it does
     /// not exist.

@@ -340,6 +340,100 @@ END
     krc.shutdown();
 }
 
+/// The service's upload check for the runtime (`check_hosted` with the
+/// runtime's own variables) accepts the program the runtime runs every
+/// day, and what it refuses the runtime cannot run: each refused module,
+/// run anyway, stops with an error (none is refused that would have run).
+#[test]
+fn the_upload_check_refuses_exactly_what_the_runtime_cannot_run() {
+    use kuka_krl_runtime::interp::check_hosted;
+    let dir = tempfile::tempdir().expect("tempdir");
+    let krc = start(dir.path());
+    let globals = krc.global_names();
+    for name in [
+        "$ROB_TIMER",
+        "$TIMER",
+        "$OUT",
+        "TOOL_DATA",
+        "DEF_ACC_CP",
+        "KB_LAST_CID",
+    ] {
+        assert!(globals.contains(name), "{name} missing from {globals:?}");
+    }
+    let shipped = kuka_krc::shipped_program(None).expect("loads");
+    if let Err(u) = check_hosted(&shipped, &globals) {
+        panic!("the shipped program is refused: {u}");
+    }
+    // Accepted: what only a hosted run has.
+    let accepted = "DEF kbu1()
+  DECL STATE_T st
+  DECL MODUS_T md
+  DECL INT h
+  INTERRUPT DECL 3 WHEN $IN[7] DO stopit()
+  INTERRUPT ON 3
+  md = #SYNC
+  CWRITE($FCT_CALL, st, md, \"krl_fopen\", \"own.txt\", \"w\", h)
+  CWRITE($FCT_CALL, st, md, \"krl_fclose\", h)
+  TRIGGER WHEN DISTANCE=0 DELAY=0 DO $OUT[3]=TRUE
+  PTP {A1 5}
+  WAIT FOR $ROB_TIMER > 0
+  INTERRUPT OFF 3
+END
+DEF stopit()
+  BRAKE
+  RESUME
+END
+";
+    let program = kuka_krl::Program::parse(accepted, None, None).expect("parses");
+    if let Err(u) = check_hosted(&program, &globals) {
+        panic!("refused: {u}");
+    }
+    upload(dir.path(), 1, accepted);
+    assert!(krc.wait_until(Duration::from_secs(10), |_| heartbeat(dir.path())));
+    let r = round_trip(&krc, dir.path(), 1, Command::Run(1), 30);
+    assert_eq!(r.code, ResultCode::Ok, "{r:?}\n{:?}", krc.snapshot());
+    // Refused, each for its line; run anyway, each stops with an error.
+    let refused = [
+        (
+            "PDAT",
+            "DEF kbu2()\n  PTP {A1 6} C_PTP\n  PDAT_ACT = PDEFAULT\nEND\n",
+            3,
+        ),
+        (
+            "GOTO",
+            "DEF kbu2()\n  GOTO there\n  there:\n  PTP {A1 6}\nEND\n",
+            2,
+        ),
+        ("HALT", "DEF kbu2()\n  PTP {A1 6}\n  HALT\nEND\n", 3),
+        (
+            "SVEL_JOINT",
+            "DEF kbu2()\n  SPTP {A1 6} WITH $VEL_AXIS[1] = SVEL_JOINT(100.0)\nEND\n",
+            2,
+        ),
+        (
+            "$TECH",
+            "DEF kbu2()\n  DECL INT x\n  x = $TECH_ANA_FLT_OFF[1]\nEND\n",
+            3,
+        ),
+    ];
+    let mut cid = 2;
+    for (what, src, line) in refused {
+        let program = kuka_krl::Program::parse(src, None, None).expect("parses");
+        match check_hosted(&program, &globals) {
+            Err(u) => assert_eq!(u.line, line, "{what}: {u}"),
+            Ok(()) => panic!("{what} accepted"),
+        }
+        upload(dir.path(), 2, src);
+        let r = round_trip(&krc, dir.path(), cid, Command::Run(2), 30);
+        assert_eq!(r.code, ResultCode::RuntimeError, "{what}: {r:?}");
+        krc.operator_restart();
+        let r = round_trip(&krc, dir.path(), cid + 1, Command::Reset, 5);
+        assert_eq!(r.code, ResultCode::Ok, "{what}: {r:?}");
+        cid += 2;
+    }
+    krc.shutdown();
+}
+
 /// A KSS whose file functions answer `#CMD_OK` (CONTROLLER.md A1): the
 /// program accepts either value.
 #[test]

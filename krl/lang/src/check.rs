@@ -48,7 +48,8 @@ pub fn decode(bytes: &[u8]) -> Cow<'_, str> {
 /// Parses `text` as a file of `kind`, then checks what a KRC refuses when
 /// it loads a parsed file: a routine defined twice, a name declared twice
 /// in one routine (or data list), a label defined twice or a `GOTO` to a
-/// label its routine does not have, `GLOBAL` in a data list that is not
+/// label its routine does not have or into a block (IF, loop, SWITCH) from
+/// outside, `GLOBAL` in a data list that is not
 /// `PUBLIC`, `EXIT` outside a loop, `RETURN` with a value in a `DEF` or
 /// without one in a `DEFFCT`, an array of more than 3 dimensions.
 pub fn check(kind: FileKind, text: &str) -> Result<(), SyntaxError> {
@@ -95,9 +96,8 @@ fn check_src(file: &SrcFile) -> Result<(), SyntaxError> {
                 }
             }
         }
-        let mut labels: HashMap<String, u32> = HashMap::new();
-        let mut gotos: Vec<(String, u32)> = Vec::new();
-        jumps(&r.body, &mut labels, &mut gotos)?;
+        let mut j = Jumps::default();
+        jumps(&r.body, &mut j, &mut BlockPath::new())?;
         if let Some(p) = r.params.iter().find(|p| p.array_dims > MAX_ARRAY_DIMS) {
             return refuse(
                 r.line,
@@ -108,15 +108,7 @@ fn check_src(file: &SrcFile) -> Result<(), SyntaxError> {
             );
         }
         blocks(&r.body, &r.kind, &r.name, false)?;
-        if let Some((l, line)) = gotos
-            .iter()
-            .find(|(l, _)| !labels.contains_key(&l.to_ascii_uppercase()))
-        {
-            return refuse(
-                *line,
-                format!("GOTO `{l}`: `{}` has no label `{l}`", r.name),
-            );
-        }
+        goto_targets(&j, &r.name)?;
     }
     Ok(())
 }
@@ -195,45 +187,90 @@ fn blocks(
     Ok(())
 }
 
+/// Where a label or GOTO stands: the blocks around it, outermost first
+/// (each block numbered once per routine).
+type BlockPath = Vec<u32>;
+
+/// The labels and GOTOs of one routine, with where each stands.
+#[derive(Default)]
+struct Jumps {
+    /// Upper-case label → (line, blocks around it).
+    labels: HashMap<String, (u32, BlockPath)>,
+    /// GOTO target as written, line, blocks around it.
+    gotos: Vec<(String, u32, BlockPath)>,
+    /// The blocks numbered so far.
+    blocks: u32,
+}
+
 /// Labels (refusing one defined twice) and GOTOs of a routine, in every
-/// nested block.
-fn jumps(
-    body: &[Stmt],
-    labels: &mut HashMap<String, u32>,
-    gotos: &mut Vec<(String, u32)>,
-) -> Result<(), SyntaxError> {
+/// nested block; `path` is the blocks around `body`.
+fn jumps(body: &[Stmt], j: &mut Jumps, path: &mut BlockPath) -> Result<(), SyntaxError> {
+    fn nested(b: &[Stmt], j: &mut Jumps, path: &mut BlockPath) -> Result<(), SyntaxError> {
+        j.blocks += 1;
+        path.push(j.blocks);
+        let r = jumps(b, j, path);
+        path.pop();
+        r
+    }
     for st in body {
         match &st.kind {
             StmtKind::Label(l) => {
-                if let Some(first) = labels.insert(l.to_ascii_uppercase(), st.line) {
+                if let Some((first, _)) = j
+                    .labels
+                    .insert(l.to_ascii_uppercase(), (st.line, path.clone()))
+                {
                     return refuse(
                         st.line,
                         format!("label `{l}` is defined twice (first at line {first})"),
                     );
                 }
             }
-            StmtKind::Goto(l) => gotos.push((l.clone(), st.line)),
+            StmtKind::Goto(l) => j.gotos.push((l.clone(), st.line, path.clone())),
             StmtKind::If {
                 then_body,
                 else_body,
                 ..
             } => {
-                jumps(then_body, labels, gotos)?;
-                jumps(else_body, labels, gotos)?;
+                nested(then_body, j, path)?;
+                nested(else_body, j, path)?;
             }
             StmtKind::While { body, .. }
             | StmtKind::For { body, .. }
             | StmtKind::Loop { body }
-            | StmtKind::Repeat { body, .. } => jumps(body, labels, gotos)?,
+            | StmtKind::Repeat { body, .. } => nested(body, j, path)?,
             StmtKind::Switch { cases, default, .. } => {
                 for (_, b) in cases {
-                    jumps(b, labels, gotos)?;
+                    nested(b, j, path)?;
                 }
                 if let Some(b) = default {
-                    jumps(b, labels, gotos)?;
+                    nested(b, j, path)?;
                 }
             }
             _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Every GOTO of a routine jumps to a label of the routine, in its own
+/// block or one around it: KUKA's programming manual (GOTO) forbids a
+/// jump into an IF, a loop or a SWITCH from outside, and from one CASE
+/// into another (out of a block is allowed).
+fn goto_targets(j: &Jumps, routine: &str) -> Result<(), SyntaxError> {
+    for (l, line, from) in &j.gotos {
+        match j.labels.get(&l.to_ascii_uppercase()) {
+            None => {
+                return refuse(*line, format!("GOTO `{l}`: `{routine}` has no label `{l}`"));
+            }
+            Some((at, to)) if !from.starts_with(to) => {
+                return refuse(
+                    *line,
+                    format!(
+                        "GOTO `{l}` jumps into a block (IF, loop or SWITCH) from outside: label `{l}` is at line {at}"
+                    ),
+                );
+            }
+            Some(_) => {}
         }
     }
     Ok(())
@@ -336,6 +373,32 @@ mod tests {
         let e = line(FileKind::Dat, "DEFDAT d\n  DECL INT q[2,2,2,2]\nENDDAT\n").unwrap_err();
         assert!(e.0 == 2 && e.1.contains("at most 3"), "{e:?}");
         assert!(line(FileKind::Dat, "DEFDAT d\n  DECL INT q[2,2,2]\nENDDAT\n").is_ok());
+        // GOTO: out of a block or within it, never into one from outside.
+        assert!(
+            line(
+                FileKind::Src,
+                "DEF a()\n  LOOP\n    IF TRUE THEN\n      GOTO out\n    ENDIF\n    again:\n    GOTO again\n  ENDLOOP\n  out:\nEND\n"
+            )
+            .is_ok()
+        );
+        let e = line(
+            FileKind::Src,
+            "DEF a()\n  GOTO in\n  IF TRUE THEN\n    in:\n  ENDIF\nEND\n",
+        )
+        .unwrap_err();
+        assert!(e.0 == 2 && e.1.contains("into a block"), "{e:?}");
+        let e = line(
+            FileKind::Src,
+            "DEF a()\n  SWITCH 1\n  CASE 1\n    GOTO two\n  CASE 2\n    two:\n  ENDSWITCH\nEND\n",
+        )
+        .unwrap_err();
+        assert!(e.0 == 4 && e.1.contains("into a block"), "{e:?}");
+        let e = line(
+            FileKind::Src,
+            "DEF a()\n  IF TRUE THEN\n    GOTO e\n  ELSE\n    e:\n  ENDIF\nEND\n",
+        )
+        .unwrap_err();
+        assert_eq!(e.0, 3, "{e:?}");
     }
 
     #[test]

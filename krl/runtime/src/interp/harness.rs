@@ -364,6 +364,11 @@ impl Globals {
         text_of(self.vars.get(&name.to_ascii_uppercase())?).ok()
     }
 
+    /// The names of the variables (upper-case).
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.vars.keys().map(String::as_str)
+    }
+
     /// Files that were still open when [`run_with_files`](super::run_with_files) ended.
     pub fn open_files(&self) -> &[String] {
         &self.open_files

@@ -108,7 +108,7 @@ use kuka_protocol::SpeedRecord;
 
 pub use harness::{Globals, OpenFiles, SharedOpenFiles};
 pub use host::{Cancelled, Host, TriggerAt, Turn, Wait};
-pub use subset::check_subset;
+pub use subset::{check_hosted, check_subset};
 
 use harness::Harness;
 use values::{Value, axis_value, frame_value, real_struct};

@@ -14,6 +14,46 @@ use crate::names::KRC_GLOBALS;
 /// Walks every routine of the `.src` (called or not) and every item of the
 /// `.dat`; see the [module documentation](super) for the subset.
 pub fn check_subset(program: &Program) -> Result<(), Unsupported> {
+    check(program, None)
+}
+
+/// Refuses, before anything runs, every statement the KRC-like runtime
+/// ([`run_hosted`](super::run_hosted)) cannot run: the subset of
+/// [`check_subset`] plus what a hosted run adds (STRUC and ENUM types,
+/// INTERRUPT, TRIGGER, BRAKE, RESUME, `ON_ERROR_PROCEED`, WAIT FOR on
+/// system variables, `CWRITE`/`SREAD`/`SWRITE`/`PULSE`/`ERR_CLEAR` and the
+/// controller's types), with `globals` the upper-case names of the
+/// variables the controller provides (its system variables and the
+/// globals of its `.dat` files, `$config.dat` included): a system variable
+/// or `$config.dat` global outside them is refused here rather than
+/// stopping the program with an error when it is reached.
+pub fn check_hosted(
+    program: &Program,
+    globals: &std::collections::BTreeSet<String>,
+) -> Result<(), Unsupported> {
+    check(program, Some(globals))
+}
+
+/// The types a hosted run knows besides the built-in ones (the harness's).
+const HOSTED_TYPES: [&str; 6] = [
+    "STATE_T",
+    "MODUS_T",
+    "CMD_STAT",
+    "MODE_OP",
+    "PRO_STATE",
+    "ERR_INFO",
+];
+
+/// The procedures a hosted run adds.
+const HOSTED_CALLS: [&str; 5] = ["CWRITE", "SWRITE", "SREAD", "PULSE", "ERR_CLEAR"];
+
+/// The functions a hosted run adds (`kinematic_function`).
+const HOSTED_FUNCTIONS: [&str; 2] = ["INVERSE", "FORWARD"];
+
+fn check(
+    program: &Program,
+    hosted: Option<&std::collections::BTreeSet<String>>,
+) -> Result<(), Unsupported> {
     let mut prios = Vec::new();
     for r in &program.src.routines {
         stopm_prios(&r.body, &mut prios);
@@ -24,11 +64,24 @@ pub fn check_subset(program: &Program) -> Result<(), Unsupported> {
         .iter()
         .map(|r| r.name.to_ascii_uppercase())
         .collect();
+    let mut types = std::collections::HashSet::new();
+    if hosted.is_some() {
+        types.extend(HOSTED_TYPES.iter().map(|t| t.to_string()));
+        let dat_items = program.dat.iter().flat_map(|d| d.items.iter());
+        let bodies = program.src.routines.iter().flat_map(|r| r.body.iter());
+        for s in dat_items.chain(bodies) {
+            if let StmtKind::Struc { name, .. } | StmtKind::Enum { name, .. } = &s.kind {
+                types.insert(name.to_ascii_uppercase());
+            }
+        }
+    }
     if let Some(dat) = &program.dat {
         let c = Checker {
             routines: routines.clone(),
             in_dat: true,
             stopm_prios: Vec::new(),
+            hosted,
+            types: types.clone(),
         };
         c.block(&dat.items)?;
     }
@@ -36,10 +89,13 @@ pub fn check_subset(program: &Program) -> Result<(), Unsupported> {
         routines,
         in_dat: false,
         stopm_prios: prios,
+        hosted,
+        types,
     };
     for r in &program.src.routines {
         if let RoutineKind::DefFct(ty) = &r.kind
             && template(ty).is_none()
+            && !c.user_type(ty)
         {
             return c.refuse(r.line, format!("a function returning {ty}"));
         }
@@ -48,13 +104,19 @@ pub fn check_subset(program: &Program) -> Result<(), Unsupported> {
     Ok(())
 }
 
-struct Checker {
+struct Checker<'g> {
     /// Upper-case names of the `.src` routines (a set: a file of many
     /// routines and calls must not cost quadratic time).
     routines: std::collections::HashSet<String>,
     in_dat: bool,
     /// Priorities of the standard stop-message interrupt (INI fold).
     stopm_prios: Vec<i64>,
+    /// The KRC-like runtime's check ([`check_hosted`]): the controller's
+    /// variables.
+    hosted: Option<&'g std::collections::BTreeSet<String>>,
+    /// Hosted: the STRUC and ENUM types of the program and the harness's
+    /// (upper-case).
+    types: std::collections::HashSet<String>,
 }
 
 /// `INTERRUPT DECL n WHEN $STOPMESS == TRUE DO IR_STOPM()`, the standard
@@ -123,9 +185,45 @@ fn mentions_system(e: &Expr) -> bool {
     }
 }
 
-impl Checker {
+impl Checker<'_> {
     fn is_routine(&self, name: &str) -> bool {
         self.routines.contains(&name.to_ascii_uppercase())
+    }
+
+    /// Hosted: a STRUC/ENUM type of the program or of the harness.
+    fn user_type(&self, ty: &str) -> bool {
+        self.hosted.is_some() && self.types.contains(&ty.to_ascii_uppercase())
+    }
+
+    /// Hosted: a statement only the KRC-like runtime runs; its
+    /// expressions are checked.
+    fn hosted_only(&self, s: &Stmt) -> Option<Result<(), Unsupported>> {
+        self.hosted?;
+        let l = s.line;
+        Some(match &s.kind {
+            StmtKind::Struc { .. } | StmtKind::Enum { .. } => Ok(()),
+            StmtKind::Brake | StmtKind::Resume | StmtKind::OnErrorProceed => Ok(()),
+            StmtKind::WaitFor(e) => self.expr(e, l),
+            StmtKind::InterruptDecl { prio, when, action } => self
+                .expr(prio, l)
+                .and_then(|()| self.expr(when, l))
+                .and_then(|()| self.stmt(action)),
+            StmtKind::InterruptSwitch { prio, .. } => self.exprs(prio, l),
+            StmtKind::Trigger {
+                at, delay, action, ..
+            } => self
+                .expr(at, l)
+                .and_then(|()| self.expr(delay, l))
+                .and_then(|()| self.stmt(action)),
+            StmtKind::Call { name, args }
+                if HOSTED_CALLS.iter().any(|c| name.eq_ignore_ascii_case(c)) =>
+            {
+                // CWRITE's channel and SREAD/SWRITE's state are variables
+                // of the controller ($FCT_CALL, $CMD) or the program.
+                self.exprs(args, l)
+            }
+            _ => return None,
+        })
     }
 
     fn refuse(&self, line: u32, what: impl Into<String>) -> Result<(), Unsupported> {
@@ -146,9 +244,12 @@ impl Checker {
 
     fn stmt(&self, s: &Stmt) -> Result<(), Unsupported> {
         let l = s.line;
+        if let Some(r) = self.hosted_only(s) {
+            return r;
+        }
         match &s.kind {
             StmtKind::Decl { ty, vars, .. } => {
-                let known = template(ty).is_some();
+                let known = template(ty).is_some() || self.user_type(ty);
                 if !known && !self.in_dat {
                     return self.refuse(l, format!("the type {ty}"));
                 }
@@ -278,13 +379,21 @@ impl Checker {
                 // The KRC-like runtime plays a spline block's TRIGGER WHEN
                 // PATH (at the point after it); the step list has no
                 // trigger actions, as for a TRIGGER anywhere else.
-                if let Some(t) = triggers.first() {
+                if let Some(t) = triggers.first()
+                    && (self.hosted.is_none()
+                        || triggers
+                            .iter()
+                            .any(|t| matches!(t.kind, StmtKind::Trigger { path: false, .. })))
+                {
                     let what = if matches!(t.kind, StmtKind::Trigger { path: false, .. }) {
                         "TRIGGER WHEN DISTANCE in a spline block (KRL allows only PATH there)"
                     } else {
                         "TRIGGER in a spline block"
                     };
                     return self.refuse(t.line, what);
+                }
+                for t in triggers {
+                    self.stmt(t)?;
                 }
                 for p in points {
                     let is_sptp = p.kind == SplinePointKind::Sptp;
@@ -355,8 +464,26 @@ impl Checker {
         self.expr(&p.target, pl)
     }
 
-    /// A `$config.dat` global other than `XHOME`: the simulator has none.
+    /// A `$config.dat` global other than `XHOME`: the simulator has none;
+    /// hosted: one the controller does not declare.
     fn krc_global(&self, upper: &str, l: u32) -> Result<(), Unsupported> {
+        if let Some(globals) = self.hosted {
+            if KRC_GLOBALS.contains(&upper) && !globals.contains(upper) {
+                return self.refuse(
+                    l,
+                    format!(
+                        "the controller global {upper} (from $config.dat; the KRC-like runtime declares only {})",
+                        KRC_GLOBALS
+                            .iter()
+                            .filter(|g| globals.contains(**g))
+                            .copied()
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                );
+            }
+            return Ok(());
+        }
         if upper != "XHOME" && KRC_GLOBALS.contains(&upper) {
             return self.refuse(
                 l,
@@ -368,15 +495,25 @@ impl Checker {
         Ok(())
     }
 
+    /// Hosted: a system variable the controller has (`$FCT_CALL` and
+    /// `$CMD` are CWRITE's channels).
+    fn hosted_system(&self, upper: &str) -> bool {
+        self.hosted
+            .is_some_and(|g| g.contains(upper) || upper == "$FCT_CALL" || upper == "$CMD")
+    }
+
     fn lvalue(&self, e: &Expr, l: u32) -> Result<(), Unsupported> {
         if let Some(root) = root_name(e) {
             let up = root.to_ascii_uppercase();
             self.krc_global(&up, l)?;
             if up.starts_with('$') {
-                if SYS_READ_ONLY.contains(&up.as_str()) {
+                // A KRC program sets the override ($OV_PRO) itself.
+                if SYS_READ_ONLY.contains(&up.as_str())
+                    && !(self.hosted.is_some() && up == "$OV_PRO")
+                {
                     return self.refuse(l, format!("assigning {up}"));
                 }
-                if !SYS_WRITE.contains(&up.as_str()) {
+                if !SYS_WRITE.contains(&up.as_str()) && !self.hosted_system(&up) {
                     return self.refuse(l, format!("the system variable {up}"));
                 }
             }
@@ -399,6 +536,7 @@ impl Checker {
                 if up.starts_with('$')
                     && !SYS_WRITE.contains(&up.as_str())
                     && !SYS_READ_ONLY.contains(&up.as_str())
+                    && !self.hosted_system(&up)
                 {
                     return self.refuse(l, format!("the system variable {up}"));
                 }
@@ -411,7 +549,8 @@ impl Checker {
             Expr::Field(b, _) | Expr::Unary(_, b) => self.expr(b, l),
             Expr::Call(n, args) => {
                 let up = n.to_ascii_uppercase();
-                if !BUILTINS.contains(&up.as_str()) && !self.routines.contains(&up) {
+                let hosted = self.hosted.is_some() && HOSTED_FUNCTIONS.contains(&up.as_str());
+                if !BUILTINS.contains(&up.as_str()) && !self.routines.contains(&up) && !hosted {
                     return self.refuse(l, format!("the call {n}"));
                 }
                 self.exprs(args, l)

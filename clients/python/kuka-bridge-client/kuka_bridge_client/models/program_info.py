@@ -29,8 +29,9 @@ class ProgramInfo:
             entry (str): The routine a run calls.
             entry_kind (str): `def` or `deffct`.
             name (str): Program name.
-            simulator_checked (bool): Checked against the simulated controller's KRL subset (true when the
-                service runs the simulator; a real controller runs all of KRL).
+            simulator_checked (bool): Checked against what the simulated controller can run (true when the
+                service runs a simulator, native or KRC-like; a real controller runs
+                all of KRL).
             src_lines (int): Lines of the `.src`.
             uploaded_ms (int): Upload time (ms since the Unix epoch).
             dat_lines (int | None | Unset): Lines of the `.dat`, if there is one.
