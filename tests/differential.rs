@@ -512,8 +512,9 @@ fn native_simulator_and_shipped_krl_program_answer_alike() {
             );
             if !path_refusal {
                 differences.push(format!(
-                    "command {i} (CID {cid}) {}: native {:?} {} {:?}, krc error stop\n  sent: {}",
+                    "command {i} (CID {cid}) {} from {:?}: native {:?} {} {:?}, krc error stop\n  sent: {}",
                     cmd.name(),
+                    axes,
                     a.code,
                     a.completed,
                     a.axes,
@@ -568,8 +569,9 @@ fn native_simulator_and_shipped_krl_program_answer_alike() {
         let differs = apart && !end_point_vs_path;
         if differs {
             differences.push(format!(
-                "command {i} (CID {cid}) {}:\n  native {:?} {} {:?}\n  krc    {:?} {} {:?}\n  sent: {}",
+                "command {i} (CID {cid}) {} from {:?}:\n  native {:?} {} {:?}\n  krc    {:?} {} {:?}\n  sent: {}",
                 cmd.name(),
+                axes,
                 a.code,
                 a.completed,
                 a.axes,

@@ -140,6 +140,23 @@ async fn bad_programs_are_refused_with_their_line_before_reaching_the_controller
     assert_eq!(v["line"], 5, "{v}");
     assert_eq!(v["file"], "src");
 
+    // A program that opens a channel file would lock the channel: refused
+    // whatever runs it.
+    let src = "DEF peek()\n  DECL STATE_T st\n  DECL MODUS_T md\n  DECL INT h\n  md = #SYNC\n  IF TRUE THEN\n    CWRITE($FCT_CALL, st, md, \"krl_fopen\", \"KB_CMD.TXT\", \"r\", h)\n  ENDIF\nEND\n";
+    let (status, v) = t
+        .post_json("/api/v1/programs", &json!({"name": "peek", "src": src}))
+        .await;
+    assert_eq!(status, 422, "{v}");
+    assert_eq!(
+        (&v["code"], &v["line"]),
+        (&json!("invalid_program"), &json!(7)),
+        "{v}"
+    );
+    assert!(
+        v["detail"].as_str().is_some_and(|d| d.contains("channel")),
+        "{v}"
+    );
+
     // Outside the simulator's subset: an interrupt on line 3.
     let src = "DEF irq()\n  PTP {A1 0}\n  INTERRUPT ON 3\nEND\n";
     let (status, v) = t

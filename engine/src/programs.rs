@@ -157,6 +157,54 @@ pub fn program_error(e: &ProgramError) -> BridgeError {
     }
 }
 
+/// The first `CWRITE($FCT_CALL, …, "krl_fopen", "<channel file>", …)` of
+/// the program (line, file name as written): a program that opens one of
+/// the channel's files holds it open at least while it runs (a KRC keeps
+/// the handle after an error stop until `kb_main` restarts), so that the
+/// service can no longer write a command or read an answer. Only literal
+/// names are seen; a name built at run time is not.
+fn opened_channel_file(program: &Program) -> Option<(u32, String)> {
+    use kuka_krl::{Expr, Stmt, StmtKind};
+    fn in_block(body: &[Stmt]) -> Option<(u32, String)> {
+        body.iter().find_map(in_stmt)
+    }
+    fn in_stmt(s: &Stmt) -> Option<(u32, String)> {
+        match &s.kind {
+            StmtKind::Call { name, args } if name.eq_ignore_ascii_case("CWRITE") => {
+                let [_, _, _, Expr::Str(func), Expr::Str(file), ..] = args.as_slice() else {
+                    return None;
+                };
+                let channel = [
+                    kuka_protocol::COMMAND_FILE,
+                    kuka_protocol::RESULT_FILE,
+                    kuka_protocol::STATE_FILE,
+                ];
+                (func.eq_ignore_ascii_case("krl_fopen")
+                    && channel.iter().any(|c| file.trim().eq_ignore_ascii_case(c)))
+                .then(|| (s.line, file.clone()))
+            }
+            StmtKind::If {
+                then_body,
+                else_body,
+                ..
+            } => in_block(then_body).or_else(|| in_block(else_body)),
+            StmtKind::While { body, .. }
+            | StmtKind::For { body, .. }
+            | StmtKind::Loop { body }
+            | StmtKind::Repeat { body, .. } => in_block(body),
+            StmtKind::Switch { cases, default, .. } => cases
+                .iter()
+                .find_map(|(_, b)| in_block(b))
+                .or_else(|| default.as_deref().and_then(in_block)),
+            StmtKind::InterruptDecl { action, .. } | StmtKind::Trigger { action, .. } => {
+                in_stmt(action)
+            }
+            _ => None,
+        }
+    }
+    program.src.routines.iter().find_map(|r| in_block(&r.body))
+}
+
 /// How much an upload is checked beyond its syntax and entry point, by the
 /// controller that will run it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -271,6 +319,15 @@ impl ProgramStore {
                 format!("entry point `{}` must not take parameters", routine.name),
             )
             .at_line("src", routine.line));
+        }
+        if let Some((line, file)) = opened_channel_file(&program) {
+            return Err(BridgeError::new(
+                ErrorCode::InvalidProgram,
+                format!(
+                    "the program opens {file}, a file of the bridge's channel: a KRL handle on it locks the channel (the bridge could no longer send a STOP, or hear the controller) until the robot program restarts; use files of your own"
+                ),
+            )
+            .at_line("src", line));
         }
         if self.check != UploadCheck::Syntax {
             kuka_krl_runtime::names::check_names(&program).map_err(|u| {

@@ -406,6 +406,11 @@ END
         ),
         ("HALT", "DEF kbu2()\n  PTP {A1 6}\n  HALT\nEND\n", 3),
         (
+            "krl_feof",
+            "DEF kbu2()\n  DECL STATE_T st\n  DECL MODUS_T md\n  md = #SYNC\n  CWRITE($FCT_CALL, st, md, \"krl_feof\", 1)\nEND\n",
+            5,
+        ),
+        (
             "SVEL_JOINT",
             "DEF kbu2()\n  SPTP {A1 6} WITH $VEL_AXIS[1] = SVEL_JOINT(100.0)\nEND\n",
             2,

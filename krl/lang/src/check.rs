@@ -373,6 +373,12 @@ mod tests {
         let e = line(FileKind::Dat, "DEFDAT d\n  DECL INT q[2,2,2,2]\nENDDAT\n").unwrap_err();
         assert!(e.0 == 2 && e.1.contains("at most 3"), "{e:?}");
         assert!(line(FileKind::Dat, "DEFDAT d\n  DECL INT q[2,2,2]\nENDDAT\n").is_ok());
+        // A statement's first word is no routine name (its call would
+        // read as the statement).
+        let e = line(FileKind::Src, "DEF ptp()\nEND\n").unwrap_err();
+        assert!(e.0 == 1 && e.1.contains("keyword"), "{e:?}");
+        let e = line(FileKind::Src, "DEF a()\n  DECL INT wait\nEND\n").unwrap_err();
+        assert!(e.0 == 2 && e.1.contains("keyword"), "{e:?}");
         // GOTO: out of a block or within it, never into one from outside.
         assert!(
             line(

@@ -104,8 +104,9 @@ const IMPLICIT_DECL_TYPES: [&str; 9] = [
 ];
 
 /// Keywords a name may not be (structure, declarations, operators,
-/// literals).
-const RESERVED: [&str; 40] = [
+/// literals, and the words that start a statement: a routine `ptp()` could
+/// be declared but never called, its call reads as a motion).
+const RESERVED: [&str; 71] = [
     "DEF",
     "END",
     "DEFFCT",
@@ -146,6 +147,37 @@ const RESERVED: [&str; 40] = [
     "TRUE",
     "FALSE",
     "STRUC",
+    "ENUM",
+    "SIGNAL",
+    "EXT",
+    "EXTFCT",
+    "HALT",
+    "CONTINUE",
+    "RESUME",
+    "ON_ERROR_PROCEED",
+    "BRAKE",
+    "WAIT",
+    "PTP",
+    "PTP_REL",
+    "LIN",
+    "LIN_REL",
+    "CIRC",
+    "CIRC_REL",
+    "SPLINE",
+    "PTP_SPLINE",
+    "ENDSPLINE",
+    "SPTP",
+    "SLIN",
+    "SCIRC",
+    "SPTP_REL",
+    "SLIN_REL",
+    "SCIRC_REL",
+    "SPL",
+    "INTERRUPT",
+    "TRIGGER",
+    "CONFIRM",
+    "CHANNEL",
+    "IMPORT",
 ];
 
 /// Keywords that end a block; seeing one where a statement should start

@@ -854,6 +854,11 @@ fn krl_parse(cases: &[LineCase], mode: Text) -> Vec<Option<Vec<i64>>> {
         for (k, b) in c.extra.iter().enumerate() {
             d.push_str(&format!("  kb_ln[{}] = {b}\n", c.text.len() + k + 1));
         }
+        // The 0 after the line, as KbFGets puts it (KbLineC reads up to it).
+        let lc = c.text.len() + c.extra.len();
+        if lc < 256 {
+            d.push_str(&format!("  kb_ln[{}] = 0\n", lc + 1));
+        }
         d.push_str(&format!(
             "  t_ok[{i}] = KbLine({}, {}, {}, {}, {})\n  IF t_ok[{i}] THEN\n    FOR k = 1 TO {}\n      t_v[{i}, k] = kb_v[k]\n    ENDFOR\n  ENDIF\n",
             t[0],

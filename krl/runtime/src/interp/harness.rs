@@ -673,7 +673,9 @@ impl<'a> Interp<'a> {
             other => {
                 return Err(Unsupported {
                     line: self.line,
-                    what: format!("CWRITE($FCT_CALL, …, \"{other}\") in the test harness"),
+                    what: format!(
+                        "CWRITE($FCT_CALL, …, \"{other}\") (the simulated controller has krl_fopen, krl_fgets, krl_fwriteln, krl_fputs, krl_fclose, krl_fclose_all)"
+                    ),
                 }
                 .into());
             }

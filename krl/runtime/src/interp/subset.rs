@@ -47,6 +47,16 @@ const HOSTED_TYPES: [&str; 6] = [
 /// The procedures a hosted run adds.
 const HOSTED_CALLS: [&str; 5] = ["CWRITE", "SWRITE", "SREAD", "PULSE", "ERR_CLEAR"];
 
+/// The `CWRITE($FCT_CALL, …)` functions a hosted run has (the harness's).
+const FILE_FUNCTIONS: [&str; 6] = [
+    "krl_fopen",
+    "krl_fgets",
+    "krl_fwriteln",
+    "krl_fputs",
+    "krl_fclose",
+    "krl_fclose_all",
+];
+
 /// The functions a hosted run adds (`kinematic_function`).
 const HOSTED_FUNCTIONS: [&str; 2] = ["INVERSE", "FORWARD"];
 
@@ -218,6 +228,21 @@ impl Checker<'_> {
             StmtKind::Call { name, args }
                 if HOSTED_CALLS.iter().any(|c| name.eq_ignore_ascii_case(c)) =>
             {
+                // The file functions the runtime has (a name given as a
+                // literal; one computed at run time is met when it runs).
+                if name.eq_ignore_ascii_case("CWRITE")
+                    && let [Expr::Var(ch), _, _, Expr::Str(func), ..] = args.as_slice()
+                    && ch.eq_ignore_ascii_case("$FCT_CALL")
+                    && !FILE_FUNCTIONS.iter().any(|f| func.eq_ignore_ascii_case(f))
+                {
+                    return Some(self.refuse(
+                        l,
+                        format!(
+                            "the file function {func} (the KRC-like runtime has {})",
+                            FILE_FUNCTIONS.join(", ")
+                        ),
+                    ));
+                }
                 // CWRITE's channel and SREAD/SWRITE's state are variables
                 // of the controller ($FCT_CALL, $CMD) or the program.
                 self.exprs(args, l)
