@@ -793,10 +793,12 @@ async fn an_emergency_stop_stops_the_robot_until_released_and_acknowledged() {
         (409, Some("controller_error")),
         "{v}"
     );
+    // (The simulator's teach pendant is its API: the detail says where.)
     assert!(
         v["detail"]
             .as_str()
-            .is_some_and(|d| d.contains("emergency stop is pressed")),
+            .is_some_and(|d| d.contains("emergency stop is pressed")
+                && d.contains("POST /api/v1/sim/acknowledge")),
         "{v}"
     );
     assert_close(t.controller_axes()[0], stopped, 0.001, "A1 while stopped");

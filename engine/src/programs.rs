@@ -491,6 +491,27 @@ pub fn upload_line(module_line: u32) -> u32 {
     module_line.saturating_sub(WRAPPER_LINES)
 }
 
+/// A message about the generated module with every `line N` in it mapped
+/// back to the uploaded `.src` ([`upload_line`]): the interpreter names
+/// other lines in its messages too ("after the Cartesian motion on line
+/// N").
+pub fn upload_lines_in(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(i) = rest.find("line ") {
+        let (head, tail) = rest.split_at(i + "line ".len());
+        out.push_str(head);
+        let digits = tail.bytes().take_while(u8::is_ascii_digit).count();
+        match tail[..digits].parse::<u32>() {
+            Ok(n) if n > WRAPPER_LINES => out.push_str(&upload_line(n).to_string()),
+            _ => out.push_str(&tail[..digits]),
+        }
+        rest = &tail[digits..];
+    }
+    out.push_str(rest);
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -515,6 +536,12 @@ mod tests {
         let lines: Vec<&str> = m.src.lines().collect();
         assert_eq!(lines[(WRAPPER_LINES + 3 - 1) as usize], "  RETURN 1");
         assert_eq!(upload_line(WRAPPER_LINES + 3), 3);
+        assert_eq!(
+            upload_lines_in(
+                "PTP needs the axes after the Cartesian motion on line 10; line x, line 2"
+            ),
+            "PTP needs the axes after the Cartesian motion on line 3; line x, line 2"
+        );
         let parsed =
             Program::parse(&m.src, m.dat.as_deref(), Some("kbu42")).expect("module parses");
         assert_eq!(parsed.src.routines[0].name, "kbu42");

@@ -665,9 +665,10 @@ impl Safety {
                 return Err(BridgeError::new(
                     ErrorCode::InvalidProgram,
                     format!(
-                        "program {} cannot be run: line {}: {message}",
+                        "program {} cannot be run: line {}: {}",
                         program.info.name,
-                        up(line)
+                        up(line),
+                        crate::programs::upload_lines_in(&message)
                     ),
                 )
                 .at_line("src", up(line)));
@@ -676,9 +677,10 @@ impl Safety {
                 return Err(BridgeError::new(
                     ErrorCode::ProgramFailed,
                     format!(
-                        "program {} would fail at line {}: {message}",
+                        "program {} would fail at line {}: {}",
                         program.info.name,
-                        up(line)
+                        up(line),
+                        crate::programs::upload_lines_in(&message)
                     ),
                 )
                 .at_line("src", up(line)));

@@ -129,9 +129,13 @@ pub(super) fn program_result_error(e: BridgeError, r: &ResultRecord, program: &s
 /// safety state says (an emergency stop, the operator safety, the drives,
 /// a stop message), so that a client whose job failed learns why and
 /// what clears it. Other errors are returned as they are.
+///
+/// `simulated` (the state file says so): the teach pendant is the
+/// simulator's API, and the detail names it.
 pub(super) fn explain_safety(
     mut e: BridgeError,
     safety: Option<&kuka_protocol::SafetyState>,
+    simulated: bool,
 ) -> BridgeError {
     let Some(s) = safety else { return e };
     if e.code != ErrorCode::ControllerError {
@@ -153,10 +157,15 @@ pub(super) fn explain_safety(
     if why.is_empty() {
         return e;
     }
-    let clear = if !s.alarm_stop || !s.user_safety {
-        "release it, acknowledge the messages on the teach pendant, switch the drives on, then POST /api/v1/reset"
+    let pendant = if simulated {
+        "acknowledge the messages (the simulated controller: POST /api/v1/sim/acknowledge, which also switches the drives on and starts kb_main)"
     } else {
-        "acknowledge the messages on the teach pendant, switch the drives on, then POST /api/v1/reset"
+        "acknowledge the messages on the teach pendant, switch the drives on"
+    };
+    let clear = if !s.alarm_stop || !s.user_safety {
+        format!("release it, {pendant}, then POST /api/v1/reset")
+    } else {
+        format!("{pendant}, then POST /api/v1/reset")
     };
     e.detail = format!("{}: {}; {clear}", e.detail, why.join(", "));
     e
@@ -176,7 +185,7 @@ pub(super) fn state_error(s: &StateFile) -> Option<BridgeError> {
     };
     result_error(&r).map(|mut e| {
         e.motion = None;
-        explain_safety(e, s.safety.as_ref())
+        explain_safety(e, s.safety.as_ref(), s.simulated)
     })
 }
 

@@ -368,7 +368,8 @@ impl Actor {
             _ => {}
         }
         let safety = self.ctl.state.as_ref().and_then(|s| s.safety.as_ref());
-        let mut error = result_error(&r).map(|e| explain_safety(e, safety));
+        let simulated = self.ctl.state.as_ref().is_some_and(|s| s.simulated);
+        let mut error = result_error(&r).map(|e| explain_safety(e, safety, simulated));
         if error.is_none()
             && let Some(refused) = self
                 .path
@@ -398,6 +399,7 @@ impl Actor {
                     "the reset cannot clear the controller's error yet",
                 ),
                 Some(s),
+                simulated,
             ));
         }
         let cleared = matches!(f.op, Operation::Reset)
@@ -490,8 +492,13 @@ impl Actor {
                     ResultCode::Cancelled => JobState::Cancelled,
                     _ => JobState::Failed,
                 };
+                let ctl_state = self.ctl.state.as_ref();
                 let mut error = result_error(&r).map(|e| {
-                    explain_safety(e, self.ctl.state.as_ref().and_then(|s| s.safety.as_ref()))
+                    explain_safety(
+                        e,
+                        ctl_state.and_then(|s| s.safety.as_ref()),
+                        ctl_state.is_some_and(|s| s.simulated),
+                    )
                 });
                 if job.operation != "move"
                     && job.operation != "path"
