@@ -275,6 +275,28 @@ fn krl_check_lints_files_and_folders() {
         out.starts_with(&format!("{}:3:1:", good.display())) && out.contains("program_unsupported"),
         "{out}"
     );
+    // --simulator=krc: what the KRC-like runtime runs (interrupts, with
+    // its system variables), not GOTO.
+    let irq = dir.path().join("irq").join("irq.src");
+    std::fs::create_dir_all(irq.parent().expect("parent")).expect("mkdir");
+    std::fs::write(
+        &irq,
+        "DEF irq()\n  INTERRUPT DECL 3 WHEN $IN[1] DO irq2()\n  INTERRUPT ON 3\nEND\nDEF irq2()\nEND\n",
+    )
+    .expect("write");
+    let (code, out) = run(&["--simulator=krc".as_ref(), irq.as_os_str()]);
+    assert_eq!((code, out.as_str()), (Some(0), ""), "{out}");
+    let (code, out) = run(&["--simulator".as_ref(), irq.as_os_str()]);
+    assert!(
+        code == Some(1) && out.contains("native simulator does not run INTERRUPT"),
+        "{out}"
+    );
+    let (code, out) = run(&["--simulator=krc".as_ref(), good.as_os_str()]);
+    assert!(
+        code == Some(1)
+            && out.starts_with(&format!("{}:3:1: the KRC-like runtime", good.display())),
+        "{out}"
+    );
     // A path that names no KRL file fails; a control character in a
     // message is escaped, not printed.
     let empty = dir.path().join("empty");

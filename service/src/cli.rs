@@ -83,12 +83,15 @@ enum KrlCmd {
         #[arg(required = true)]
         files: Vec<PathBuf>,
         /// Also check each module (.src with its .dat beside it) as the
-        /// service checks an upload before running it on the native
-        /// simulator: declared names and the KRL subset it executes. A
+        /// service checks an upload before running it on a simulated
+        /// controller: declared names and what that simulator executes
+        /// (`--simulator` or `--simulator=native`: its KRL subset;
+        /// `--simulator=krc`: what the KRC-like
+        /// runtime runs, with its system variables and $config.dat). A
         /// module that uses globals of other .dat files (as the shipped
         /// program in krl/KRC does) is reported as not declared.
-        #[arg(long)]
-        simulator: bool,
+        #[arg(long, value_name = "KIND", num_args = 0..=1, require_equals = true, default_missing_value = "native")]
+        simulator: Option<crate::config::SimulatorKind>,
     },
 }
 
@@ -486,7 +489,16 @@ fn real_main(cli: Cli, log: &mut Option<crate::logging::LogGuard>) -> Result<(),
         Cmd::Token(cmd) => Ok(token_command(cmd)?),
         Cmd::DefaultConfig => Ok(write_out(&toml::to_string_pretty(&Config::default())?)?),
         Cmd::Krl(KrlCmd::Check { files, simulator }) => {
-            let report = crate::krl_check::run(&files, simulator);
+            let simulator = match simulator {
+                None => None,
+                Some(crate::config::SimulatorKind::Native) => {
+                    Some(crate::krl_check::Simulator::Native)
+                }
+                Some(crate::config::SimulatorKind::Krc) => Some(crate::krl_check::Simulator::Krc(
+                    crate::krl_check::krc_globals()?,
+                )),
+            };
+            let report = crate::krl_check::run(&files, simulator.as_ref());
             let mut out = report.problems.join("\n");
             if !out.is_empty() {
                 out.push('\n');

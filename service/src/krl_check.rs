@@ -1,6 +1,6 @@
 //! `kuka-bridge krl check FILES…`: a KRL linter on the command line. Each
 //! file is parsed as a controller loads it (`.src`/`.sub`/`.dat`, ANSI or
-//! UTF-8); with `--simulator`, a module (`.src` with its `.dat` beside it)
+//! UTF-8); with `--simulator [native|krc]`, a module (`.src` with its `.dat` beside it)
 //! is also checked the way the service checks an upload it will run on a
 //! simulated controller (declared names, the simulator's KRL subset).
 //! Every problem is one `file:line:column: message` line on stdout; a
@@ -28,8 +28,40 @@ pub struct Report {
     pub empty: usize,
 }
 
+/// Which simulated controller `--simulator` checks a module for.
+#[derive(Debug, Clone)]
+pub enum Simulator {
+    /// The native simulator: its KRL subset (`check_subset`).
+    Native,
+    /// The KRC-like runtime: what it runs (`check_hosted`), with the
+    /// upper-case names of the variables it provides.
+    Krc(std::collections::BTreeSet<String>),
+}
+
+/// The variables the KRC-like runtime provides to a program: a runtime is
+/// started on a fresh folder, asked, and shut down.
+pub fn krc_globals() -> Result<std::collections::BTreeSet<String>, kuka_krc::KrcError> {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    let dir = std::env::temp_dir().join(format!(
+        "kuka-bridge-krl-check-{}-{nanos}",
+        std::process::id()
+    ));
+    let mut config = kuka_krc::KrcConfig::new(&dir);
+    config.time_scale = 1.0;
+    let started = kuka_krc::KrcController::start(config);
+    let names = started.map(|krc| {
+        let names = krc.global_names();
+        krc.shutdown();
+        names
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    names
+}
+
 /// Checks every file (directories: every KRL file under them).
-pub fn run(paths: &[PathBuf], simulator: bool) -> Report {
+pub fn run(paths: &[PathBuf], simulator: Option<&Simulator>) -> Report {
     let mut files = Vec::new();
     let mut report = Report::default();
     for p in paths {
@@ -87,7 +119,7 @@ fn collect(dir: &Path, out: &mut Vec<PathBuf>, report: &mut Report) {
 }
 
 /// Checks one file; returns how many of the lines it added are warnings.
-fn check_one(path: &Path, simulator: bool, problems: &mut Vec<String>) -> usize {
+fn check_one(path: &Path, simulator: Option<&Simulator>, problems: &mut Vec<String>) -> usize {
     let shown = path.display();
     let Some(kind) = FileKind::from_path(path) else {
         problems.push(format!("{shown}: not a KRL file (.src, .sub or .dat)"));
@@ -115,8 +147,10 @@ fn check_one(path: &Path, simulator: bool, problems: &mut Vec<String>) -> usize 
         problems.push(format!("{shown}:{w}"));
         warnings += 1;
     }
-    if simulator && kind == FileKind::Src {
-        simulator_check(path, &text, problems);
+    if let Some(sim) = simulator
+        && kind == FileKind::Src
+    {
+        simulator_check(path, &text, sim, problems);
     }
     warnings
 }
@@ -124,7 +158,7 @@ fn check_one(path: &Path, simulator: bool, problems: &mut Vec<String>) -> usize 
 /// `line:1: warning: …` when the module's name (its first DEF, or its
 /// DEFDAT) is not the file's name. A KRC selects and links a module by its
 /// file name, so the service names every module it writes itself
-/// (`kbu<n>`, DEF and DEFDAT renamed). A warning, not a problem: 18 of the
+/// (`kbu<n>`, DEF and DEFDAT renamed). A warning, not a problem: 17 of the
 /// 364 public files of the test corpus differ (files renamed in their
 /// repositories, such as ROS-Industrial's `ros_rsi.src` with
 /// `DEF RSI_AxisCorr()`), and no public source says whether a KSS refuses
@@ -164,7 +198,7 @@ fn sibling_dat(src: &Path) -> Option<PathBuf> {
     })
 }
 
-fn simulator_check(src_path: &Path, src: &str, problems: &mut Vec<String>) {
+fn simulator_check(src_path: &Path, src: &str, sim: &Simulator, problems: &mut Vec<String>) {
     let shown = src_path.display();
     let dat_path = sibling_dat(src_path);
     let dat_bytes = dat_path.as_ref().and_then(|p| std::fs::read(p).ok());
@@ -196,12 +230,24 @@ fn simulator_check(src_path: &Path, src: &str, problems: &mut Vec<String>) {
             "{shown}:{}:1: the variable {} is not declared",
             u.line, u.name
         ));
-    } else if let Err(u) = kuka_krl_runtime::interp::check_subset(&program) {
-        problems.push(format!(
-            "{shown}:{}:1: the native simulator does not run {} (program_unsupported)",
-            u.line,
-            printable(&u.what)
-        ));
+    } else {
+        let (checked, which) = match sim {
+            Simulator::Native => (
+                kuka_krl_runtime::interp::check_subset(&program),
+                "the native simulator",
+            ),
+            Simulator::Krc(globals) => (
+                kuka_krl_runtime::interp::check_hosted(&program, globals),
+                "the KRC-like runtime",
+            ),
+        };
+        if let Err(u) = checked {
+            problems.push(format!(
+                "{shown}:{}:1: {which} does not run {} (program_unsupported)",
+                u.line,
+                printable(&u.what)
+            ));
+        }
     }
 }
 
