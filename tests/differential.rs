@@ -512,12 +512,13 @@ fn native_simulator_and_shipped_krl_program_answer_alike() {
             );
             if !path_refusal {
                 differences.push(format!(
-                    "command {i} (CID {cid}) {} from {:?}: native {:?} {} {:?}, krc error stop\n  sent: {}",
+                    "command {i} (CID {cid}) {} from {:?}: native {:?} {} {:?}, krc error stop ({})\n  sent: {}",
                     cmd.name(),
                     axes,
                     a.code,
                     a.completed,
                     a.axes,
+                    krc.stats().motion_errors.last().map_or("no motion error", String::as_str),
                     text.lines().collect::<Vec<_>>().join("\n        ")
                 ));
             }
