@@ -448,10 +448,13 @@ impl Actor {
         self.publish_state();
         self.shared.update(f.id, |j| {
             j.finished_ms = Some(now_ms());
-            j.completed = if matches!(f.op, Operation::Move(_) | Operation::Path(_))
-                || (matches!(f.op, Operation::RunProgram(_)) && r.code == ResultCode::Ok)
-            {
+            j.completed = if matches!(f.op, Operation::Move(_) | Operation::Path(_)) {
                 r.completed as usize
+            } else if matches!(f.op, Operation::RunProgram(_)) && r.code == ResultCode::Ok {
+                // A program that ended ran all its motions: the KRL program
+                // on a KRC answers 0 (it cannot count another program's
+                // statements), the native simulator the count.
+                (r.completed as usize).max(j.motions)
             } else {
                 0
             };
