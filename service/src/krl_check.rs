@@ -1,8 +1,9 @@
 //! `kuka-bridge krl check FILES…`: a KRL linter on the command line. Each
 //! file is parsed as a controller loads it (`.src`/`.sub`/`.dat`, ANSI or
-//! UTF-8); with `--simulator [native|krc]`, a module (`.src` with its `.dat` beside it)
-//! is also checked the way the service checks an upload it will run on a
-//! simulated controller (declared names, the simulator's KRL subset).
+//! UTF-8); with `--simulator` (the native simulator) or `--simulator=krc`
+//! (the KRC-like runtime), a module (`.src` with its `.dat` beside it) is
+//! also checked the way the service checks an upload it will run on that
+//! simulated controller (declared names, what the simulator executes).
 //! Every problem is one `file:line:column: message` line on stdout; a
 //! warning (`file:line:column: warning: message`) is printed the same way
 //! and does not fail the check.
