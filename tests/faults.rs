@@ -725,6 +725,65 @@ async fn safety(t: &TestService) -> Value {
     s["controller"]["safety"].clone()
 }
 
+/// A client that releases the emergency stop, acknowledges and resets at
+/// once, without waiting for a state file in between, gets its reset: the
+/// last state file read before the reset's result was written before it
+/// and still shows the button pressed, so the service waits for one
+/// written after it instead of refusing the reset on stale news (a KRL
+/// program writes its state a pass after the result). Three rounds, the
+/// window is a matter of milliseconds.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_reset_right_after_release_and_acknowledge_is_taken() {
+    let t = TestService::start(Options::default()).await;
+    t.wait_online().await;
+    for round in 0..3 {
+        let (st, v) = t
+            .put_json("/api/v1/sim/safety", &json!({"emergency_stop": true}))
+            .await;
+        assert_eq!(st, 204, "{v}");
+        t.wait_state("the emergency stop in the state", |s| {
+            s["controller"]["safety"]["emergency_stop"] == true
+        })
+        .await;
+        let (st, v) = t
+            .put_json("/api/v1/sim/safety", &json!({"emergency_stop": false}))
+            .await;
+        assert_eq!(st, 204, "{v}");
+        let (st, v) = t.post("/api/v1/sim/acknowledge").await;
+        assert_eq!(st, 204, "{v}");
+        let (st, v) = t.post("/api/v1/reset").await;
+        assert_eq!(
+            (st, &v["state"]),
+            (200, &json!("done")),
+            "round {round}: {v}"
+        );
+        let (st, v) = t
+            .motions(json!([{"type": "ptp_axes", "axes": {"a1": round * 2 + 1}}]))
+            .await;
+        assert_eq!(
+            (st, &v["state"]),
+            (200, &json!("done")),
+            "round {round}: {v}"
+        );
+    }
+    // Still refused while the button is really pressed.
+    let (st, v) = t
+        .put_json("/api/v1/sim/safety", &json!({"emergency_stop": true}))
+        .await;
+    assert_eq!(st, 204, "{v}");
+    t.wait_state("pressed again", |s| {
+        s["controller"]["safety"]["emergency_stop"] == true
+    })
+    .await;
+    let (st, v) = t.post("/api/v1/reset").await;
+    assert_eq!(
+        (st, v["code"].as_str()),
+        (409, Some("controller_error")),
+        "{v}"
+    );
+    t.service.shutdown().await.expect("shutdown");
+}
+
 /// A safety stop on the simulated cell (`PUT /api/v1/sim/safety`), as on a
 /// KRC: an emergency stop pressed during a motion stops the robot on its
 /// path and switches the drives off; the job fails `controller_error`

@@ -151,6 +151,10 @@ struct PendingWrite {
     backoff: Duration,
 }
 
+/// How long a RESET's result waits for a state file written after it
+/// ([`Actor::hold_reset`]): a few heartbeats of the KRL program.
+const RESET_STATE_WAIT: Duration = Duration::from_millis(500);
+
 /// What the service knows about the controller.
 #[derive(Default)]
 struct ControllerView {
@@ -174,6 +178,11 @@ struct ControllerView {
     /// A RESET the controller took with its safety circuit closed: state
     /// files written before it no longer show the error it cleared.
     reset_cid: Option<Cid>,
+    /// A RESET's result held back until a state file written after it
+    /// says whether the safety circuit is still open (the newest one was
+    /// older and showed it open: the operator may have closed it since),
+    /// and when it was first held.
+    reset_held: Option<(ResultRecord, Instant)>,
     /// The value each analog channel (inputs, outputs; 1..=8) had when
     /// it last published an `analog` event, or when first reported.
     analog_published: [[Option<f64>; kuka_protocol::AnalogState::WIDTH]; 2],
@@ -573,6 +582,13 @@ impl Actor {
     }
 
     fn check_timeouts(&mut self) {
+        // A RESET's result held for a fresh state file: no longer than
+        // RESET_STATE_WAIT (the controller may have stopped writing).
+        if let Some((r, since)) = self.ctl.reset_held
+            && since.elapsed() >= RESET_STATE_WAIT
+        {
+            self.on_result(r);
+        }
         let now = Instant::now();
         let mut supersede = false;
         if let Some(f) = &self.inflight {

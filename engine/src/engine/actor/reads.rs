@@ -184,6 +184,11 @@ impl Actor {
             self.speeds.override_pct = s.override_pct;
         }
         self.ctl.state = Some(s);
+        // A RESET's result held for a state written after it: decided now
+        // (or held on, if this one is older too).
+        if let Some((r, _)) = self.ctl.reset_held {
+            self.on_result(r);
+        }
     }
 
     /// `analog` events for the watched analog channels that moved by their
@@ -284,6 +289,45 @@ impl Actor {
         }
     }
 
+    /// Whether the RESET result `r` waits for the controller's next state
+    /// file (held in `ctl.reset_held`; `on_state` hands it back): the
+    /// newest state file was written before the controller took the RESET
+    /// and shows the safety circuit open. The operator may have closed it
+    /// and acknowledged since (a client that acknowledges and resets at
+    /// once), so that file cannot tell whether the reset helped; the next
+    /// one can. Held at most [`RESET_STATE_WAIT`]; then decided on what
+    /// is known.
+    fn hold_reset(&mut self, r: &ResultRecord) -> bool {
+        let is_reset = self
+            .inflight
+            .as_ref()
+            .is_some_and(|f| f.cid == r.cid && matches!(f.op, Operation::Reset));
+        let Some(s) = self.ctl.state.as_ref() else {
+            return false;
+        };
+        let open = s
+            .safety
+            .as_ref()
+            .is_some_and(|s| !s.alarm_stop || !s.user_safety);
+        let written_after = s.last_cid > 0
+            && !kuka_protocol::cid_is_newer(r.cid, s.last_cid)
+            && !(s.status == ControllerStatus::Busy && s.busy_cid == r.cid);
+        if !is_reset || r.code != ResultCode::Ok || !open || written_after {
+            self.ctl.reset_held = None;
+            return false;
+        }
+        let since = match self.ctl.reset_held {
+            Some((held, since)) if held.cid == r.cid => since,
+            _ => Instant::now(),
+        };
+        if since.elapsed() >= RESET_STATE_WAIT {
+            self.ctl.reset_held = None;
+            return false;
+        }
+        self.ctl.reset_held = Some((*r, since));
+        true
+    }
+
     pub(super) fn on_result(&mut self, r: ResultRecord) {
         if self.on_append_result(&r) {
             return;
@@ -346,6 +390,9 @@ impl Actor {
                 let (state, why) = self.stopped_path(f.id, why);
                 self.shared.finish(f.id, state, why);
             }
+            return;
+        }
+        if self.hold_reset(&r) {
             return;
         }
         let Some(f) = self.inflight.take_if(|f| f.cid == r.cid) else {
