@@ -720,6 +720,14 @@ async fn a_version_1_controller_is_named_and_refused() {
 }
 
 /// `controller.safety` of `GET /api/v1/state`.
+/// Presses (`true`) or releases the simulated emergency stop.
+async fn press_emergency_stop(t: &TestService, pressed: bool) {
+    let (st, v) = t
+        .put_json("/api/v1/sim/safety", &json!({"emergency_stop": pressed}))
+        .await;
+    assert_eq!(st, 204, "{v}");
+}
+
 async fn safety(t: &TestService) -> Value {
     let (_, s) = t.get("/api/v1/state").await;
     s["controller"]["safety"].clone()
@@ -737,18 +745,12 @@ async fn a_reset_right_after_release_and_acknowledge_is_taken() {
     let t = TestService::start(Options::default()).await;
     t.wait_online().await;
     for round in 0..3 {
-        let (st, v) = t
-            .put_json("/api/v1/sim/safety", &json!({"emergency_stop": true}))
-            .await;
-        assert_eq!(st, 204, "{v}");
+        press_emergency_stop(&t, true).await;
         t.wait_state("the emergency stop in the state", |s| {
             s["controller"]["safety"]["emergency_stop"] == true
         })
         .await;
-        let (st, v) = t
-            .put_json("/api/v1/sim/safety", &json!({"emergency_stop": false}))
-            .await;
-        assert_eq!(st, 204, "{v}");
+        press_emergency_stop(&t, false).await;
         let (st, v) = t.post("/api/v1/sim/acknowledge").await;
         assert_eq!(st, 204, "{v}");
         let (st, v) = t.post("/api/v1/reset").await;
@@ -767,10 +769,7 @@ async fn a_reset_right_after_release_and_acknowledge_is_taken() {
         );
     }
     // Still refused while the button is really pressed.
-    let (st, v) = t
-        .put_json("/api/v1/sim/safety", &json!({"emergency_stop": true}))
-        .await;
-    assert_eq!(st, 204, "{v}");
+    press_emergency_stop(&t, true).await;
     t.wait_state("pressed again", |s| {
         s["controller"]["safety"]["emergency_stop"] == true
     })
@@ -822,10 +821,7 @@ async fn an_emergency_stop_stops_the_robot_until_released_and_acknowledged() {
         }
     })
     .await;
-    let (s, v) = t
-        .put_json("/api/v1/sim/safety", &json!({"emergency_stop": true}))
-        .await;
-    assert_eq!(s, 204, "{v}");
+    press_emergency_stop(&t, true).await;
     let job = t
         .wait_job(id, "the job ended by the emergency stop", |j| {
             j["state"] == "failed"
@@ -875,10 +871,7 @@ async fn an_emergency_stop_stops_the_robot_until_released_and_acknowledged() {
         (409, Some("controller_error")),
         "{v}"
     );
-    let (st, v) = t
-        .put_json("/api/v1/sim/safety", &json!({"emergency_stop": false}))
-        .await;
-    assert_eq!(st, 204, "{v}");
+    press_emergency_stop(&t, false).await;
     let s = t
         .wait_state("the emergency stop released", |s| {
             s["controller"]["safety"]["emergency_stop"] == false

@@ -24,6 +24,17 @@ fn slow_motion(a1: f64) -> Value {
     json!({"type": "ptp_axes", "axes": {"a1": a1}, "velocity_pct": 5})
 }
 
+/// Sends slow axis PTPs to these A1 values as one batch without waiting;
+/// the job's id.
+async fn start_slow_batch(t: &TestService, a1: &[f64]) -> u64 {
+    let batch: Vec<Value> = a1.iter().map(|a| slow_motion(*a)).collect();
+    let (s, job) = t
+        .post_json("/api/v1/motions", &json!({"motions": batch, "wait": false}))
+        .await;
+    assert_eq!(s, 202, "{job}");
+    job["id"].as_u64().expect("id")
+}
+
 fn terminal(j: &Value) -> bool {
     ["done", "failed", "cancelled"].contains(&j["state"].as_str().unwrap_or(""))
 }
@@ -187,15 +198,7 @@ async fn a_controller_restarted_mid_batch_resolves_the_job_at_once() {
     let mut sim = SimProcess::spawn(cli(), &channel, 1.0);
     let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
-    let batch: Vec<Value> = [20.0, 0.0, 20.0, 0.0]
-        .iter()
-        .map(|a| slow_motion(*a))
-        .collect();
-    let (s, job) = t
-        .post_json("/api/v1/motions", &json!({"motions": batch, "wait": false}))
-        .await;
-    assert_eq!(s, 202, "{job}");
-    let id = job["id"].as_u64().expect("id");
+    let id = start_slow_batch(&t, &[20.0, 0.0, 20.0, 0.0]).await;
     let j = t
         .wait_job(id, "the job", |j| {
             j["completed"].as_u64() >= Some(2) || terminal(j)
@@ -238,15 +241,7 @@ async fn the_krl_program_rebooted_mid_path_resolves_the_job_at_once() {
     let mut sim = SimProcess::spawn_kind(cli(), &channel, 1.0, "krc");
     let t = TestService::start_without_sim(root.path()).await;
     t.wait_connection("online").await;
-    let batch: Vec<Value> = [10.0, 0.0, 10.0, 0.0, 10.0, 0.0, 10.0, 0.0]
-        .iter()
-        .map(|a| slow_motion(*a))
-        .collect();
-    let (s, job) = t
-        .post_json("/api/v1/motions", &json!({"motions": batch, "wait": false}))
-        .await;
-    assert_eq!(s, 202, "{job}");
-    let id = job["id"].as_u64().expect("id");
+    let id = start_slow_batch(&t, &[10.0, 0.0, 10.0, 0.0, 10.0, 0.0, 10.0, 0.0]).await;
     let j = t
         .wait_job(id, "the path running", |j| {
             j["completed"].as_u64() >= Some(1) || terminal(j)

@@ -183,23 +183,7 @@ fn opened_channel_file(program: &Program) -> Option<(u32, String)> {
                     && channel.iter().any(|c| file.trim().eq_ignore_ascii_case(c)))
                 .then(|| (s.line, file.clone()))
             }
-            StmtKind::If {
-                then_body,
-                else_body,
-                ..
-            } => in_block(then_body).or_else(|| in_block(else_body)),
-            StmtKind::While { body, .. }
-            | StmtKind::For { body, .. }
-            | StmtKind::Loop { body }
-            | StmtKind::Repeat { body, .. } => in_block(body),
-            StmtKind::Switch { cases, default, .. } => cases
-                .iter()
-                .find_map(|(_, b)| in_block(b))
-                .or_else(|| default.as_deref().and_then(in_block)),
-            StmtKind::InterruptDecl { action, .. } | StmtKind::Trigger { action, .. } => {
-                in_stmt(action)
-            }
-            _ => None,
+            kind => kind.blocks().into_iter().find_map(in_block),
         }
     }
     program.src.routines.iter().find_map(|r| in_block(&r.body))

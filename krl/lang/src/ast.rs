@@ -349,6 +349,37 @@ pub enum StmtKind {
     },
 }
 
+impl StmtKind {
+    /// The statements nested in this one, block by block in source order:
+    /// IF's two branches, a loop's body, each CASE and the DEFAULT, a
+    /// spline block's triggers, an interrupt's or trigger's action (a
+    /// block of one). Empty for a simple statement. For checks that walk a
+    /// routine's every statement.
+    pub fn blocks(&self) -> Vec<&[Stmt]> {
+        match self {
+            StmtKind::If {
+                then_body,
+                else_body,
+                ..
+            } => vec![then_body, else_body],
+            StmtKind::While { body, .. }
+            | StmtKind::For { body, .. }
+            | StmtKind::Loop { body }
+            | StmtKind::Repeat { body, .. } => vec![body],
+            StmtKind::Switch { cases, default, .. } => cases
+                .iter()
+                .map(|(_, b)| b.as_slice())
+                .chain(default.as_deref())
+                .collect(),
+            StmtKind::Spline { triggers, .. } => vec![triggers],
+            StmtKind::InterruptDecl { action, .. } | StmtKind::Trigger { action, .. } => {
+                vec![std::slice::from_ref(&**action)]
+            }
+            _ => Vec::new(),
+        }
+    }
+}
+
 /// Binary operators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BinOp {

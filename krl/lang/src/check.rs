@@ -226,27 +226,11 @@ fn jumps(body: &[Stmt], j: &mut Jumps, path: &mut BlockPath) -> Result<(), Synta
                 }
             }
             StmtKind::Goto(l) => j.gotos.push((l.clone(), st.line, path.clone())),
-            StmtKind::If {
-                then_body,
-                else_body,
-                ..
-            } => {
-                nested(then_body, j, path)?;
-                nested(else_body, j, path)?;
-            }
-            StmtKind::While { body, .. }
-            | StmtKind::For { body, .. }
-            | StmtKind::Loop { body }
-            | StmtKind::Repeat { body, .. } => nested(body, j, path)?,
-            StmtKind::Switch { cases, default, .. } => {
-                for (_, b) in cases {
-                    nested(b, j, path)?;
-                }
-                if let Some(b) = default {
+            kind => {
+                for b in kind.blocks() {
                     nested(b, j, path)?;
                 }
             }
-            _ => {}
         }
     }
     Ok(())

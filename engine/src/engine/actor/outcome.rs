@@ -162,7 +162,7 @@ pub(super) fn explain_safety(
     } else {
         "acknowledge the messages on the teach pendant, switch the drives on"
     };
-    let clear = if !s.alarm_stop || !s.user_safety {
+    let clear = if circuit_open(s) {
         format!("release it, {pendant}, then POST /api/v1/reset")
     } else {
         format!("{pendant}, then POST /api/v1/reset")
@@ -197,4 +197,10 @@ pub(super) fn mode_name(m: OperatingMode) -> &'static str {
         OperatingMode::Ext => "EXT",
         OperatingMode::Unknown => "unknown",
     }
+}
+
+/// An emergency stop is pressed or the operator safety is open: no reset
+/// can make the controller ready.
+pub(super) fn circuit_open(s: &kuka_protocol::SafetyState) -> bool {
+    !s.alarm_stop || !s.user_safety
 }

@@ -100,10 +100,7 @@ impl Actor {
         // A state file written before a reset the controller took (it had
         // not accepted the RESET yet) shows the error the reset cleared.
         if let Some(rc) = self.ctl.reset_cid {
-            let after_reset = s.last_cid > 0
-                && !kuka_protocol::cid_is_newer(rc, s.last_cid)
-                && !(s.status == ControllerStatus::Busy && s.busy_cid == rc);
-            if after_reset {
+            if written_after(&s, rc) {
                 self.ctl.reset_cid = None;
             } else {
                 forget_error(&mut s);
@@ -305,14 +302,8 @@ impl Actor {
         let Some(s) = self.ctl.state.as_ref() else {
             return false;
         };
-        let open = s
-            .safety
-            .as_ref()
-            .is_some_and(|s| !s.alarm_stop || !s.user_safety);
-        let written_after = s.last_cid > 0
-            && !kuka_protocol::cid_is_newer(r.cid, s.last_cid)
-            && !(s.status == ControllerStatus::Busy && s.busy_cid == r.cid);
-        if !is_reset || r.code != ResultCode::Ok || !open || written_after {
+        let open = s.safety.as_ref().is_some_and(circuit_open);
+        if !is_reset || r.code != ResultCode::Ok || !open || written_after(s, r.cid) {
             self.ctl.reset_held = None;
             return false;
         }
@@ -435,7 +426,7 @@ impl Actor {
         }
         if matches!(f.op, Operation::Reset)
             && error.is_none()
-            && let Some(s) = safety.filter(|s| !s.alarm_stop || !s.user_safety)
+            && let Some(s) = safety.filter(|s| circuit_open(s))
         {
             // The controller took the RESET, but an open safety circuit
             // keeps it stopped (the KRL program stays NOT_READY): say so
@@ -782,4 +773,12 @@ fn forget_error(s: &mut StateFile) {
         s.error = None;
         s.error_axis = 0;
     }
+}
+
+/// The state file was written after the controller took command `cid`
+/// (its `last_cid` has reached it) and is not still running it.
+fn written_after(s: &StateFile, cid: Cid) -> bool {
+    s.last_cid > 0
+        && !kuka_protocol::cid_is_newer(cid, s.last_cid)
+        && !(s.status == ControllerStatus::Busy && s.busy_cid == cid)
 }

@@ -150,27 +150,11 @@ fn stopm_prios(body: &[Stmt], out: &mut Vec<i64>) {
             StmtKind::InterruptDecl {
                 prio: Expr::Int(p), ..
             } if is_stopm_decl(&s.kind) => out.push(*p),
-            StmtKind::If {
-                then_body,
-                else_body,
-                ..
-            } => {
-                stopm_prios(then_body, out);
-                stopm_prios(else_body, out);
-            }
-            StmtKind::While { body, .. }
-            | StmtKind::For { body, .. }
-            | StmtKind::Loop { body }
-            | StmtKind::Repeat { body, .. } => stopm_prios(body, out),
-            StmtKind::Switch { cases, default, .. } => {
-                for (_, b) in cases {
+            kind => {
+                for b in kind.blocks() {
                     stopm_prios(b, out);
                 }
-                if let Some(d) = default {
-                    stopm_prios(d, out);
-                }
             }
-            _ => {}
         }
     }
 }
