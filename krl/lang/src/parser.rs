@@ -1531,24 +1531,7 @@ fn check_declaration_section(body: &[Stmt]) -> Result<(), SyntaxError> {
 }
 
 fn no_nested_declaration(k: &StmtKind) -> Result<(), SyntaxError> {
-    let blocks: Vec<&[Stmt]> = match k {
-        StmtKind::If {
-            then_body,
-            else_body,
-            ..
-        } => vec![then_body, else_body],
-        StmtKind::While { body, .. }
-        | StmtKind::For { body, .. }
-        | StmtKind::Loop { body }
-        | StmtKind::Repeat { body, .. } => vec![body],
-        StmtKind::Switch { cases, default, .. } => cases
-            .iter()
-            .map(|(_, b)| b.as_slice())
-            .chain(default.as_deref())
-            .collect(),
-        _ => Vec::new(),
-    };
-    for b in blocks {
+    for b in k.blocks() {
         for s in b {
             if is_declaration(&s.kind) {
                 return Err(SyntaxError {
